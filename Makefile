@@ -1,0 +1,37 @@
+# icerubble: the two commands a newcomer runs are `make demo` and `make test`.
+PY      := /usr/bin/python3
+BUILD   := build
+SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+DEBS    := yade gmsh python3-gmsh python3-numpy python3-scipy python3-matplotlib \
+           python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make
+STAMP   := $(BUILD)/.built
+
+.PHONY: setup deps build test bench demo clean
+
+setup: deps build
+
+# Debian packages only: YADE and the modules it sees live in /usr/bin/python3.
+deps:
+	@missing=$$(for p in $(DEBS); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:" $$missing; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+build:
+	cmake -S . -B $(BUILD) -DPython3_EXECUTABLE=$(PY) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build $(BUILD) -j2
+	@touch $(STAMP)
+
+test: build
+	$(PY) -m pytest -q tests
+
+bench: build
+	$(PY) bench/run_all.py
+
+demo: build
+	$(PY) yade_scripts/demo.py
+
+clean:
+	rm -rf $(BUILD) icerubble/_*.so

@@ -1,0 +1,6 @@
+#include <pybind11/pybind11.h>
+
+PYBIND11_MODULE(_cst, m) {
+  m.doc() = "CST FEM-DEM engine: deformable blocks, potential contact, freeze bonds";
+  m.def("version", []() { return "0.1"; });
+}

@@ -1,0 +1,66 @@
+// Contact between triangles of different bodies: the interface between the
+// engine (model.cpp, which owns the node arrays) and the contact module.
+//
+// Two passes per step, so that friction can see every other force:
+//   1. compute_normal(): broad phase + Munjiza potential contact forces
+//      (MODEL.md 3.2, eqs 1-3). Adds the normal (penalty) forces to fx, fy and
+//      remembers, for every touching pair, where and how hard it pushes.
+//   2. apply_friction(): after all other forces of the step are assembled,
+//      dynamic Coulomb friction (eq 4) on the pairs of pass 1, regularised at
+//      zero slip so that a block below the friction angle stays at rest.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace cst {
+
+struct ContactParams {
+  double penalty = 2e11;  // s in eq 2-3 [Pa, per unit width]
+  double mu = 0.3;        // Coulomb friction coefficient [-]
+};
+
+// Views of the engine's flat node and element arrays (structure of arrays).
+struct ContactInput {
+  int32_t n_nodes = 0;
+  const double* x = nullptr;    // node positions [m]
+  const double* y = nullptr;
+  const double* vx = nullptr;   // node velocities at t - dt/2 [m/s]
+  const double* vy = nullptr;
+  const double* mass = nullptr; // lumped node masses [kg per m width]
+  int32_t n_tri = 0;
+  const int32_t* tri = nullptr;   // 3 node ids per triangle, counter-clockwise
+  const int32_t* body = nullptr;  // body id per triangle
+  // Triangles that can touch another body (a node on their body's boundary);
+  // the broad phase looks at nothing else.
+  int32_t n_surface = 0;
+  const int32_t* surface_tris = nullptr;
+  double dt = 0.0;
+};
+
+struct ContactTimings {
+  double detection_s = 0.0;  // broad phase + narrow phase culling
+  double forces_s = 0.0;     // potential contact and friction forces
+};
+
+class ContactSolver {
+ public:
+  // Adds normal contact forces to fx, fy (length n_nodes). Returns the number
+  // of touching triangle pairs.
+  int32_t compute_normal(const ContactParams& p, const ContactInput& in, double* fx, double* fy);
+  // Adds friction forces to fx, fy, given the forces already assembled there
+  // (used to predict the sliding velocity). Returns the friction power
+  // (dissipation rate, >= 0) [W per m width].
+  double apply_friction(const ContactParams& p, const ContactInput& in, double* fx, double* fy);
+  // Work of the normal contact forces in the last compute_normal call, times
+  // dt: the engine sums it into the contact energy term.
+  double stored_energy() const { return stored_energy_; }
+  int32_t touching_pairs() const { return n_touching_; }
+  const ContactTimings& timings() const { return timings_; }
+
+ private:
+  double stored_energy_ = 0.0;
+  int32_t n_touching_ = 0;
+  ContactTimings timings_;
+};
+
+}  // namespace cst
