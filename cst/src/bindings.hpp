@@ -1,0 +1,7 @@
+// Each part of the engine registers its Python API in its own *_bindings.cpp.
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace cst {
+void bind_contact(pybind11::module_& m);
+}
