@@ -46,6 +46,20 @@ def displaced_area(run, K, y_I, basis="bulk"):
     return a / (1.0 - run.porosity) if basis == "bulk" else a
 
 
+def displaced_areas(run, Ks, travels, basis="bulk"):
+    """A_d [m^2] as an array (len(travels), len(Ks)), reading each snapshot once;
+    rows of travels without a snapshot are NaN."""
+    out = np.full((len(travels), len(Ks)), np.nan)
+    for i, y_I in enumerate(travels):
+        snap = run.nearest_snapshot(y_I)
+        if snap is None:
+            continue
+        u_y = run.u_elem(snap)[:, 1]
+        for j, K in enumerate(Ks):
+            out[i, j] = solid_displaced_area(run.elem_area, run.elem_kind, u_y, K, snap.y_I)
+    return out / (1.0 - run.porosity) if basis == "bulk" else out
+
+
 def displaced_load(run, K, y_I):
     """F_d(K, y_I) = (1 - eta)(rho_w - rho_i) g A_d [N/m] (eq 14)."""
     return float(plug.run_buoyant_load(run, displaced_area(run, K, y_I)))

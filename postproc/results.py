@@ -119,6 +119,13 @@ class RunResult:
         i = int(np.argmin(np.abs(ys - y_I)))
         return self.snapshots[i] if abs(ys[i] - y_I) <= tol else None
 
+    def mesh_polygons(self):
+        """(M, 3, 2) initial corner positions of every triangle [m], for field plots."""
+        with h5py.File(self.path, "r") as f:
+            nodes = np.asarray(f["mesh/nodes"][...], dtype=float)
+            tris = np.asarray(f["mesh/triangles"][...])
+        return nodes[tris]
+
     def u_elem(self, snapshot):
         """(M, 2) displacement of each triangle centroid [m] in ``snapshot``."""
         with h5py.File(self.path, "r") as f:
