@@ -39,6 +39,13 @@ def fig12(cat, y_I=20e-3):
     return plotting.save(fig, cat.out_dir, "fig12_failure_planes", "Fig. 12: failure planes α and plug A_p")
 
 
+def _yerr(sds):
+    """Error bars for errorbar(): None when no sd is defined (one sample per point),
+    since matplotlib 3.6 fails on an all-NaN yerr."""
+    sds = np.asarray(sds, dtype=float)
+    return None if not np.isfinite(sds).any() else np.nan_to_num(sds)
+
+
 def _by_tau(cat, key):
     """{mu: [(tau_cr, values)]} of a per-run quantity list (key(run) -> iterable)."""
     out = {}
@@ -59,7 +66,7 @@ def fig13(cat):
         st = plotting.mu_style(mu)
         t = np.array([tc for tc, v in rows if v.size]) / 1e3
         ms = [failure_plane.mean_sd(v) for _, v in rows if v.size]
-        ax.errorbar(t * (1 + 0.02 * (i - 0.5)), [m for m, _ in ms], yerr=[s for _, s in ms], ls="none",
+        ax.errorbar(t * (1 + 0.02 * (i - 0.5)), [m for m, _ in ms], yerr=_yerr([s for _, s in ms]), ls="none",
                     capsize=3, label=f"μ = {mu:g}", **st)
     ax.set(xlabel="bond shear strength $τ_{cr}$ [kPa]", ylabel="failure-plane angle α [°]")
     ax.legend()
@@ -81,7 +88,7 @@ def fig14(cat):
                        marker=st["marker"], mfc=st["mfc"], lw=0.7, label=f"ridge {ridge}, μ = {mu:g}")
     for mu, rows in _by_tau(cat, lambda r: cat.row(r)["A_p_mean_1_20mm_m2"]).items():
         ms = [(t / 1e3,) + failure_plane.mean_sd(v) for t, v in rows]
-        b.errorbar([m[0] for m in ms], [m[1] for m in ms], yerr=[m[2] for m in ms], capsize=3,
+        b.errorbar([m[0] for m in ms], [m[1] for m in ms], yerr=_yerr([m[2] for m in ms]), capsize=3,
                    label=f"μ = {mu:g}", **plotting.mu_style(mu))
     wh = cat.runs[0].indenter_width * cat.runs[0].keel_depth
     for ax, tag in ((a, "(a) per ridge"), (b, "(b) mean over ridges")):
