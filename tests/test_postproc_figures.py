@@ -60,3 +60,18 @@ def test_partial_set_reports_what_is_missing(tmp_path, capsys):
 
 def test_empty_folder_exit_status(tmp_path):
     assert make_figures.main([str(tmp_path), "-o", str(tmp_path / "o")]) == 2
+
+
+def test_models_kept_apart_and_duplicates_listed(tmp_path):
+    d = tmp_path / "runs"
+    d.mkdir()
+    synthetic.write_run(str(d / "a.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    synthetic.write_run(str(d / "a_again.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    synthetic.write_run(str(d / "b.h5"), "1", 0.05, 50e3, travel_end=0.03, model="rigid-dem")
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out)]) == 0
+    for sub in ("fem-dem_paper", "rigid-dem_paper"):
+        with open(out / sub / "summary.csv") as fh:
+            assert len(list(csv.DictReader(fh))) == 1
+    text = (out / "MISSING.md").read_text()
+    assert "duplicate run (ridge 1, mu 0.05, tau_cr 50 kPa): using a.h5, ignoring a_again.h5" in text
