@@ -27,7 +27,7 @@ def _field_panel(ax, run, y_I, x_lim=10.0, mask_K=None):
     u_y = run.u_elem(snap)[:, 1]
     keep = (np.abs(run.elem_centroid[:, 0]) <= x_lim) & (run.elem_kind != 2)
     if mask_K is None:
-        pc = PolyCollection(polys[keep], array=u_y[keep] * 1e3, cmap="viridis", edgecolors="none")
+        pc = PolyCollection(polys[keep], array=u_y[keep] * 1e3, cmap="viridis", edgecolors="none", antialiaseds=False)
         pc.set_clim(-snap.y_I * 1e3, 0.0)
         ax.add_collection(pc)
         ax.figure.colorbar(pc, ax=ax, label="$u_y$ [mm]", shrink=0.8)
