@@ -55,3 +55,17 @@ def test_state_round_trip():
     rec2, _, _ = make_recorder()
     rec2.restore(s)
     assert rec2.force_rows == rec.force_rows and rec2.pending_snaps == rec.pending_snaps
+
+
+def test_postproc_reads_what_the_recorder_writes(tmp_path):
+    from postproc import loads, results
+    rec, nodes, tri = make_recorder()
+    rec.set_reference(nodes)
+    for k, y in enumerate(np.linspace(0, 0.03, 31)):
+        rec.force(k * 1e-3, y, 1e3 * (y if y < 0.002 else 0.004 - y))
+    rec.write(tmp_path / "run.h5")
+    run = results.load(tmp_path / "run.h5")
+    assert run.mu == pytest.approx(0.3) and run.tau_cr == pytest.approx(50e3)
+    assert run.porosity == pytest.approx(0.25)
+    Fm, y_m = loads.peak_load(run.force_y, run.force_F)
+    assert Fm == pytest.approx(2.0) and y_m == pytest.approx(0.002)
