@@ -28,6 +28,7 @@ failure_mode = _law.failure_mode
 critical_opening = _law.critical_opening
 initial_effective_force = _law.initial_effective_force
 work_increment = _law.work_increment
+stored_energy = _law.stored_energy
 opening_components = _law.opening_components
 nodal_forces = _law.nodal_forces
 depth_factor = _law.depth_factor

@@ -206,6 +206,24 @@ PYBIND11_MODULE(_cohesive_law, m) {
         py::arg("d_delta_n"), py::arg("d_delta_t"),
         "Trapezoid work 1/2 (f_old + f_new) . d_delta of one step [J/m].");
 
+  m.def("stored_energy",
+        [](py::object dn, py::object dt, py::object beta, py::object f0, py::object delta_f,
+           py::object delta_m, const std::string& direction) {
+          const cl::ForceDirection dir = cl::parse_direction(direction);
+          Broadcast b({dn, dt, beta, f0, delta_f, delta_m});
+          each_positive("beta", b[2], b.size);
+          each_positive("f0", b[3], b.size);
+          each_positive("delta_f", b[4], b.size);
+          Arr out = b.out();
+          double* o = out.mutable_data();
+          for (py::ssize_t i = 0; i < b.size; ++i)
+            o[i] = cl::stored_energy(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i], dir);
+          return out;
+        },
+        py::arg("delta_n"), py::arg("delta_t"), py::arg("beta"), py::arg("f0"),
+        py::arg("delta_f"), py::arg("delta_m"), py::arg("direction") = "paper",
+        "Energy given back along the secant by an opened bond point [J/m].");
+
   m.def("opening_components",
         [](py::object dx, py::object dy, py::object nx, py::object ny) {
           Broadcast b({dx, dy, nx, ny});
@@ -369,6 +387,13 @@ PYBIND11_MODULE(_cohesive_law, m) {
              return r;
            },
            py::arg("delta_n"), py::arg("delta_t"))
+      .def("stored_energy",
+           [](const cl::ElasticBondPoints& b) {
+             Arr o(static_cast<py::ssize_t>(b.size()));
+             for (std::size_t i = 0; i < b.size(); ++i) o.mutable_data()[i] = b.stored_energy(i);
+             return o;
+           },
+           "Recoverable energy of each bond point at its last opening [J/m].")
       .def_property_readonly("direction", [](const cl::ElasticBondPoints& b) { return cl::direction_name(b.direction); })
       .def_property_readonly("state", [](const cl::ElasticBondPoints& b) { return to_numpy(b.state); })
       .def_property_readonly("mode", [](const cl::ElasticBondPoints& b) { return to_numpy(b.mode); })

@@ -108,4 +108,18 @@ void ElasticBondPoints::step(const double* delta_n, const double* delta_t, doubl
   }
 }
 
+double ElasticBondPoints::stored_energy(std::size_t i) const {
+  const ElasticBondParams& p = params[i];
+  const double beta = p.tau_cr / p.sigma_cr;
+  switch (static_cast<BondState>(state[i])) {
+    case BondState::intact:
+      return intact_stored_energy(delta_n_prev[i], delta_t_prev[i], p.k, beta, direction);
+    case BondState::opening:
+      return cohesive_law::stored_energy(delta_n_prev[i], delta_t_prev[i], beta, f0[i],
+                                         delta_f[i], delta_m[i], direction);
+    default:
+      return 0.0;
+  }
+}
+
 }  // namespace cohesive_law

@@ -49,6 +49,10 @@ class ElasticBondPoints {
   void step(const double* delta_n, const double* delta_t, double* f_n, double* f_t,
             double* dissipation, std::int8_t* initiated_now, std::int8_t* failed_now);
 
+  // Recoverable energy at the last opening stepped to: elastic (intact) or secant
+  // (opened, see stored_energy in softening.hpp), 0 when broken.
+  double stored_energy(std::size_t i) const;
+
   ForceDirection direction;
   std::vector<ElasticBondParams> params;
   std::vector<std::int8_t> state, mode;  // BondState and FailureMode codes

@@ -63,6 +63,12 @@ inline double intact_effective_traction(double delta_n, double delta_t,
   return effective_traction(f_n / p.l, f_t / p.l, beta, p.mu);
 }
 
+// Elastic energy of an intact bond point, 1/2 (k delta_n^2 + k_t delta_t^2) (compression too).
+inline double intact_stored_energy(double delta_n, double delta_t, double k, double beta,
+                                   ForceDirection dir) {
+  return 0.5 * (k * delta_n * delta_n + tangential_stiffness(k, beta, dir) * delta_t * delta_t);
+}
+
 // Largest effective peak force on the tensile side (t_n >= 0): max(1, beta) sigma_cr l for
 // the paper's direction (|f| = F there and pure shear peaks at tau_cr l), sigma_cr l for the
 // work-conjugate one (t_e = k delta_e / l there). Stiffness below F_p^2/(2 G l) would put

@@ -114,6 +114,22 @@ inline double work_increment(double f_n_old, double f_t_old, double f_n_new, dou
   return 0.5 * ((f_n_old + f_n_new) * d_delta_n + (f_t_old + f_t_new) * d_delta_t);
 }
 
+// Energy stored in an opened bond point and given back if it closes along the secant
+// (eq 10, un-/reloading branch, slope k_s = |f_c|(delta_m)/delta_m). The secant force is
+// conservative for both directions: k_s (beta delta_t, <delta_n>) derives from
+// 1/2 k_s (beta delta_t^2 + <delta_n>^2) (paper), k_s (beta^2 delta_t, <delta_n>) from
+// 1/2 k_s delta_e^2 (work-conjugate). So cumulative work_increment - stored_energy is the
+// mechanical dissipation of a bond point for either direction. Zero before any opening
+// and after full failure.
+inline double stored_energy(double delta_n, double delta_t, double beta, double f0,
+                            double delta_f, double delta_m, ForceDirection dir) {
+  if (delta_m <= 0.0 || delta_m >= delta_f) return 0.0;
+  const double ks = f0 * (1.0 - delta_m / delta_f) / delta_m;
+  const double dn = macaulay(delta_n);
+  const double c = dir == ForceDirection::paper ? beta : beta * beta;
+  return 0.5 * ks * (c * delta_t * delta_t + dn * dn);
+}
+
 // Result of one step of one bond point.
 struct StepOutcome {
   double f_n = 0.0, f_t = 0.0;  // cohesive force at the end of the step (eq 11)
