@@ -11,6 +11,8 @@ import pytest
 
 from icerubble import freeze_bond as fb
 
+trapezoid = getattr(np, "trapezoid", None) or np.trapz  # numpy 2 renamed trapz
+
 SIGMA, TAU, MU, G, L = 10e3, 50e3, 0.3, 15.0, 0.1
 BETA = TAU / SIGMA
 K = 1e8          # Pa: elastic opening at a tensile peak sigma l / k = 10 um << delta_f = 3 mm
@@ -40,7 +42,7 @@ def path_grid(s0, sf):
 
 def work(s, d_hat, r):
     f = r["f_n"][:, 0] * d_hat[0] + r["f_t"][:, 0] * d_hat[1]
-    return np.trapz(f, s)
+    return trapezoid(f, s)
 
 
 @pytest.mark.parametrize("direction", fb.DIRECTIONS)
