@@ -122,27 +122,3 @@ def units():
 def water_line_draft(params):
     """Draft d of the freely floating consolidated layer: (ρ_i/ρ_w) t (MODEL.md 3.4)."""
     return params["rho_i"] / params["rho_w"] * params["layer_thickness"]
-
-
-def indenter_velocity(t, v_final, ramp_time):
-    """Downward indenter speed at time t: a smooth (C1) ramp to v_final over ramp_time.
-
-    The paper accelerates the indenter "during the first two seconds" to avoid
-    an inertial load; a half-cosine ramp has zero acceleration jump at the end.
-    """
-    if ramp_time <= 0.0 or t >= ramp_time:
-        return v_final if t >= 0 else 0.0
-    if t <= 0.0:
-        return 0.0
-    return 0.5 * v_final * (1.0 - math.cos(math.pi * t / ramp_time))
-
-
-def indenter_travel(t, v_final, ramp_time):
-    """Indenter travel y_I(t), the integral of indenter_velocity."""
-    if t <= 0.0:
-        return 0.0
-    if ramp_time <= 0.0:
-        return v_final * t
-    if t < ramp_time:
-        return 0.5 * v_final * (t - ramp_time / math.pi * math.sin(math.pi * t / ramp_time))
-    return 0.5 * v_final * ramp_time + v_final * (t - ramp_time)

@@ -1,8 +1,4 @@
 """Run parameters: Table 1 defaults, range checks and the indenter ramp."""
-import math
-
-import h5py
-import numpy as np
 import pytest
 
 from icerubble import parameters as P
@@ -39,22 +35,6 @@ def test_ice_must_float():
 def test_draft_is_density_ratio():
     d = P.validate({})
     assert P.water_line_draft(d) == pytest.approx(920.0 / 1010.0)
-
-
-def test_ramp_is_smooth_and_its_integral_is_the_travel():
-    v, T = 0.1, 2.0
-    t = np.linspace(0, 5, 50001)
-    vel = np.array([P.indenter_velocity(s, v, T) for s in t])
-    assert vel[0] == 0.0 and vel[-1] == v
-    acc = np.diff(vel) / np.diff(t)
-    # C1 ramp: the acceleration never exceeds the half-cosine peak pi v / (2T)
-    assert acc.max() <= math.pi * v / (2 * T) * (1 + 1e-6)
-    # trapezoid integral of the speed vs the closed form, error O(dt^2)
-    travel = np.concatenate([[0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * np.diff(t))])
-    closed = np.array([P.indenter_travel(s, v, T) for s in t])
-    assert np.max(np.abs(travel - closed)) < 1e-8
-    # after the ramp the indenter has gone v T / 2 (mean speed v/2 during the ramp)
-    assert P.indenter_travel(T, v, T) == pytest.approx(v * T / 2)
 
 
 def test_atomic_file_only_appears_complete(tmp_path):
