@@ -12,6 +12,10 @@ namespace cst {
 namespace {
 
 constexpr int kPartialStride = 16;  // doubles per thread: 2 cache lines, no false sharing
+constexpr int kMaxThreads = 256;
+// Below this many triangles a step is a few tens of microseconds of work and
+// waking a second thread (twice per step) costs more than it saves.
+constexpr int32_t kMinParallelTriangles = 2048;
 
 std::string num(double v) {
   std::ostringstream o;
@@ -363,9 +367,11 @@ StableStep Model::stable_step() {
   return stable_;
 }
 
+bool Model::use_threads() const { return tris_.size() >= kMinParallelTriangles; }
+
 void Model::prepare() {
   stable_step();
-  const int nt = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const int nt = std::min(threads_ > 0 ? threads_ : omp_get_max_threads(), kMaxThreads);
   partial_.assign(size_t(nt) * kPartialStride, 0.0);
 }
 
@@ -386,11 +392,14 @@ void Model::step(int64_t n) {
 }
 
 void Model::advance() {
-  compute_internal_forces();    // (1) elements
+  // (1) element internal forces and (6) gravity, buoyancy, drag: both depend
+  // only on the state at t, so one pass computes them (half the thread
+  // synchronisations of two passes).
+  compute_body_forces();
   compute_contact_forces();     // (2) neighbour search, (3) normal contact forces
   check_freeze_bonds();         // (4) bond stress check (eqs 5-7), node splitting
   apply_cohesive_forces();      // (5) cohesive forces of opened bonds (eqs 8-12)
-  compute_external_forces();    // (6) gravity, buoyancy, drag
+  assemble_forces();            // total of (1)-(6)
   apply_friction();             // (3b) Coulomb friction (eq 4), needs all forces above
   apply_boundary_conditions();  // fixed nodes, prescribed velocities, reactions
   update_positions();           // (7) central difference, work integration
@@ -399,54 +408,72 @@ void Model::advance() {
 
 void Model::evaluate() {
   prepare();
-  compute_internal_forces();
+  compute_body_forces();
   compute_contact_forces();
   apply_cohesive_forces();
-  compute_external_forces();
+  assemble_forces();
   apply_friction();
   apply_boundary_conditions();
 }
 
-void Model::compute_internal_forces() {
+void Model::compute_body_forces() {
   Stopwatch sw(timings_.elements);
   const int nt = int(partial_.size() / kPartialStride);
   const int32_t m = tris_.size(), n = nodes_.size();
-  std::vector<int32_t> inverted(nt, -1);
+  int32_t inverted[kMaxThreads];
+  std::fill(inverted, inverted + kMaxThreads, -1);
   const bool damping = any_damping_;
-  #pragma omp parallel num_threads(nt)
+  const bool water = ext_.water();
+  const bool buoy = ext_.buoyancy, drag = ext_.drag;
+  const double g = ext_.gravity ? ext_.g : 0.0;
+  #pragma omp parallel num_threads(nt) if (use_threads())
   {
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
     int32_t b, e;
     block(m, tid, team, b, e);
+    // (1) element forces and (6) water forces, per triangle.
     ElementSweep sweep;
     element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep);
+    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, b, e);
     partial_[tid * kPartialStride] = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
     #pragma omp barrier
-    // Gather corner forces onto nodes in the fixed gather order.
+    // Gather corner forces onto nodes in the fixed gather order, add gravity
+    // and drag: the total of everything but contact, bonds and friction.
     const int32_t* start = gather_.start.data();
     const int32_t* slot = gather_.slot.data();
     const double* fc = tris_.f_corner.data();
     const double* fvc = tris_.f_visc_corner.data();
+    const double* fbc = tris_.f_buoy_corner.data();
+    const double* kdt = tris_.drag_k_tri.data();
+    Nodes& N = nodes_;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0;
-      for (int32_t k = start[i]; k < start[i + 1]; ++k) {
-        const int32_t s = slot[k];
+      double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
+      for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+        const int32_t s = slot[j];
         fx += fc[2 * s];
         fy += fc[2 * s + 1];
         if (damping) {
           vx += fvc[2 * s];
           vy += fvc[2 * s + 1];
         }
+        if (water) {
+          if (buoy) fb += fbc[s];
+          if (drag) k += kdt[s / 3];
+        }
       }
-      nodes_.f_int_x[i] = fx;
-      nodes_.f_int_y[i] = fy;
-      nodes_.f_visc_x[i] = vx;
-      nodes_.f_visc_y[i] = vy;
-      // Contact and cohesive forces are added into these by their passes.
-      nodes_.f_con_x[i] = nodes_.f_con_y[i] = 0.0;
-      nodes_.f_coh_x[i] = nodes_.f_coh_y[i] = 0.0;
+      N.f_int_x[i] = fx;
+      N.f_int_y[i] = fy;
+      N.f_visc_x[i] = vx;
+      N.f_visc_y[i] = vy;
+      N.f_buoy_y[i] = fb;
+      N.drag_k[i] = k;
+      N.f_x[i] = fx - k * N.vx[i];
+      N.f_y[i] = fy + fb - k * N.vy[i] - N.mass[i] * g;
+      // Contact and cohesive passes add into these.
+      N.f_con_x[i] = N.f_con_y[i] = 0.0;
+      N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
     }
   }
   double u = 0.0;
@@ -504,45 +531,17 @@ void Model::apply_cohesive_forces() {
   // cohesive energy by update_positions().
 }
 
-void Model::compute_external_forces() {
-  Stopwatch sw(timings_.external);
-  const int nt = int(partial_.size() / kPartialStride);
-  const int32_t m = tris_.size(), n = nodes_.size();
-  const bool water = ext_.water();
-  const bool buoy = ext_.buoyancy, drag = ext_.drag;
-  const double g = ext_.gravity ? ext_.g : 0.0;
-  #pragma omp parallel num_threads(nt)
-  {
-    if (water) {
-      const int tid = omp_get_thread_num(), team = omp_get_num_threads();
-      int32_t b, e;
-      block(m, tid, team, b, e);
-      water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, b, e);
-      #pragma omp barrier
-    }
-    const int32_t* start = gather_.start.data();
-    const int32_t* slot = gather_.slot.data();
-    const double* fbc = tris_.f_buoy_corner.data();
-    const double* kdt = tris_.drag_k_tri.data();
-    Nodes& N = nodes_;
-    #pragma omp for schedule(static)
-    for (int32_t i = 0; i < n; ++i) {
-      double fb = 0.0, k = 0.0;
-      if (water)
-        for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-          const int32_t s = slot[j];
-          if (buoy) fb += fbc[s];
-          if (drag) k += kdt[s / 3];
-        }
-      N.f_buoy_y[i] = fb;
-      N.drag_k[i] = k;
-      // Total of everything but friction; friction is predicted from it.
-      const double fx = N.f_int_x[i] + N.f_con_x[i] + N.f_coh_x[i] - k * N.vx[i];
-      const double fy = N.f_int_y[i] + N.f_con_y[i] + N.f_coh_y[i] - k * N.vy[i] + fb - N.mass[i] * g;
-      N.f_x[i] = N.f_pre_x[i] = fx;
-      N.f_y[i] = N.f_pre_y[i] = fy;
-    }
+void Model::assemble_forces() {
+  // Serial: one pass of adds, cheaper than waking the threads again.
+  Stopwatch sw(timings_.integration);
+  Nodes& N = nodes_;
+  const int32_t n = N.size();
+  for (int32_t i = 0; i < n; ++i) {
+    N.f_x[i] += N.f_con_x[i] + N.f_coh_x[i];
+    N.f_y[i] += N.f_con_y[i] + N.f_coh_y[i];
   }
+  N.f_pre_x = N.f_x;
+  N.f_pre_y = N.f_y;
 }
 
 void Model::apply_friction() {
@@ -584,7 +583,7 @@ void Model::update_positions() {
   const int32_t n = nodes_.size();
   const double dt = dt_;
   const double g = ext_.gravity ? ext_.g : 0.0;
-  #pragma omp parallel num_threads(nt)
+  #pragma omp parallel num_threads(nt) if (use_threads())
   {
     Nodes& N = nodes_;
     double ke = 0.0, ke_old = 0.0, p_visc = 0.0, p_con = 0.0, p_fric = 0.0, p_coh = 0.0;

@@ -26,11 +26,10 @@ struct InstabilityError : std::runtime_error {
 
 // Wall time spent in each part of the step [s], cumulative.
 struct StepTimings {
-  double elements = 0.0;           // element forces + gather onto nodes
+  double elements = 0.0;           // element and body forces, gather onto nodes
   double contact_detection = 0.0;  // as reported by the contact module
   double contact_forces = 0.0;     // rest of the contact calls (normal + friction)
   double bonds = 0.0;              // freeze-bond check and cohesive forces
-  double external = 0.0;           // gravity, buoyancy, drag
   double integration = 0.0;        // boundary conditions, update, energy, checks
   double total = 0.0;
   int64_t steps = 0;
@@ -103,16 +102,17 @@ class Model {
  private:
   // The time step, MODEL.md 3.
   void advance();
-  void compute_internal_forces();   // (1) elements
+  void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
   void apply_cohesive_forces();     // (5) hook: cohesive forces of opened bonds
-  void compute_external_forces();   // (6) gravity, buoyancy, drag
+  void assemble_forces();           // total force before friction
   void apply_friction();            // (3b) friction, once all other forces are known
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
   void update_positions();          // (7) central difference + work integration
   void guard_stability();
 
+  bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
   void prepare_topology();  // topology, masses, constraint masks (validates materials)
   void compute_masses();

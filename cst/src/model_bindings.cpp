@@ -179,7 +179,6 @@ void bind_model(py::module_& m) {
         d["contact_detection"] = t.contact_detection;
         d["contact_forces"] = t.contact_forces;
         d["bonds"] = t.bonds;
-        d["external"] = t.external;
         d["integration"] = t.integration;
         d["total"] = t.total;
         d["steps"] = t.steps;
