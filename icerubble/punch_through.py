@@ -1,0 +1,211 @@
+"""The punch-through run (paper section 2.4; MODEL.md 1, 4).
+
+    settle  - gravity and buoyancy on, layer top held, indenter free, bond
+              failure off: damped motion until the system is at rest; then the
+              indenter is held and its force at rest checked (~0);
+    load    - the indenter top is driven down with a smooth ramp to v_final
+              over ramp_time, until the travel y_I reaches target_travel;
+              F(y_I) every <= 0.05 mm, u snapshots at 1, 5, 10, 20, ... mm,
+              energies, bond events;
+    write   - one self-describing HDF5 result (docs/results_format.md) and
+              ParaView snapshots (VTU + PVD) beside it.
+
+A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
+interrupted run resume (``resume=True``); the result file appears only when
+the run is complete.
+"""
+import math
+import os
+import time
+
+import numpy as np
+
+from . import checkpoint as ckpt
+from . import meshing
+from . import parameters as P
+from .progress import Progress
+from .recorder import RunRecorder
+from .scene import Scene
+from .vtu import write_pvd, write_vtu
+
+# Indenter travel between two F samples at full speed (MODEL.md 4 asks <= 0.1 mm).
+FORCE_SAMPLE_TRAVEL = 0.05e-3
+ENERGY_EVERY = 10          # F samples per energy sample
+RAMP_SAMPLES = 2001        # points of the tabulated indenter ramp
+
+
+def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
+    """The indenter speed history starting at t0: s = v_f (τ/T - sin(2πτ/T)/(2π))
+    for τ = t - t0 < T, then v_f; zero speed and acceleration at the start, so
+    the rubble sees no inertial load (paper 2.4). Tabulated for the engine."""
+    if ramp_time <= 0.0:
+        return np.array([t0, t0 + 1e-12]), np.array([0.0, v_final])
+    tau = np.linspace(0.0, ramp_time, n)
+    s = v_final * (tau / ramp_time - np.sin(2 * np.pi * tau / ramp_time) / (2 * np.pi))
+    return t0 + tau, s
+
+
+class RunOptions:
+    """How to run, as opposed to what to simulate (the parameters)."""
+
+    def __init__(self, settle_max_time=2.0, settle_min_time=0.05, settle_velocity=1e-3,
+                 checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
+                 stop_after_steps=None):
+        if settle_max_time <= 0:
+            raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
+        if not 0 <= settle_min_time <= settle_max_time:
+            raise ValueError(f"settle_min_time={settle_min_time} must be in [0, settle_max_time] s")
+        if settle_velocity <= 0:
+            raise ValueError(f"settle_velocity={settle_velocity} must be > 0 m/s")
+        self.settle_max_time = settle_max_time
+        self.settle_min_time = settle_min_time
+        self.settle_velocity = settle_velocity
+        self.checkpoint_every_s = checkpoint_every_s
+        self.progress_every_s = progress_every_s
+        self.threads = threads
+        self.vtu = vtu
+        self.stop_after_steps = stop_after_steps   # for tests of interrupted runs
+
+
+class PunchThrough:
+    def __init__(self, mesh_path, out_path, params=None, options=None, meta=None):
+        # everything that can be wrong with the input fails here, before any work
+        self.params = P.validate(params or {})
+        self.options = options or RunOptions()
+        self.mesh = meshing.read_mesh(mesh_path)
+        self.mesh_path = os.path.abspath(mesh_path)
+        self.out_path = os.fspath(out_path)
+        if not self.out_path.endswith(".h5"):
+            raise ValueError(f"out_path={out_path!r} must end in .h5")
+        self.ckpt_path = self.out_path[:-3] + ".checkpoint.h5"
+        self.meta = dict(ridge="", seed=-1, model="fem-dem")
+        self.meta.update(meta or {})
+        self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
+        a = self.mesh["attrs"]
+        pile_attrs = dict(porosity=float(a["porosity"]),
+                          n_blocks=int(np.sum(self.scene.body_kind == 0)),
+                          keel_top_y=float(a["keel_top_y"]), keel_bottom_y=float(a["keel_bottom_y"]),
+                          keel_x_min=float(a["keel_x_min"]), keel_x_max=float(a["keel_x_max"]),
+                          mesh_file=self.mesh_path)
+        m = self.scene.model
+        mesh_arrays = dict(nodes=self.mesh["nodes"], triangles=self.mesh["triangles"],
+                           body=self.mesh["body"], body_kind=self.scene.body_kind)
+        self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
+        self.phase = "settle"
+        self.t_load = None          # model time when loading started
+        self.y_top0 = None          # indenter top at rest
+        self.F_at_rest = math.nan
+        self.vtu_entries = []
+        self.model = m
+
+    # ------------------------------------------------------------------
+    def travel(self):
+        return self.y_top0 - self.scene.indenter_top_y()
+
+    def run(self, resume=False):
+        if resume and os.path.exists(self.ckpt_path):
+            ckpt.restore(self, self.ckpt_path)
+            print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
+                  f"phase {self.phase}", flush=True)
+        self._last_ckpt = time.perf_counter()
+        if self.phase == "settle":
+            self.settle()
+        self.load()
+        self.write()
+        if os.path.exists(self.ckpt_path):
+            os.remove(self.ckpt_path)
+        return self.out_path
+
+    def _maybe_checkpoint(self, force=False):
+        now = time.perf_counter()
+        if force or now - self._last_ckpt >= self.options.checkpoint_every_s:
+            ckpt.save(self, self.ckpt_path)
+            self._last_ckpt = now
+        stop = self.options.stop_after_steps
+        if stop is not None and self.model.step_count >= stop:
+            ckpt.save(self, self.ckpt_path)
+            raise KeyboardInterrupt(f"stopped after {self.model.step_count} steps (stop_after_steps)")
+
+    def settle(self):
+        """Damped motion to rest under gravity and buoyancy, indenter free."""
+        m, o, dt = self.model, self.options, self.params["dt"]
+        chunk = max(1, int(round(0.01 / dt / 100)))   # 100 checks per 0.01 s... at most
+        chunk = max(1, min(chunk, 1000))
+        t_start = m.time
+        prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
+        while True:
+            m.step(chunk)
+            v = m.velocities
+            vmax = float(np.sqrt((v ** 2).sum(axis=1)).max())
+            t_rel = m.time - t_start
+            prog.update(m.step_count, m.time, 0.0)
+            if t_rel >= o.settle_min_time and vmax < o.settle_velocity:
+                break
+            if t_rel >= o.settle_max_time:
+                raise RuntimeError(
+                    f"the scene did not come to rest within settle_max_time={o.settle_max_time} s "
+                    f"(max node speed {vmax:.3g} m/s > settle_velocity={o.settle_velocity} m/s)")
+            self._maybe_checkpoint()
+        # hold the indenter where it floats and measure what it takes: ~0 at rest
+        m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(np.array([0.0, 1.0]),
+                                                                          np.zeros(2)))
+        m.step(1)
+        self.F_at_rest = self.scene.indenter_force()
+        m.clear_boundary_conditions()
+        m.fix("layer_top")
+        self.y_top0 = self.scene.indenter_top_y()
+        self.t_load = m.time
+        t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
+        m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
+        m.reset_energy()
+        self.recorder.set_reference(m.positions)
+        self.recorder.force(0.0, 0.0, self.F_at_rest)
+        self.phase = "load"
+        print(f"[settle] at rest after {m.time - t_start:.3f} s simulated; indenter force at rest "
+              f"{self.F_at_rest:.1f} N/m", flush=True)
+
+    def load(self):
+        m, p, o = self.model, self.params, self.options
+        dt = p["dt"]
+        chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
+        prog = Progress(p["target_travel"], every_s=o.progress_every_s)
+        k = 0
+        while True:
+            m.step(chunk)
+            y_I = self.travel()
+            t_rel = m.time - self.t_load
+            F = self.scene.indenter_force()
+            self.recorder.force(t_rel, y_I, F)
+            k += 1
+            if k % ENERGY_EVERY == 0:
+                self.recorder.energy(t_rel, m.energies())
+            if self.recorder.wants_snapshot(y_I):
+                self.snapshot(t_rel, y_I)
+            prog.update(m.step_count, t_rel, y_I, F)
+            if y_I >= p["target_travel"]:
+                break
+            self._maybe_checkpoint()
+        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True)
+        self.recorder.energy(m.time - self.t_load, m.energies())
+
+    def snapshot(self, t_rel, y_I):
+        m = self.model
+        self.recorder.snapshot(t_rel, y_I, m.positions, m.triangles)
+        if self.options.vtu:
+            base = os.path.basename(self.out_path)[:-3]
+            d = self.out_path[:-3] + "_fields"
+            os.makedirs(d, exist_ok=True)
+            name = f"{base}_{len(self.vtu_entries):04d}.vtu"
+            u = m.positions - m.reference_positions
+            s = m.stress
+            write_vtu(os.path.join(d, name), m.positions, m.triangles,
+                      point_data={"u_total": u},
+                      cell_data={"body": m.body, "body_kind": self.scene.body_kind[m.body].astype(np.int8),
+                                 "u_since_loading": self.recorder.snapshots[-1][2],
+                                 "stress": np.asarray(s)})
+            self.vtu_entries.append((y_I, name))
+            write_pvd(os.path.join(d, base + ".pvd"), self.vtu_entries)
+
+    def write(self):
+        self.recorder.meta["F_at_rest"] = self.F_at_rest
+        self.recorder.write(self.out_path)
