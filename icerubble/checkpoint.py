@@ -68,6 +68,7 @@ def restore(run, path):
         state = {k: g[k][...] for k in g}
         state.update({k: v for k, v in g.attrs.items()})
         run.model.import_state(state)
+        run.apply_boundary_conditions()
         r = f["recorder"]
         s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],
                  energy_rows=[tuple(row) for row in r["energy_rows"][...]],

@@ -126,6 +126,15 @@ class PunchThrough:
             ckpt.save(self, self.ckpt_path)
             raise KeyboardInterrupt(f"stopped after {self.model.step_count} steps (stop_after_steps)")
 
+    def apply_boundary_conditions(self):
+        """Layer top held; in the load phase the indenter top is driven."""
+        m = self.model
+        m.clear_boundary_conditions()
+        m.fix("layer_top")
+        if self.phase == "load":
+            t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
+            m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
+
     def settle(self):
         """Damped motion to rest under gravity and buoyancy, indenter free."""
         m, o, dt = self.model, self.options, self.params["dt"]
@@ -151,16 +160,13 @@ class PunchThrough:
                                                                           np.zeros(2)))
         m.step(1)
         self.F_at_rest = self.scene.indenter_force()
-        m.clear_boundary_conditions()
-        m.fix("layer_top")
         self.y_top0 = self.scene.indenter_top_y()
         self.t_load = m.time
-        t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
-        m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
+        self.phase = "load"
+        self.apply_boundary_conditions()
         m.reset_energy()
         self.recorder.set_reference(m.positions)
         self.recorder.force(0.0, 0.0, self.F_at_rest)
-        self.phase = "load"
         print(f"[settle] at rest after {m.time - t_start:.3f} s simulated; indenter force at rest "
               f"{self.F_at_rest:.1f} N/m", flush=True)
 
