@@ -43,6 +43,7 @@ PARAMETERS = {
     "penalty": (2e11, "contact penalty s [Pa], > 0"),
     "mu": (0.3, "Coulomb friction coefficient, >= 0"),
     "check_stable_dt": (True, "refuse dt above the stable step"),
+    "check_energy": (True, "stop when energy grows without a source"),
     "energy_tolerance": (0.1, "stop when the energy balance residual exceeds this "
                               "fraction of the energy terms, > 0"),
     "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores"),
@@ -153,7 +154,7 @@ class Model:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)}; valid: {sorted(PARAMETERS)}")
         p = dict(self._params)
         for k, v in params.items():
-            if k in ("gravity", "buoyancy", "drag", "check_stable_dt"):
+            if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy"):
                 p[k] = _flag(k, v)
             elif k == "threads":
                 if not isinstance(v, numbers.Integral) or v < 0:
@@ -171,6 +172,8 @@ class Model:
             self._m.set_contact(p["penalty"], p["mu"])
         if "check_stable_dt" in params:
             self._m.set_check_stable_dt(p["check_stable_dt"])
+        if "check_energy" in params:
+            self._m.set_check_energy(p["check_energy"])
         if "energy_tolerance" in params:
             self._m.set_energy_tolerance(p["energy_tolerance"])
         if "threads" in params:

@@ -49,6 +49,7 @@ class Model {
   void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
   void set_contact(double penalty, double mu);
   void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
+  void set_check_energy(bool on) { check_energy_ = on; }
   void set_energy_tolerance(double tol);
   void set_threads(int n);
 
@@ -138,6 +139,7 @@ class Model {
   ContactSolver contact_;
   double dt_ = 0.0;
   bool check_stable_dt_ = true;
+  bool check_energy_ = true;
   double energy_tolerance_ = 0.1;
   int threads_ = 0;  // 0: OpenMP default
 

@@ -126,6 +126,7 @@ void bind_model(py::module_& m) {
            py::arg("y_w"), py::arg("c_w"))
       .def("set_contact", &Model::set_contact, py::arg("penalty"), py::arg("mu"))
       .def("set_check_stable_dt", &Model::set_check_stable_dt)
+      .def("set_check_energy", &Model::set_check_energy)
       .def("set_energy_tolerance", &Model::set_energy_tolerance)
       .def("set_threads", &Model::set_threads)
       .def("add_boundary_condition",
