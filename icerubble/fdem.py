@@ -109,6 +109,10 @@ class Model:
             raise ValueError("body ids must be >= 0")
         self._m = _cst.Model(nodes, tri, body.astype(np.int32))
         self._set_materials(materials)
+        missing = sorted(set(np.unique(body).tolist()) - set(self.materials))
+        if missing:
+            raise ValueError(f"materials: no material for body id(s) {missing} "
+                             f"(E, nu, rho, damping per body)")
         self.node_sets = {}
         for name, ids in (node_sets or {}).items():
             self.add_node_set(name, ids)
@@ -118,7 +122,7 @@ class Model:
     # ------------------------------------------------------------- setup
     def _set_materials(self, materials):
         nb = self._m.n_bodies
-        if isinstance(materials, dict) and set(materials) <= set(MATERIAL_KEYS) and materials:
+        if isinstance(materials, dict) and materials and all(isinstance(k, str) for k in materials):
             per_body = {b: materials for b in range(nb)}
         elif isinstance(materials, dict):
             per_body = dict(materials)

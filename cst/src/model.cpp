@@ -380,8 +380,8 @@ void Model::prepare() {
 
 void Model::step(int64_t n) {
   if (n < 0) bad("n (number of steps) must be >= 0");
-  if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
   prepare();
+  if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
   if (check_stable_dt_ && dt_ > stable_.dt)
     bad("dt = " + num(dt_) + " s exceeds the " + stable_.describe(tris_.body) +
         ". Reduce dt (or refine nothing smaller / soften the penalty).");
