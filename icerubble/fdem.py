@@ -336,6 +336,7 @@ class Model:
     @property
     def mass(self):
         """Lumped node masses [kg per m width] (view)."""
+        self._m.prepare()
         return self._nodes("mass")
 
     @property
@@ -389,6 +390,7 @@ class Model:
     @property
     def surface_triangles(self):
         """Ids of triangles with a node on their body's boundary (contact candidates)."""
+        self._m.prepare()
         return self._m.surface_triangles()
 
     @property

@@ -77,6 +77,9 @@ class Model {
   void set_triangle_node(int32_t tri, int corner, int32_t node);
   // Masses, gather list, boundary nodes, surface triangles; call after edits.
   void rebuild_topology();
+  // rebuild_topology + masses + constraint masks if anything changed
+  // (validates materials); step() and stable_step() call it.
+  void prepare_topology();
 
   // --- read access ---
   Nodes& nodes() { return nodes_; }
@@ -115,7 +118,6 @@ class Model {
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
-  void prepare_topology();  // topology, masses, constraint masks (validates materials)
   void compute_masses();
   void build_constraints();
   ContactInput contact_input() const;

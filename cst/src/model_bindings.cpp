@@ -196,6 +196,7 @@ void bind_model(py::module_& m) {
       .def("add_node", &Model::add_node)
       .def("set_triangle_node", &Model::set_triangle_node)
       .def("rebuild_topology", &Model::rebuild_topology)
+      .def("prepare", &Model::prepare_topology)
       .def_property_readonly("n_nodes", [](Model& M) { return M.nodes().size(); })
       .def_property_readonly("n_triangles", [](Model& M) { return M.triangles().size(); })
       .def_property_readonly("n_bodies", &Model::n_bodies)
