@@ -20,10 +20,18 @@ Example::
 See docs/engine_api.md.
 """
 import numbers
+import os
 
 import numpy as np
 
-from icerubble import _cst
+# On a machine whose cores are busy with other work, OpenMP threads that spin
+# while waiting for a descheduled partner make a step 10-100x slower; passive
+# waiting costs a little when the machine is idle. Read when the OpenMP
+# runtime loads (not inside YADE, which loads it first); set
+# OMP_WAIT_POLICY=active to override.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+from icerubble import _cst  # noqa: E402
 
 InstabilityError = _cst.InstabilityError
 

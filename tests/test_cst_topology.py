@@ -56,4 +56,5 @@ def test_splitting_the_bond_edge_conserves_mass_and_frees_the_blocks():
     # bonded, the pull would strain the blocks ~ 2 m/s x t / 0.5 m ~ 1e-2.
     assert np.abs(m.stress).max() < 1e-12 * 1e8
     gap = m.x[list(new_ids.values())] - m.x[list(new_ids.keys())]
-    np.testing.assert_allclose(gap, 2.0 * m.time, rtol=1e-12)
+    # The gap opens at 2 m/s; round-off of 200 updates of 0.5 m coordinates.
+    np.testing.assert_allclose(gap, 2.0 * m.time, rtol=0, atol=1e-13)
