@@ -384,7 +384,7 @@ void Model::step(int64_t n) {
   if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
   if (check_stable_dt_ && dt_ > stable_.dt)
     bad("dt = " + num(dt_) + " s exceeds the " + stable_.describe(tris_.body) +
-        ". Reduce dt (or refine nothing smaller / soften the penalty).");
+        ". Reduce dt, or coarsen the governing elements / lower the penalty.");
   for (int64_t k = 0; k < n; ++k) {
     Stopwatch total(timings_.total);
     advance();
@@ -522,8 +522,10 @@ void Model::check_freeze_bonds() {
   // Hook (4): freeze-bond points whose traction (eq 7, from tris_.stress)
   // meets the criterion (eqs 5-6) split here: append the new node with
   // add_node(), move the triangles on one side with set_triangle_node(),
-  // then rebuild_topology() + compute_masses(). The per-corner internal
-  // forces of this step (tris_.f_corner) give f+ and f- for eq 8.
+  // then prepare_topology() (prepared_ = false first) and re-check dt
+  // against stable_step(): split nodes are lighter, which lowers the contact
+  // limit. The per-corner internal forces of this step (tris_.f_corner) give
+  // f+ and f- for eq 8.
 }
 
 void Model::apply_cohesive_forces() {
