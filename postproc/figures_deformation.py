@@ -19,7 +19,7 @@ def _snapshot_or_missing(run, y_I):
     return snap
 
 
-def _field_panel(ax, run, y_I, x_lim=10.0, mask_K=None):
+def field_panel(ax, run, y_I, x_lim=10.0, mask_K=None):
     """u_y [mm] per element on the initial mesh, -x_lim <= x <= x_lim (Figs. 16, 19);
     with mask_K, the A_d(K) elements are shaded instead (Fig. 17)."""
     snap = _snapshot_or_missing(run, y_I)
@@ -55,7 +55,7 @@ def fig16(cat, y_I=5e-3):
     fig, axes = plotting.new(nrows=len(ridges), width=7.5, height=2.6 * len(ridges))
     for ax, ridge, tag in zip(axes[:, 0], ridges, "ab"):
         run = cat.one(ridge, cat.mu_low, cat.tau_ref)
-        snap = _field_panel(ax, run, y_I)
+        snap = field_panel(ax, run, y_I)
         ax.set_title(f"({tag}) ridge {ridge}, $y_I$ = {snap.y_I * 1e3:g} mm", fontsize=8)
     return plotting.save(fig, cat.out_dir, "fig16_uy_5mm", "Fig. 16: vertical displacement u_y at y_I = 5 mm")
 
@@ -64,7 +64,7 @@ def fig17(cat, y_I=100e-3):
     """Fig. 17: definition of A_d(K, y_I): the rubble with u_y < -K y_I for K = 0.5 and 0.9."""
     run = cat.reference_run()
     fig, axes = plotting.new(width=7.5, height=2.8)
-    snap = _field_panel(axes[0, 0], run, y_I, mask_K=((0.5, "tab:orange"), (0.9, "tab:blue")))
+    snap = field_panel(axes[0, 0], run, y_I, mask_K=((0.5, "tab:orange"), (0.9, "tab:blue")))
     axes[0, 0].set_title(f"{run.name}, $y_I$ = {snap.y_I * 1e3:g} mm", fontsize=8)
     return plotting.save(fig, cat.out_dir, "fig17_displaced_area_definition", "Fig. 17: A_d(K, y_I) for K = 0.5, 0.9")
 
@@ -92,7 +92,7 @@ def fig19(cat, y_I=150e-3):
     """Fig. 19: u_y at y_I = 150 mm for the reference run (compare Fig. 16a)."""
     run = cat.reference_run()
     fig, axes = plotting.new(width=7.5, height=2.8)
-    snap = _field_panel(axes[0, 0], run, y_I)
+    snap = field_panel(axes[0, 0], run, y_I)
     axes[0, 0].set_title(f"{run.name}, $y_I$ = {snap.y_I * 1e3:g} mm", fontsize=8)
     return plotting.save(fig, cat.out_dir, "fig19_uy_150mm", "Fig. 19: vertical displacement u_y at y_I = 150 mm")
 
