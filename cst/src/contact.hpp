@@ -12,12 +12,19 @@
 #include <cstdint>
 #include <vector>
 
+#include "broad_phase.hpp"
+#include "potential_contact.hpp"
+
 namespace cst {
 
 struct ContactParams {
   double penalty = 2e11;  // s in eq 2-3 [Pa, per unit width]
   double mu = 0.3;        // Coulomb friction coefficient [-]
 };
+
+// Throws std::invalid_argument (ValueError in Python) naming the parameter and
+// its valid range.
+void check_contact_params(const ContactParams& p);
 
 // Views of the engine's flat node and element arrays (structure of arrays).
 struct ContactInput {
@@ -26,7 +33,8 @@ struct ContactInput {
   const double* y = nullptr;
   const double* vx = nullptr;   // node velocities at t - dt/2 [m/s]
   const double* vy = nullptr;
-  const double* mass = nullptr; // lumped node masses [kg per m width]
+  const double* mass = nullptr; // lumped node masses [kg per m width]; a node
+                                // with mass <= 0 or inf is immovable (friction)
   int32_t n_tri = 0;
   const int32_t* tri = nullptr;   // 3 node ids per triangle, counter-clockwise
   const int32_t* body = nullptr;  // body id per triangle
@@ -35,6 +43,19 @@ struct ContactInput {
   int32_t n_surface = 0;
   const int32_t* surface_tris = nullptr;
   double dt = 0.0;
+};
+
+// A touching triangle pair of the last compute_normal call: where the
+// resultant normal force acts and how large it is (input of friction, eq 4).
+struct ContactPair {
+  int32_t contactor = 0, target = 0;  // triangle ids (contactor < target)
+  int32_t node[6] = {0, 0, 0, 0, 0, 0};  // contactor nodes, then target nodes
+  double nc[3] = {0, 0, 0};  // contactor shape functions at the contact point
+  double nt[3] = {0, 0, 0};  // target shape functions at the contact point
+  double px = 0, py = 0;     // contact point: centroid of the overlap [m]
+  double nx = 0, ny = 0;     // unit normal: direction of the force on the contactor
+  double fn = 0;             // |f_c|, magnitude of the normal force [N per m width]
+  double energy = 0;         // stored energy of the pair [J per m width]
 };
 
 struct ContactTimings {
@@ -51,16 +72,29 @@ class ContactSolver {
   // (used to predict the sliding velocity). Returns the friction power
   // (dissipation rate, >= 0) [W per m width].
   double apply_friction(const ContactParams& p, const ContactInput& in, double* fx, double* fy);
-  // Work of the normal contact forces in the last compute_normal call, times
-  // dt: the engine sums it into the contact energy term.
+  // Contact potential energy at the positions of the last compute_normal call
+  // [J per m width]: sum over touching pairs of s * int_overlap (phi_c + phi_t),
+  // whose exact gradient the normal forces are (potential_contact.hpp). A state
+  // value like the elastic energy: add it to the energy balance as it is, do
+  // not accumulate it over steps.
   double stored_energy() const { return stored_energy_; }
   int32_t touching_pairs() const { return n_touching_; }
   const ContactTimings& timings() const { return timings_; }
+  const std::vector<ContactPair>& pairs() const { return pairs_; }
+  // Bounding-box candidates of the last broad phase (diagnostics and tests).
+  const std::vector<CandidatePair>& candidates() const { return candidates_; }
 
  private:
   double stored_energy_ = 0.0;
   int32_t n_touching_ = 0;
   ContactTimings timings_;
+  // Buffers reused from step to step (no allocation once they have grown).
+  BroadPhase broad_;
+  std::vector<CandidatePair> candidates_;
+  std::vector<PairContact> results_;
+  std::vector<uint8_t> hit_;
+  std::vector<ContactPair> pairs_;
+  std::vector<double> wx_, wy_, lambda_, kinv_;  // friction: predicted velocities, forces
 };
 
 }  // namespace cst
