@@ -43,6 +43,12 @@ struct ContactInput {
   int32_t n_surface = 0;
   const int32_t* surface_tris = nullptr;
   double dt = 0.0;
+  // Optional kinematic constraints (nullptr: none). constrained[n] bit 0: vx
+  // prescribed, bit 1: vy prescribed; v_bc_x, v_bc_y: the prescribed velocity
+  // at t + dt/2. Friction treats a prescribed component as immovable.
+  const uint8_t* constrained = nullptr;
+  const double* v_bc_x = nullptr;
+  const double* v_bc_y = nullptr;
 };
 
 // A touching triangle pair of the last compute_normal call: where the
@@ -94,7 +100,7 @@ class ContactSolver {
   std::vector<PairContact> results_;
   std::vector<uint8_t> hit_;
   std::vector<ContactPair> pairs_;
-  std::vector<double> wx_, wy_, lambda_, kinv_;  // friction: predicted velocities, forces
+  std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
 };
 
 }  // namespace cst

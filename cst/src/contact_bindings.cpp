@@ -23,6 +23,8 @@ struct InputHolder {
   DArr x, y, vx, vy, mass;
   IArr tri, body, surface;
   ContactInput in;
+  py::array_t<uint8_t, py::array::c_style | py::array::forcecast> constrained;
+  DArr vbx, vby;
 };
 
 void need_len(const char* name, py::ssize_t got, py::ssize_t want) {
@@ -31,9 +33,25 @@ void need_len(const char* name, py::ssize_t got, py::ssize_t want) {
                                 ", got " + std::to_string(got));
 }
 
+// Optional prescribed-velocity components (bit 0: x, bit 1: y) and their values.
+void add_constraints(InputHolder& h, py::object constrained, py::object vbx, py::object vby) {
+  if (constrained.is_none()) return;
+  if (vbx.is_none() || vby.is_none())
+    throw std::invalid_argument("constrained needs v_bc_x and v_bc_y");
+  h.constrained = constrained.cast<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>();
+  h.vbx = vbx.cast<DArr>();
+  h.vby = vby.cast<DArr>();
+  need_len("constrained", h.constrained.size(), h.in.n_nodes);
+  need_len("v_bc_x", h.vbx.size(), h.in.n_nodes);
+  need_len("v_bc_y", h.vby.size(), h.in.n_nodes);
+  h.in.constrained = h.constrained.data();
+  h.in.v_bc_x = h.vbx.data();
+  h.in.v_bc_y = h.vby.data();
+}
+
 InputHolder make_input(DArr x, DArr y, DArr vx, DArr vy, DArr mass, IArr tri, IArr body,
                        IArr surface, double dt) {
-  InputHolder h{x, y, vx, vy, mass, tri, body, surface, {}};
+  InputHolder h{x, y, vx, vy, mass, tri, body, surface, {}, {}, {}, {}};
   const py::ssize_t n = x.size();
   need_len("y", y.size(), n);
   need_len("vx", vx.size(), n);
@@ -138,8 +156,9 @@ void bind_contact(py::module_& m) {
           "apply_friction",
           [](ContactSolver& s, DArr x, DArr y, DArr vx, DArr vy, DArr mass, IArr tri, IArr body,
              IArr surface, py::array fx, py::array fy, double penalty,
-             double mu, double dt) {
+             double mu, double dt, py::object constrained, py::object vbx, py::object vby) {
             InputHolder h = make_input(x, y, vx, vy, mass, tri, body, surface, dt);
+            add_constraints(h, constrained, vbx, vby);
             double* px = writable(fx, "fx", h.in.n_nodes);
             double* py_ = writable(fy, "fy", h.in.n_nodes);
             ContactParams p{penalty, mu};
@@ -148,7 +167,8 @@ void bind_contact(py::module_& m) {
           },
           py::arg("x"), py::arg("y"), py::arg("vx"), py::arg("vy"), py::arg("mass"),
           py::arg("tri"), py::arg("body"), py::arg("surface_tris"), py::arg("fx"), py::arg("fy"),
-          py::arg("penalty"), py::arg("mu"), py::arg("dt"),
+          py::arg("penalty"), py::arg("mu"), py::arg("dt"), py::arg("constrained") = py::none(),
+          py::arg("v_bc_x") = py::none(), py::arg("v_bc_y") = py::none(),
           "Adds friction forces to fx, fy (which must hold every other force of the step);\n"
           "returns the friction dissipation rate [W per m width].")
       .def_property_readonly("stored_energy", &ContactSolver::stored_energy)

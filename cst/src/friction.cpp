@@ -38,35 +38,45 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   if (p.mu == 0.0 || pairs_.empty()) return 0.0;
   if (!(std::isfinite(in.dt) && in.dt > 0.0))
     throw std::invalid_argument("contact friction needs a time step dt > 0");
+  if (in.constrained && !(in.v_bc_x && in.v_bc_y))
+    throw std::invalid_argument("contact friction: constrained nodes need v_bc_x and v_bc_y");
   const auto t0 = std::chrono::steady_clock::now();
   const double dt = in.dt;
   const size_t np = pairs_.size();
   if (wx_.size() < static_cast<size_t>(in.n_nodes)) {
     wx_.resize(in.n_nodes);
     wy_.resize(in.n_nodes);
+    imx_.resize(in.n_nodes);
+    imy_.resize(in.n_nodes);
   }
   if (lambda_.size() < np) {
     lambda_.resize(np);
     kinv_.resize(np);
   }
 
-  // End-of-step velocities without friction, for the nodes that can touch.
+  // Per-component inverse masses (0 for an immovable or prescribed component)
+  // and end-of-step velocities without friction, for the nodes that touch.
   for (size_t i = 0; i < np; ++i) {
     for (int k = 0; k < 6; ++k) {
       const int32_t n = pairs_[i].node[k];
       const double im = inverse_mass(in.mass[n]);
-      wx_[n] = in.vx[n] + dt * fx[n] * im;
-      wy_[n] = in.vy[n] + dt * fy[n] * im;
+      const uint8_t cons = in.constrained ? in.constrained[n] : 0;
+      imx_[n] = (cons & 1) ? 0.0 : im;
+      imy_[n] = (cons & 2) ? 0.0 : im;
+      wx_[n] = (cons & 1) ? in.v_bc_x[n] : in.vx[n] + dt * fx[n] * im;
+      wy_[n] = (cons & 2) ? in.v_bc_y[n] : in.vy[n] + dt * fy[n] * im;
     }
   }
   // Inverse effective mass of each pair along its tangent: the change of the
-  // tangential relative velocity per unit tangential impulse.
+  // tangential relative velocity per unit tangential force and unit dt.
   for (size_t i = 0; i < np; ++i) {
     const ContactPair& c = pairs_[i];
+    const double tx2 = c.ny * c.ny, ty2 = c.nx * c.nx;
     double k = 0.0;
     for (int j = 0; j < 3; ++j) {
-      k += c.nc[j] * c.nc[j] * inverse_mass(in.mass[c.node[j]]);
-      k += c.nt[j] * c.nt[j] * inverse_mass(in.mass[c.node[3 + j]]);
+      const int32_t a = c.node[j], b = c.node[3 + j];
+      k += c.nc[j] * c.nc[j] * (tx2 * imx_[a] + ty2 * imy_[a]);
+      k += c.nt[j] * c.nt[j] * (tx2 * imx_[b] + ty2 * imy_[b]);
     }
     kinv_[i] = k;
     lambda_[i] = 0.0;
@@ -94,12 +104,11 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       const double tx = -c.ny, ty = c.nx;
       for (int j = 0; j < 3; ++j) {
         const int32_t a = c.node[j], b = c.node[3 + j];
-        const double ia = dt * d * c.nc[j] * inverse_mass(in.mass[a]);
-        const double ib = dt * d * c.nt[j] * inverse_mass(in.mass[b]);
-        wx_[a] += ia * tx;
-        wy_[a] += ia * ty;
-        wx_[b] -= ib * tx;
-        wy_[b] -= ib * ty;
+        const double ia = dt * d * c.nc[j], ib = dt * d * c.nt[j];
+        wx_[a] += ia * imx_[a] * tx;
+        wy_[a] += ia * imy_[a] * ty;
+        wx_[b] -= ib * imx_[b] * tx;
+        wy_[b] -= ib * imy_[b] * ty;
       }
     }
   }
