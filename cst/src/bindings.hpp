@@ -4,4 +4,5 @@
 
 namespace cst {
 void bind_contact(pybind11::module_& m);
+void bind_model(pybind11::module_& m);
 }
