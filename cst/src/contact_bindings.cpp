@@ -33,18 +33,20 @@ void need_len(const char* name, py::ssize_t got, py::ssize_t want) {
                                 ", got " + std::to_string(got));
 }
 
-// Optional prescribed-velocity components (bit 0: x, bit 1: y) and their values.
+// Optional prescribed-velocity components (bit 0: x, bit 1: y) and, optionally,
+// their prescribed velocities.
 void add_constraints(InputHolder& h, py::object constrained, py::object vbx, py::object vby) {
   if (constrained.is_none()) return;
-  if (vbx.is_none() || vby.is_none())
-    throw std::invalid_argument("constrained needs v_bc_x and v_bc_y");
   h.constrained = constrained.cast<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>();
+  need_len("constrained", h.constrained.size(), h.in.n_nodes);
+  h.in.constrained = h.constrained.data();
+  if (vbx.is_none() != vby.is_none())
+    throw std::invalid_argument("give both v_bc_x and v_bc_y, or neither");
+  if (vbx.is_none()) return;
   h.vbx = vbx.cast<DArr>();
   h.vby = vby.cast<DArr>();
-  need_len("constrained", h.constrained.size(), h.in.n_nodes);
   need_len("v_bc_x", h.vbx.size(), h.in.n_nodes);
   need_len("v_bc_y", h.vby.size(), h.in.n_nodes);
-  h.in.constrained = h.constrained.data();
   h.in.v_bc_x = h.vbx.data();
   h.in.v_bc_y = h.vby.data();
 }
@@ -132,6 +134,26 @@ void bind_contact(py::module_& m) {
       "xc, xt: 3x2 vertex coordinates. Returns None without overlap, else a dict:\n"
       "forces (6x2: contactor nodes then target nodes), energy = s int (phi_c+phi_t),\n"
       "area and point (centroid) of the overlap, nc/nt shape functions there.");
+
+  m.def(
+      "contact_critical_dt",
+      [](DArr x, DArr y, DArr mass, IArr tri, double penalty) {
+        const py::ssize_t n = x.size();
+        DArr zero(n);
+        std::fill(zero.mutable_data(), zero.mutable_data() + n, 0.0);
+        IArr body(tri.size() / 3), surface(0);
+        std::fill(body.mutable_data(), body.mutable_data() + body.size(), 0);
+        InputHolder h = make_input(x, y, zero, zero, mass, tri, body, surface, 0.0);
+        const ContactStableStep s = contact_critical_dt(ContactParams{penalty, 0.0}, h.in);
+        py::dict d;
+        d["dt"] = s.dt;
+        d["node"] = s.node;
+        d["stiffness"] = s.stiffness;
+        d["mass"] = s.mass;
+        return d;
+      },
+      py::arg("x"), py::arg("y"), py::arg("mass"), py::arg("tri"), py::arg("penalty"),
+      "Critical time step of the contact penalty (no safety factor), see contact.hpp.");
 
   py::class_<ContactSolver>(m, "ContactSolver",
                             "Broad phase, potential contact and Coulomb friction on flat arrays.")

@@ -38,8 +38,6 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   if (p.mu == 0.0 || pairs_.empty()) return 0.0;
   if (!(std::isfinite(in.dt) && in.dt > 0.0))
     throw std::invalid_argument("contact friction needs a time step dt > 0");
-  if (in.constrained && !(in.v_bc_x && in.v_bc_y))
-    throw std::invalid_argument("contact friction: constrained nodes need v_bc_x and v_bc_y");
   const auto t0 = std::chrono::steady_clock::now();
   const double dt = in.dt;
   const size_t np = pairs_.size();
@@ -63,8 +61,14 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       const uint8_t cons = in.constrained ? in.constrained[n] : 0;
       imx_[n] = (cons & 1) ? 0.0 : im;
       imy_[n] = (cons & 2) ? 0.0 : im;
-      wx_[n] = (cons & 1) ? in.v_bc_x[n] : in.vx[n] + dt * fx[n] * im;
-      wy_[n] = (cons & 2) ? in.v_bc_y[n] : in.vy[n] + dt * fy[n] * im;
+      if (cons & 1)
+        wx_[n] = in.v_bc_x ? in.v_bc_x[n] : in.vx[n];
+      else
+        wx_[n] = in.vx[n] + dt * fx[n] * im;
+      if (cons & 2)
+        wy_[n] = in.v_bc_y ? in.v_bc_y[n] : in.vy[n];
+      else
+        wy_[n] = in.vy[n] + dt * fy[n] * im;
     }
   }
   // Inverse effective mass of each pair along its tangent: the change of the
