@@ -9,9 +9,11 @@
 
 namespace cst {
 
+constexpr int32_t kMinParallelSurface = 4096;
+
 void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int32_t* tri,
                       const int32_t* body, const double* x, const double* y,
-                      std::vector<CandidatePair>& pairs) {
+                      std::vector<CandidatePair>& pairs, int threads) {
   pairs.clear();
   const int32_t n = n_surface;
   if (n < 2) return;
@@ -68,10 +70,12 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (int32_t i = 0; i < n; ++i) sorted_[cursor_[cell_of_[i]]++] = i;
 
-  const int nthreads = omp_get_max_threads();
+  // Waking threads costs more than scanning a few thousand triangles, and on a
+  // busy machine a lot more.
+  const int nthreads = n < kMinParallelSurface ? 1 : (threads > 0 ? threads : omp_get_max_threads());
   if (static_cast<int>(per_thread_.size()) < nthreads) per_thread_.resize(nthreads);
 
-#pragma omp parallel num_threads(nthreads)
+#pragma omp parallel num_threads(nthreads) if (nthreads > 1)
   {
     std::vector<CandidatePair>& out = per_thread_[omp_get_thread_num()];
     out.clear();

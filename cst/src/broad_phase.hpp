@@ -25,9 +25,10 @@ class BroadPhase {
   // overlap. The order is deterministic (cell by cell, then input order) and
   // does not depend on the number of threads. Throws std::runtime_error on a
   // non-finite node position.
+  // threads: OpenMP threads (0: OpenMP default); small problems run serially.
   void find(int32_t n_surface, const int32_t* surface_tris, const int32_t* tri,
             const int32_t* body, const double* x, const double* y,
-            std::vector<CandidatePair>& pairs);
+            std::vector<CandidatePair>& pairs, int threads = 0);
 
   double cell_size() const { return cell_; }
 

@@ -14,6 +14,10 @@
 namespace cst {
 namespace {
 
+// Below this many candidate pairs the kernel loop runs serially: waking the
+// threads would cost more than it saves.
+constexpr int64_t kMinParallelPairs = 2048;
+
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -31,13 +35,14 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
                                       double* fy) {
   check_contact_params(p);
   const double t0 = now_s();
-  broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_);
+  broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_, in.threads);
   const double t1 = now_s();
 
   const int64_t nc = static_cast<int64_t>(candidates_.size());
   if (static_cast<int64_t>(results_.size()) < nc) results_.resize(nc);
   if (static_cast<int64_t>(hit_.size()) < nc) hit_.resize(nc);
-#pragma omp parallel for schedule(static)
+  const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(nthreads) if (nc >= kMinParallelPairs)
   for (int64_t i = 0; i < nc; ++i) {
     const int32_t* va = in.tri + 3 * static_cast<int64_t>(candidates_[i].a);
     const int32_t* vb = in.tri + 3 * static_cast<int64_t>(candidates_[i].b);

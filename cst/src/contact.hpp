@@ -10,6 +10,7 @@
 //      zero slip so that a block below the friction angle stays at rest.
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "broad_phase.hpp"
@@ -43,6 +44,7 @@ struct ContactInput {
   int32_t n_surface = 0;
   const int32_t* surface_tris = nullptr;
   double dt = 0.0;
+  int32_t threads = 0;  // OpenMP threads for the contact passes; 0: OpenMP default
   // Optional kinematic constraints (nullptr: none). constrained[n] bit 0: vx
   // prescribed, bit 1: vy prescribed. Friction treats a prescribed component
   // as immovable, moving at v_bc (the prescribed velocity at t + dt/2) if
@@ -128,6 +130,9 @@ class ContactSolver {
   std::vector<uint8_t> hit_;
   std::vector<ContactPair> pairs_;
   std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
+  std::vector<std::pair<uint64_t, double>> order_;
+  std::vector<uint64_t> prev_key_;  // (contactor, target) of last step's pairs, sorted
+  std::vector<double> prev_lambda_; // their tangential forces (warm start)
 };
 
 }  // namespace cst

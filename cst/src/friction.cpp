@@ -10,8 +10,9 @@
 //     contact point, it is applied (stick: the block stays exactly at rest);
 //   - otherwise lambda = -mu |f_c| sign(v_t') (slip: eq 4 with the end-of-step
 //     sliding direction).
-// Pairs that share nodes are coupled; a few projected Gauss-Seidel sweeps over
-// the pairs (in pair order, so deterministic) resolve that. The force acts at
+// Pairs that share nodes are coupled; projected Gauss-Seidel sweeps over the
+// pairs (in pair order, so deterministic), warm-started from the previous
+// step's forces, resolve that. The force acts at
 // the contact point and is spread by the shape functions of both triangles,
 // so it has zero resultant and zero moment over the pair.
 #include <algorithm>
@@ -28,6 +29,11 @@ namespace {
 // neighbouring pairs well enough, and the rest carries over to the next step.
 constexpr int kSweeps = 4;
 
+inline uint64_t pair_key(const ContactPair& c) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(c.contactor)) << 32) |
+         static_cast<uint32_t>(c.target);
+}
+
 inline double inverse_mass(double m) { return (m > 0.0 && std::isfinite(m)) ? 1.0 / m : 0.0; }
 
 }  // namespace
@@ -35,7 +41,11 @@ inline double inverse_mass(double m) { return (m > 0.0 && std::isfinite(m)) ? 1.
 double ContactSolver::apply_friction(const ContactParams& p, const ContactInput& in, double* fx,
                                      double* fy) {
   check_contact_params(p);
-  if (p.mu == 0.0 || pairs_.empty()) return 0.0;
+  if (p.mu == 0.0 || pairs_.empty()) {
+    prev_key_.clear();
+    prev_lambda_.clear();
+    return 0.0;
+  }
   if (!(std::isfinite(in.dt) && in.dt > 0.0))
     throw std::invalid_argument("contact friction needs a time step dt > 0");
   const auto t0 = std::chrono::steady_clock::now();
@@ -95,6 +105,35 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     return -c.ny * ux + c.nx * uy;  // along the tangent (-ny, nx)
   };
 
+  // Adds the change d of pair i's tangential force to the predicted velocities.
+  auto push = [&](size_t i, double d) {
+    const ContactPair& c = pairs_[i];
+    const double tx = -c.ny, ty = c.nx;
+    for (int j = 0; j < 3; ++j) {
+      const int32_t a = c.node[j], b = c.node[3 + j];
+      const double ia = dt * d * c.nc[j], ib = dt * d * c.nt[j];
+      wx_[a] += ia * imx_[a] * tx;
+      wy_[a] += ia * imy_[a] * ty;
+      wx_[b] -= ib * imx_[b] * tx;
+      wy_[b] -= ib * imy_[b] * ty;
+    }
+  };
+
+  // Warm start from the force the same triangle pair carried last step: a
+  // resting block needs nearly the same friction every step, so the sweeps
+  // only correct it, and the iteration keeps converging across steps instead
+  // of leaving a residual slip (creep) at a fixed sweep count.
+  for (size_t i = 0; i < np; ++i) {
+    const ContactPair& c = pairs_[i];
+    const uint64_t key = pair_key(c);
+    const auto it = std::lower_bound(prev_key_.begin(), prev_key_.end(), key);
+    if (it == prev_key_.end() || *it != key || kinv_[i] == 0.0) continue;
+    const double limit = p.mu * c.fn;
+    const double lam = std::clamp(prev_lambda_[it - prev_key_.begin()], -limit, limit);
+    lambda_[i] = lam;
+    push(i, lam);
+  }
+
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (size_t i = 0; i < np; ++i) {
       const ContactPair& c = pairs_[i];
@@ -105,16 +144,19 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       const double d = lam - lambda_[i];
       if (d == 0.0) continue;
       lambda_[i] = lam;
-      const double tx = -c.ny, ty = c.nx;
-      for (int j = 0; j < 3; ++j) {
-        const int32_t a = c.node[j], b = c.node[3 + j];
-        const double ia = dt * d * c.nc[j], ib = dt * d * c.nt[j];
-        wx_[a] += ia * imx_[a] * tx;
-        wy_[a] += ia * imy_[a] * ty;
-        wx_[b] -= ib * imx_[b] * tx;
-        wy_[b] -= ib * imy_[b] * ty;
-      }
+      push(i, d);
     }
+  }
+
+  // Remember the forces by pair for the next step's warm start.
+  order_.resize(np);
+  for (size_t i = 0; i < np; ++i) order_[i] = {pair_key(pairs_[i]), lambda_[i]};
+  std::sort(order_.begin(), order_.end());
+  prev_key_.resize(np);
+  prev_lambda_.resize(np);
+  for (size_t i = 0; i < np; ++i) {
+    prev_key_[i] = order_[i].first;
+    prev_lambda_[i] = order_[i].second;
   }
 
   // Apply, and measure the power of friction with the velocities the nodes
