@@ -3,7 +3,9 @@ h = 0.1 m right-triangle meshes (25,600 triangles), pressed together head-on.
 
 Times ContactSolver.compute_normal + apply_friction alone (no elements), per
 call, and prints it against the 2.56 ms per step that 10 M triangle-steps/s
-allows for 25,600 triangles. Timings on a shared machine are noisy.
+allows for 25,600 triangles. The wall time also includes the Python binding's
+input checks (all 25,600 triangles every call), which the engine does not pay.
+Timings on a shared machine are noisy.
 
     /usr/bin/python3 bench/contact_two_blocks.py [--steps N]
 """

@@ -37,9 +37,9 @@ def random_scene(n_nodes, n_tri, n_bodies, seed, box=10.0):
     return pts, tri, body, surface
 
 
-def run_normal(pts, tri, body, surface, solver=None):
+def run_normal(pts, tri, body, surface, solver=None, skin_fraction=0.0):
     n = len(pts)
-    solver = solver or _cst.ContactSolver()
+    solver = solver or _cst.ContactSolver(skin_fraction=skin_fraction)
     fx, fy = np.zeros(n), np.zeros(n)
     zero = np.zeros(n)
     solver.compute_normal(pts[:, 0].copy(), pts[:, 1].copy(), zero, zero, np.ones(n), tri, body,
@@ -47,9 +47,9 @@ def run_normal(pts, tri, body, surface, solver=None):
     return solver, fx, fy
 
 
-def brute_force_candidates(pts, tri, body, surface):
-    lo = pts[tri].min(axis=1)
-    hi = pts[tri].max(axis=1)
+def brute_force_candidates(pts, tri, body, surface, skin=0.0):
+    lo = pts[tri].min(axis=1) - skin
+    hi = pts[tri].max(axis=1) + skin
     out = set()
     for ii, a in enumerate(surface):
         for b in surface[ii + 1:]:
@@ -68,6 +68,38 @@ def test_broad_phase_finds_exactly_the_brute_force_pairs(seed):
     assert len(cand) == len(set(cand)), "a pair was reported twice"
     assert set(cand) == brute_force_candidates(pts, tri, body, surface)
     assert len(cand) > 100  # the scene really has work for the broad phase
+
+
+def test_broad_phase_skin_grows_every_box():
+    # With a skin the list holds exactly the pairs whose boxes, grown by
+    # skin = fraction x largest surface-triangle extent, overlap.
+    pts, tri, body, surface = random_scene(300, 500, 4, 6)
+    solver, _, _ = run_normal(pts, tri, body, surface, skin_fraction=0.2)
+    ext = (pts[tri[surface]].max(axis=1) - pts[tri[surface]].min(axis=1)).max()
+    exact = brute_force_candidates(pts, tri, body, surface)
+    grown = brute_force_candidates(pts, tri, body, surface, skin=0.2 * ext)
+    assert set(tuple(p) for p in solver.candidates) == grown
+    assert len(grown) > len(exact)
+
+
+def test_reused_candidate_list_finds_every_touching_pair_while_nodes_move():
+    # Nodes jiggle by up to 2 cm per call (triangles ~1 m): the list built
+    # with a 10 % skin is reused for many calls, and at every call the
+    # touching pairs and forces equal those of a fresh broad phase.
+    pts, tri, body, surface = random_scene(300, 500, 4, 8)
+    rng = np.random.default_rng(9)
+    reused = _cst.ContactSolver(skin_fraction=0.1)
+    calls = 40
+    for _ in range(calls):
+        pts = pts + rng.uniform(-2e-2, 2e-2, pts.shape)
+        _, fx, fy = run_normal(pts, tri, body, surface, solver=reused)
+        fresh, gx, gy = run_normal(pts, tri, body, surface)
+        assert set(tuple(p) for p in reused.pairs["tris"]) == set(tuple(p) for p in fresh.pairs["tris"])
+        scale = max(np.abs(gx).max(), np.abs(gy).max())
+        # Same pair forces summed in another order: round-off only.
+        np.testing.assert_allclose(fx, gx, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(fy, gy, rtol=0, atol=1e-12 * scale)
+    assert 1 < reused.rebuilds < calls
 
 
 def test_broad_phase_with_far_apart_clusters():
@@ -112,6 +144,10 @@ def test_repeat_and_reuse_are_bit_identical():
     pts, tri, body, surface = random_scene(300, 500, 4, 3)
     solver, fx1, fy1 = run_normal(pts, tri, body, surface)
     _, fx2, fy2 = run_normal(pts, tri, body, surface, solver)  # reused buffers
+    s3, fx3, fy3 = run_normal(pts, tri, body, surface, skin_fraction=0.1)
+    _, fx4, fy4 = run_normal(pts, tri, body, surface, s3)  # reused candidate list
+    assert s3.rebuilds == 1
+    assert np.array_equal(fx3, fx4) and np.array_equal(fy3, fy4)
     assert np.array_equal(fx1, fx2) and np.array_equal(fy1, fy2)
 
 
@@ -120,7 +156,7 @@ import sys, hashlib, numpy as np
 sys.path[:0] = {path!r}
 from test_contact_broad_phase import random_scene, run_normal
 pts, tri, body, surface = random_scene(400, 800, 5, 7)
-s, fx, fy = run_normal(pts, tri, body, surface)
+s, fx, fy = run_normal(pts, tri, body, surface, skin_fraction=0.1)
 print(hashlib.sha256(fx.tobytes() + fy.tobytes() + s.candidates.tobytes()).hexdigest())
 """
 

@@ -13,8 +13,9 @@ constexpr int32_t kMinParallelSurface = 4096;
 
 void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int32_t* tri,
                       const int32_t* body, const double* x, const double* y,
-                      std::vector<CandidatePair>& pairs, int threads) {
+                      std::vector<CandidatePair>& pairs, int threads, double skin_fraction) {
   pairs.clear();
+  skin_ = 0.0;
   const int32_t n = n_surface;
   if (n < 2) return;
   bx0_.resize(n);
@@ -44,6 +45,19 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
     xmax = std::max(xmax, lx);
     ymax = std::max(ymax, ly);
   }
+  // Grow every box by the skin; the cells must hold the grown boxes.
+  skin_ = skin_fraction * ext;
+  for (int32_t i = 0; i < n; ++i) {
+    bx0_[i] -= skin_;
+    by0_[i] -= skin_;
+    bx1_[i] += skin_;
+    by1_[i] += skin_;
+  }
+  xmin -= skin_;
+  ymin -= skin_;
+  xmax -= skin_;
+  ymax -= skin_;
+  ext += 2.0 * skin_;
   // Slightly larger than the largest box, so that rounding in the binning
   // never puts two overlapping boxes two cells apart.
   double h = ext > 0.0 ? ext * (1.0 + 1e-9) : 1.0;

@@ -31,11 +31,64 @@ void check_contact_params(const ContactParams& p) {
     throw std::invalid_argument("friction coefficient mu must be finite and >= 0");
 }
 
+void ContactSolver::set_skin_fraction(double f) {
+  if (!(std::isfinite(f) && f >= 0.0 && f <= 1.0))
+    throw std::invalid_argument("skin_fraction must be in [0, 1]");
+  skin_fraction_ = f;
+  have_list_ = false;
+}
+
+namespace {
+
+// FNV-style hash of what the candidate list depends on besides positions.
+uint64_t list_signature(const ContactInput& in) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  mix(static_cast<uint64_t>(in.n_nodes));
+  mix(static_cast<uint64_t>(in.n_surface));
+  for (int32_t i = 0; i < in.n_surface; ++i) {
+    const int64_t t = in.surface_tris[i];
+    mix(static_cast<uint64_t>(t));
+    mix(static_cast<uint64_t>(in.body[t]));
+    for (int k = 0; k < 3; ++k) mix(static_cast<uint64_t>(in.tri[3 * t + k]));
+  }
+  return h;
+}
+
+}  // namespace
+
+// True when the candidate list of the last build still holds every pair whose
+// boxes can overlap now: no node of a surface triangle moved more than the skin.
+bool ContactSolver::list_still_valid(const ContactInput& in) const {
+  if (!have_list_ || skin_fraction_ == 0.0) return false;
+  if (static_cast<int64_t>(xref_.size()) != in.n_nodes) return false;
+  if (list_signature(in) != list_signature_) return false;
+  const double skin = broad_.skin();
+  for (int32_t i = 0; i < in.n_surface; ++i) {
+    const int32_t* v = in.tri + 3 * static_cast<int64_t>(in.surface_tris[i]);
+    for (int k = 0; k < 3; ++k) {
+      const int32_t n = v[k];
+      // Written so that a NaN position forces a rebuild (which reports it).
+      if (!(std::fabs(in.x[n] - xref_[n]) <= skin && std::fabs(in.y[n] - yref_[n]) <= skin))
+        return false;
+    }
+  }
+  return true;
+}
+
 int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput& in, double* fx,
                                       double* fy) {
   check_contact_params(p);
   const double t0 = now_s();
-  broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_, in.threads);
+  if (!list_still_valid(in)) {
+    broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_,
+                in.threads, skin_fraction_);
+    xref_.assign(in.x, in.x + in.n_nodes);
+    yref_.assign(in.y, in.y + in.n_nodes);
+    list_signature_ = list_signature(in);
+    have_list_ = true;
+    ++rebuilds_;
+  }
   const double t1 = now_s();
 
   const int64_t nc = static_cast<int64_t>(candidates_.size());
@@ -50,6 +103,14 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
     const double ya[3] = {in.y[va[0]], in.y[va[1]], in.y[va[2]]};
     const double xb[3] = {in.x[vb[0]], in.x[vb[1]], in.x[vb[2]]};
     const double yb[3] = {in.y[vb[0]], in.y[vb[1]], in.y[vb[2]]};
+    // Candidates carry a skin: drop those whose current boxes are apart.
+    if (std::fmax(xa[0], std::fmax(xa[1], xa[2])) < std::fmin(xb[0], std::fmin(xb[1], xb[2])) ||
+        std::fmax(xb[0], std::fmax(xb[1], xb[2])) < std::fmin(xa[0], std::fmin(xa[1], xa[2])) ||
+        std::fmax(ya[0], std::fmax(ya[1], ya[2])) < std::fmin(yb[0], std::fmin(yb[1], yb[2])) ||
+        std::fmax(yb[0], std::fmax(yb[1], yb[2])) < std::fmin(ya[0], std::fmin(ya[1], ya[2]))) {
+      hit_[i] = 0;
+      continue;
+    }
     hit_[i] = potential_contact_pair(xa, ya, xb, yb, p.penalty, results_[i]) ? 1 : 0;
   }
 

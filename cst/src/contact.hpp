@@ -118,14 +118,28 @@ class ContactSolver {
   const std::vector<ContactPair>& pairs() const { return pairs_; }
   // Bounding-box candidates of the last broad phase (diagnostics and tests).
   const std::vector<CandidatePair>& candidates() const { return candidates_; }
+  // Candidate reuse: boxes are grown by skin_fraction times the largest
+  // surface-triangle extent, and the list is rebuilt only when a node of a
+  // surface triangle has moved farther than that (or the surface triangles,
+  // their nodes or bodies changed). 0: rebuild every call.
+  void set_skin_fraction(double f);
+  double skin_fraction() const { return skin_fraction_; }
+  int64_t rebuilds() const { return rebuilds_; }  // broad-phase builds so far
 
  private:
+  bool list_still_valid(const ContactInput& in) const;
+
   double stored_energy_ = 0.0;
   int32_t n_touching_ = 0;
   ContactTimings timings_;
   // Buffers reused from step to step (no allocation once they have grown).
   BroadPhase broad_;
   std::vector<CandidatePair> candidates_;
+  double skin_fraction_ = 0.1;
+  int64_t rebuilds_ = 0;
+  bool have_list_ = false;
+  uint64_t list_signature_ = 0;     // surface triangles, nodes, bodies of the list
+  std::vector<double> xref_, yref_; // node positions when the list was built
   std::vector<PairContact> results_;
   std::vector<uint8_t> hit_;
   std::vector<ContactPair> pairs_;

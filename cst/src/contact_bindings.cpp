@@ -157,7 +157,15 @@ void bind_contact(py::module_& m) {
 
   py::class_<ContactSolver>(m, "ContactSolver",
                             "Broad phase, potential contact and Coulomb friction on flat arrays.")
-      .def(py::init<>())
+      .def(py::init([](double skin_fraction) {
+             auto s = std::make_unique<ContactSolver>();
+             s->set_skin_fraction(skin_fraction);
+             return s;
+           }),
+           py::arg("skin_fraction") = 0.1,
+           "skin_fraction: candidate-list reuse margin (fraction of the largest surface\n"
+           "triangle); 0 rebuilds the broad phase on every call.")
+      .def_property_readonly("rebuilds", &ContactSolver::rebuilds)
       .def(
           "compute_normal",
           [](ContactSolver& s, DArr x, DArr y, DArr vx, DArr vy, DArr mass, IArr tri, IArr body,
