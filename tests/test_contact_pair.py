@@ -122,3 +122,29 @@ def test_bad_penalty_is_rejected():
     xc, xt = mirror_pair(0.1)
     with pytest.raises(ValueError, match="penalty"):
         _cst.contact_pair(xc, xt, -1.0)
+
+
+def test_triangles_sharing_a_node_or_a_body_never_contact():
+    # Two overlapping triangles with a common corner. As separate nodes of
+    # different bodies they push apart; sharing the corner node, or belonging
+    # to one body, they must not (MODEL.md 3.2).
+    corner = [0.0, 0.0]
+    a = [corner, [1.0, 0.0], [0.2, 1.0]]
+    b = [corner, [1.0, 0.3], [0.9, 1.0]]
+
+    def forces(pts, tri, body):
+        n = len(pts)
+        pts = np.asarray(pts, dtype=float)
+        fx, fy = np.zeros(n), np.zeros(n)
+        s = _cst.ContactSolver()
+        s.compute_normal(pts[:, 0].copy(), pts[:, 1].copy(), np.zeros(n), np.zeros(n), np.ones(n),
+                         np.asarray(tri, dtype=np.int32), np.asarray(body, dtype=np.int32),
+                         np.arange(len(tri), dtype=np.int32), fx, fy, penalty=S, mu=0.3, dt=1e-6)
+        return s.touching_pairs, np.abs(fx).max() + np.abs(fy).max()
+
+    separate = forces(a + b, [[0, 1, 2], [3, 4, 5]], [0, 1])
+    shared = forces(a + b[1:], [[0, 1, 2], [0, 3, 4]], [0, 1])
+    same_body = forces(a + b, [[0, 1, 2], [3, 4, 5]], [0, 0])
+    assert separate[0] == 1 and separate[1] > 0.0
+    assert shared == (0, 0.0)
+    assert same_body == (0, 0.0)
