@@ -501,6 +501,8 @@ ContactInput Model::contact_input() const {
   in.n_surface = int32_t(surface_tris_.size());
   in.surface_tris = surface_tris_.data();
   in.dt = dt_;
+  // Friction must see fixed and driven nodes as immovable (contact branch).
+  in.constrained = nodes_.constrained.data();
   return in;
 }
 
