@@ -361,8 +361,9 @@ void Model::prepare_topology() {
 StableStep Model::stable_step() {
   prepare_topology();
   if (!stable_current_) {
-    stable_ = stable_time_step(nodes_, tris_, elem_mat_, on_surface_, contact_possible_,
-                               contact_params_.penalty, ext_, body_area0_);
+    const ContactStableStep contact =
+        contact_possible_ ? contact_critical_dt(contact_params_, contact_input()) : ContactStableStep{};
+    stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
     stable_current_ = true;
   }
   return stable_;
@@ -501,6 +502,7 @@ ContactInput Model::contact_input() const {
   in.n_surface = int32_t(surface_tris_.size());
   in.surface_tris = surface_tris_.data();
   in.dt = dt_;
+  in.threads = threads_;
   // Friction must see fixed and driven nodes as immovable (contact branch).
   in.constrained = nodes_.constrained.data();
   return in;
@@ -648,7 +650,7 @@ void Model::update_positions() {
   E.work_boundary += dt * s[9];
   // The works cover the motion up to x^{n+1/2}; so must the elastic energy.
   E.elastic_midstep = E.elastic - 0.5 * dt * s[10];
-  E.contact_solver += contact_work_step_;
+  E.contact_solver = contact_work_step_;  // the contact module's current potential energy
   time_ += dt;
   ++step_count_;
 }

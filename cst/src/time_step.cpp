@@ -88,8 +88,8 @@ std::string StableStep::describe(const std::vector<int32_t>& tri_body) const {
 
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                             const std::vector<ElementMaterial>& mat,
-                            const std::vector<uint8_t>& on_surface, bool contact_possible,
-                            double penalty, const ExternalParams& ext,
+                            bool contact_possible, const ContactStableStep& contact,
+                            const ExternalParams& ext,
                             const std::vector<double>& body_area0) {
   StableStep s;
   s.dt_element = s.dt_contact = s.dt_drag = kInf;
@@ -119,15 +119,11 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     s.wave_speed = std::sqrt((m.lambda + 2.0 * m.mu) / m.rho);
   }
   if (contact_possible) {
-    for (int32_t i = 0; i < nodes.size(); ++i) {
-      if (!on_surface[i]) continue;
-      const double dt = std::sqrt(2.0 * nodes.mass[i] / penalty);
-      if (dt < s.dt_contact) {
-        s.dt_contact = dt;
-        s.contact_node = i;
-        s.contact_mass = nodes.mass[i];
-      }
-    }
+    // The potential contact stiffness of a boundary node is several times the
+    // penalty (contact.hpp, contact_critical_dt): ask the contact module.
+    s.dt_contact = contact.dt;
+    s.contact_node = contact.node;
+    s.contact_mass = contact.mass;
   }
   if (ext.drag && ext.c_w > 0.0) {
     for (size_t b = 0; b < body_area0.size(); ++b) {

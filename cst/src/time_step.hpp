@@ -12,6 +12,7 @@
 // 2 rho A_body/c_w.
 // The stable step is SAFETY times the smallest of these limits.
 #pragma once
+#include "contact.hpp"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -46,8 +47,8 @@ double element_critical_dt(double ax, double ay, double bx, double by, double cx
 
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                             const std::vector<ElementMaterial>& mat,
-                            const std::vector<uint8_t>& on_surface, bool contact_possible,
-                            double penalty, const ExternalParams& ext,
+                            bool contact_possible, const ContactStableStep& contact,
+                            const ExternalParams& ext,
                             const std::vector<double>& body_area0);
 
 }  // namespace cst
