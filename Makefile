@@ -6,7 +6,7 @@ DEBS    := yade gmsh python3-gmsh python3-numpy python3-scipy python3-matplotlib
            python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make
 STAMP   := $(BUILD)/.built
 
-.PHONY: setup deps build test bench demo clean
+.PHONY: setup deps build test bench demo figures clean
 
 setup: deps build
 
@@ -32,6 +32,12 @@ bench: build
 
 demo: build
 	$(PY) yade_scripts/demo.py
+
+# Figs. 6-20 and Tables 2-3 from a folder of run results (docs/postproc.md)
+RESULTS ?= results
+FIGDIR  ?= figures
+figures:
+	$(PY) -m postproc.make_figures $(RESULTS) -o $(FIGDIR)
 
 clean:
 	rm -rf $(BUILD) icerubble/_*.so

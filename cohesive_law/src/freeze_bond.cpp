@@ -1,5 +1,5 @@
 #include "cohesive_law/freeze_bond.hpp"
 
 namespace cohesive_law {
-const char* version() { return "0.1"; }
+const char* version() { return "0.2"; }
 }

@@ -1,0 +1,97 @@
+"""Atomic, self-describing HDF5 files (docs/results_format.md).
+
+A file is written as NAME.part and renamed to NAME only once it is complete,
+and the root attribute ``complete`` is set to 1 as the last write. So a file
+carrying the final name is complete even if the machine died while writing
+(rename is atomic on one filesystem), and a reader can refuse anything else.
+"""
+import datetime
+import os
+import subprocess
+
+import h5py
+import numpy as np
+
+from . import __version__
+
+
+def code_version():
+    """Package version plus the git commit of the checkout, if there is one."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    try:
+        rev = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True, timeout=5).stdout.strip()
+        dirty = subprocess.run(["git", "-C", here, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=5).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        rev, dirty = "", ""
+    if rev:
+        return f"{__version__}+g{rev}" + (".dirty" if dirty else "")
+    return __version__
+
+
+def write_dataset(group, name, data, units, **attrs):
+    ds = group.create_dataset(name, data=np.asarray(data))
+    ds.attrs["units"] = units
+    for k, v in attrs.items():
+        ds.attrs[k] = v
+    return ds
+
+
+def set_attrs(obj, mapping):
+    for k, v in mapping.items():
+        obj.attrs[k] = v if v is not None else "none"
+
+
+class AtomicH5:
+    """Context manager: ``with AtomicH5(path, fmt) as f:`` writes path.part,
+    then sets root ``complete = 1`` and renames to path on a clean exit. On an
+    exception the .part file stays (for inspection) and path is not touched.
+    """
+
+    def __init__(self, path, fmt, format_version=1):
+        self.path = os.fspath(path)
+        self.part = self.path + ".part"
+        self.fmt = fmt
+        self.format_version = format_version
+        self.file = None
+
+    def __enter__(self):
+        d = os.path.dirname(os.path.abspath(self.path))
+        os.makedirs(d, exist_ok=True)
+        self.file = h5py.File(self.part, "w")
+        a = self.file.attrs
+        a["format"] = self.fmt
+        a["format_version"] = self.format_version
+        a["code_version"] = code_version()
+        a["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+        a["complete"] = 0
+        return self.file
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            self.file.attrs["complete"] = 1
+            self.file.flush()
+        self.file.close()
+        if exc_type is None:
+            os.replace(self.part, self.path)
+        return False
+
+
+def open_complete(path, fmt=None):
+    """Open an HDF5 file for reading, refusing partial or foreign files."""
+    path = os.fspath(path)
+    if path.endswith(".part"):
+        raise ValueError(f"{path} is a partially written file (.part): the run that wrote it did not finish")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise ValueError(f"{path} is not an HDF5 file ({e})") from None
+    if fmt is not None and f.attrs.get("format") != fmt:
+        found = f.attrs.get("format")
+        f.close()
+        raise ValueError(f"{path} has format {found!r}, expected {fmt!r}")
+    if int(f.attrs.get("complete", 0)) != 1:
+        f.close()
+        raise ValueError(f"{path} is incomplete (root attribute complete != 1)")
+    return f

@@ -1,0 +1,148 @@
+"""Run parameters of a punch-through simulation (paper Table 1) and their checks.
+
+Every parameter has a default from Table 1 (or MODEL.md where the paper is
+silent), a unit and a valid range. ``validate`` raises ValueError naming the
+parameter and its range before any work starts, so a bad yade-batch line fails
+in its first second rather than after an hour of settling.
+"""
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Parameter:
+    default: object
+    unit: str
+    lo: float = None          # inclusive lower bound
+    hi: float = None          # inclusive upper bound
+    lo_open: bool = False     # lower bound excluded
+    hi_open: bool = False     # upper bound excluded
+    choices: tuple = None
+    doc: str = ""
+
+    def range_text(self):
+        if self.choices is not None:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        left = "(" if self.lo_open else "["
+        right = ")" if self.hi_open else "]"
+        lo = "-inf" if self.lo is None else repr(self.lo)
+        hi = "inf" if self.hi is None else repr(self.hi)
+        return f"{left}{lo}, {hi}{right}"
+
+
+POS = dict(lo=0.0, lo_open=True)
+NONNEG = dict(lo=0.0)
+
+TABLE_1 = {
+    # freeze bonds (values on top of the keel; they fall linearly to
+    # strength_bottom_fraction of these at the keel bottom)
+    "tau_cr": Parameter(50e3, "Pa", **POS, doc="bond shear strength at the keel top"),
+    "sigma_cr": Parameter(10e3, "Pa", **POS, doc="bond tensile strength at the keel top"),
+    "G": Parameter(15.0, "J/m^2", **POS, doc="bond fracture energy at the keel top"),
+    "strength_bottom_fraction": Parameter(0.1, "-", lo=0.0, hi=1.0, lo_open=True,
+                                          doc="bond strength and G at the keel bottom, as a fraction of the top value"),
+    "force_direction": Parameter("paper", "-", choices=("paper", "work_conjugate"),
+                                 doc="cohesive force direction: eq 11 as printed, or Ortiz-Pandolfi work-conjugate"),
+    # contact and blocks
+    "mu": Parameter(0.3, "-", **NONNEG, doc="Coulomb friction coefficient (ice-ice)"),
+    "penalty": Parameter(2e11, "Pa", **POS, doc="contact penalty s (eq 2-3)"),
+    "E": Parameter(2e9, "Pa", **POS, doc="Young's modulus of blocks, layer and indenter"),
+    "nu": Parameter(0.3, "-", lo=0.0, hi=0.5, hi_open=True, doc="Poisson's ratio (not given in the paper)"),
+    "rho_i": Parameter(920.0, "kg/m^3", **POS, doc="ice density"),
+    "damping": Parameter(0.0, "-", **NONNEG, doc="element strain-rate damping, fraction of critical at the element scale"),
+    # water
+    "rho_w": Parameter(1010.0, "kg/m^3", **POS, doc="water density"),
+    "c_w": Parameter(2.5e4, "Pa s", **NONNEG, doc="linear water drag constant"),
+    "g": Parameter(9.81, "m/s^2", **POS, doc="gravitational acceleration"),
+    # geometry
+    "domain_width": Parameter(50.0, "m", **POS, doc="width of the consolidated layer and keel"),
+    "keel_depth": Parameter(4.0, "m", **POS, doc="keel depth h below the consolidated layer"),
+    "layer_thickness": Parameter(1.0, "m", **POS, doc="consolidated layer thickness"),
+    "indenter_width": Parameter(4.0, "m", **POS, doc="indenter width w_I"),
+    "indenter_thickness": Parameter(1.0, "m", **POS, doc="indenter thickness h_I"),
+    # loading
+    "v_final": Parameter(0.1, "m/s", **POS, doc="final indenter velocity"),
+    "ramp_time": Parameter(2.0, "s", **NONNEG, doc="smooth acceleration time of the indenter"),
+    "target_travel": Parameter(0.3, "m", **POS, doc="indenter travel y_I at which the run stops"),
+    # numerics
+    "dt": Parameter(1e-6, "s", **POS, doc="time step (checked against the stable step)"),
+}
+
+
+def defaults():
+    return {k: p.default for k, p in TABLE_1.items()}
+
+
+def check_value(name, value, spec=None):
+    """Raise ValueError unless value is valid for parameter `name`."""
+    spec = spec or TABLE_1[name]
+    if spec.choices is not None:
+        if value not in spec.choices:
+            raise ValueError(f"parameter {name}={value!r} is invalid: valid values are {spec.range_text()}")
+        return value
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name}={value!r} is not a number; valid range {spec.range_text()} {spec.unit}")
+    bad = not math.isfinite(v)
+    if spec.lo is not None:
+        bad |= v < spec.lo or (spec.lo_open and v == spec.lo)
+    if spec.hi is not None:
+        bad |= v > spec.hi or (spec.hi_open and v == spec.hi)
+    if bad:
+        raise ValueError(f"parameter {name}={value!r} is out of range: valid range {spec.range_text()} {spec.unit}")
+    return v
+
+
+def validate(params):
+    """Return a full, checked parameter dict: defaults overridden by `params`.
+
+    Unknown names are an error too (a typo in a yade-batch table would
+    otherwise silently run the default).
+    """
+    unknown = sorted(set(params) - set(TABLE_1))
+    if unknown:
+        raise ValueError(f"unknown parameter(s) {', '.join(unknown)}; known: {', '.join(sorted(TABLE_1))}")
+    out = defaults()
+    for name, value in params.items():
+        out[name] = check_value(name, value)
+    if out["indenter_width"] >= out["domain_width"]:
+        raise ValueError(f"parameter indenter_width={out['indenter_width']} must be smaller than "
+                         f"domain_width={out['domain_width']} m")
+    if out["rho_i"] >= out["rho_w"]:
+        raise ValueError(f"parameter rho_i={out['rho_i']} must be below rho_w={out['rho_w']} kg/m^3: "
+                         "the ice must float")
+    return out
+
+
+def units():
+    return {k: p.unit for k, p in TABLE_1.items()}
+
+
+def water_line_draft(params):
+    """Draft d of the freely floating consolidated layer: (ρ_i/ρ_w) t (MODEL.md 3.4)."""
+    return params["rho_i"] / params["rho_w"] * params["layer_thickness"]
+
+
+def indenter_velocity(t, v_final, ramp_time):
+    """Downward indenter speed at time t: a smooth (C1) ramp to v_final over ramp_time.
+
+    The paper accelerates the indenter "during the first two seconds" to avoid
+    an inertial load; a half-cosine ramp has zero acceleration jump at the end.
+    """
+    if ramp_time <= 0.0 or t >= ramp_time:
+        return v_final if t >= 0 else 0.0
+    if t <= 0.0:
+        return 0.0
+    return 0.5 * v_final * (1.0 - math.cos(math.pi * t / ramp_time))
+
+
+def indenter_travel(t, v_final, ramp_time):
+    """Indenter travel y_I(t), the integral of indenter_velocity."""
+    if t <= 0.0:
+        return 0.0
+    if ramp_time <= 0.0:
+        return v_final * t
+    if t < ramp_time:
+        return 0.5 * v_final * (t - ramp_time / math.pi * math.sin(math.pi * t / ramp_time))
+    return 0.5 * v_final * ramp_time + v_final * (t - ramp_time)

@@ -1,0 +1,110 @@
+"""Failure-plane angle alpha from failed bond points (paper Figs. 12 and 13).
+
+Which bond points count as failed at travel y_I: those that have FULLY failed by
+then (``y_I_fail <= y_I``), as the paper uses "the positions of the failed freeze
+bond points". Bond points that have only split (cohesive crack growing, not yet
+broken) are left out by default; ``include_split=True`` counts them too
+(``y_I_split <= y_I``), which picks up the failure zone earlier.
+
+The lines are near vertical, so x is fitted as a function of y by least squares:
+x = a + b y, one line for bond points with x < -w_I/2 and one for x > +w_I/2.
+alpha is the angle of the line to the vertical, positive when the line moves away
+from the indenter centre line as it goes down (the plug widens with depth):
+right side alpha = atan(-b), left side alpha = atan(+b).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+# A line through two points always fits exactly and says nothing about a plane.
+MIN_POINTS = 3
+
+
+@dataclass
+class SideFit:
+    """x = a + b*y through the failed bond points on one side of the indenter."""
+    side: int            # -1 left (x < -w_I/2), +1 right (x > +w_I/2)
+    a: float             # m
+    b: float             # dx/dy [-]
+    n: int               # number of bond points fitted
+    y_top: float         # y of the uppermost failed bond point on this side [m]
+    y_bottom: float      # y of the lowermost one [m]
+    x_top: float         # x of that uppermost bond point [m]
+    x_bottom: float      # x of that lowermost bond point [m]
+
+    @property
+    def alpha(self):
+        """Angle to the vertical [deg], positive away from the centre line (Fig. 12)."""
+        return float(np.degrees(np.arctan(-self.side * self.b)))
+
+    def x_at(self, y):
+        return self.a + self.b * np.asarray(y, dtype=float)
+
+
+def failed_points(bonds, y_I, include_split=False):
+    """Positions (P', 2) of bond points failed at travel ``y_I`` [m] (see module doc)."""
+    pos = np.asarray(bonds["position"], dtype=float)
+    with np.errstate(invalid="ignore"):
+        done = np.asarray(bonds["y_I_fail"], dtype=float) <= y_I
+        if include_split:
+            done |= np.asarray(bonds["y_I_split"], dtype=float) <= y_I
+    return pos[done]
+
+
+def fit_side(points, side, indenter_width, min_points=MIN_POINTS):
+    """Least-squares line x = a + b y through the points on one side (Fig. 12).
+
+    side -1 takes x < -w_I/2, +1 takes x > +w_I/2. Returns None when fewer than
+    ``min_points`` points lie there or their y values are all equal (no line).
+    """
+    if side not in (-1, 1):
+        raise ValueError(f"side must be -1 (left) or +1 (right), got {side}")
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    sel = pts[side * pts[:, 0] > indenter_width / 2]
+    if len(sel) < max(2, min_points):
+        return None
+    x, y = sel[:, 0], sel[:, 1]
+    if np.ptp(y) == 0.0:
+        return None
+    b, a = np.polyfit(y, x, 1)
+    top, bottom = int(np.argmax(y)), int(np.argmin(y))
+    return SideFit(side=side, a=float(a), b=float(b), n=len(sel),
+                   y_top=float(y[top]), y_bottom=float(y[bottom]),
+                   x_top=float(x[top]), x_bottom=float(x[bottom]))
+
+
+def fit_planes(points, indenter_width, min_points=MIN_POINTS):
+    """(left SideFit or None, right SideFit or None) for the failed bond points."""
+    return (fit_side(points, -1, indenter_width, min_points),
+            fit_side(points, +1, indenter_width, min_points))
+
+
+def alpha_at(run, y_I, include_split=False, min_points=MIN_POINTS):
+    """(alpha_left, alpha_right) [deg] of a run at travel ``y_I`` [m]; NaN for a side
+    without a fit."""
+    pts = failed_points(run.bonds, y_I, include_split)
+    fits = fit_planes(pts, run.indenter_width, min_points)
+    return tuple(f.alpha if f is not None else np.nan for f in fits)
+
+
+# Fig. 13: y_I = 1...20 mm; every millimetre is an instant.
+ALPHA_TRAVELS = np.arange(1, 21) * 1e-3
+
+
+def alpha_samples(run, travels=ALPHA_TRAVELS, include_split=False, min_points=MIN_POINTS):
+    """All alpha values [deg] of a run over ``travels`` (both sides pooled, NaNs dropped):
+    the data behind one run's contribution to Fig. 13."""
+    vals = []
+    for y_I in travels:
+        vals.extend(alpha_at(run, y_I, include_split, min_points))
+    vals = np.asarray(vals, dtype=float)
+    return vals[np.isfinite(vals)]
+
+
+def mean_sd(values):
+    """Mean and sample standard deviation (ddof=1; NaN sd for one value)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return np.nan, np.nan
+    return float(v.mean()), float(v.std(ddof=1)) if v.size > 1 else np.nan

@@ -1,0 +1,68 @@
+"""Indenter load analyses on an F-y_I record (paper Figs. 6-11, section 3.1).
+
+All functions take plain arrays (y_I in m, down positive; F in N/m) so they serve
+simulated and measured records alike.
+"""
+import numpy as np
+
+
+def _check_record(y, F):
+    y = np.asarray(y, dtype=float)
+    F = np.asarray(F, dtype=float)
+    if y.ndim != 1 or y.shape != F.shape or y.size < 2:
+        raise ValueError("y_I and F must be 1-D arrays of equal length >= 2")
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(F))):
+        raise ValueError("y_I and F must be finite")
+    if np.any(np.diff(y) < 0):
+        raise ValueError("y_I must be non-decreasing (indenter travel)")
+    return y, F
+
+
+def peak_load(y, F):
+    """Peak load F^m and the travel y_I at which it occurs (Figs. 7, 8, 10).
+
+    F^m is the maximum of the whole record (the paper: the cohesive peak "was also
+    the maximum load in the simulations"). Returns (F_m [N/m], y_I_at_peak [m]);
+    the first sample wins a tie.
+    """
+    y, F = _check_record(y, F)
+    i = int(np.argmax(F))
+    return float(F[i]), float(y[i])
+
+
+def load_at(y, F, y_I):
+    """F at travel ``y_I`` [m] by linear interpolation, e.g. F(y_I = 20 mm) of Fig. 15.
+    ValueError if ``y_I`` is outside the record."""
+    y, F = _check_record(y, F)
+    if not (y[0] <= y_I <= y[-1]):
+        raise ValueError(f"y_I={y_I * 1e3:g} mm lies outside the record "
+                         f"[{y[0] * 1e3:g}, {y[-1] * 1e3:g}] mm")
+    return float(np.interp(y_I, y, F))
+
+
+def mean_load(y, F, y_from, y_to):
+    """Mean load over the travel interval [y_from, y_to] [m] (section 3.1.1: the mean
+    for y_I = 150...300 mm), as the integral of F dy_I (trapezoids, with F
+    interpolated at the ends) over the interval length, so uneven sampling does not
+    bias it. ValueError if the record does not cover the interval.
+    """
+    y, F = _check_record(y, F)
+    if not y_to > y_from:
+        raise ValueError(f"interval end {y_to} must exceed its start {y_from}")
+    if y_from < y[0] or y_to > y[-1]:
+        raise ValueError(f"interval [{y_from * 1e3:g}, {y_to * 1e3:g}] mm not covered by the record "
+                         f"[{y[0] * 1e3:g}, {y[-1] * 1e3:g}] mm")
+    inside = (y > y_from) & (y < y_to)
+    ys = np.concatenate(([y_from], y[inside], [y_to]))
+    Fs = np.concatenate(([np.interp(y_from, y, F)], F[inside], [np.interp(y_to, y, F)]))
+    return float(np.trapz(Fs, ys) / (y_to - y_from))
+
+
+def record(run, y_max=None):
+    """The F-y_I record of a run (Figs. 6, 7, 9), optionally cut at ``y_max`` [m].
+    Returns (y_I [m], F [N/m])."""
+    y, F = run.force_y, run.force_F
+    if y_max is not None:
+        keep = y <= y_max
+        y, F = y[keep], F[keep]
+    return y, F

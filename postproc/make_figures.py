@@ -1,0 +1,134 @@
+"""Every figure (Figs. 6-20) and table (Tables 2-3) of Polojärvi & Tuhkuri (2013)
+from a folder of run results.
+
+    /usr/bin/python3 -m postproc.make_figures RESULTS_DIR [-o OUT_DIR]
+
+Reads every complete ``*.h5`` under RESULTS_DIR (recursively; ``*.h5.part`` and
+files with complete != 1 are skipped and reported). Runs are grouped by ridge (root
+attr ``ridge``), mu and tau_cr (/parameters). Runs of different ``model`` or
+``force_direction`` are never mixed: with more than one such variant, each gets its
+own sub-folder of OUT_DIR. Writes PNG + PDF per figure, CSV + Markdown per table,
+summary.csv (one row per run) and MISSING.md (what could not be made and why).
+Exit status: 0 when it ran (even if some items are missing), 1 if a figure failed
+with an unexpected error, 2 if no readable run was found.
+"""
+import argparse
+import os
+import sys
+import traceback
+
+from . import figures_deformation, figures_failure, figures_force, results, summary, tables
+from .catalog import Catalog, Missing
+
+FIGURES = {**figures_force.FIGURES, **figures_failure.FIGURES, **figures_deformation.FIGURES}
+FIGURE_STEMS = {
+    6: "fig06_force_records", 7: "fig07_force_start", 8: "fig08_peak_vs_mu", 9: "fig09_force_start_tau",
+    10: "fig10_peak_vs_tau", 11: "fig11_peak_ratio_mu", 12: "fig12_failure_planes", 13: "fig13_alpha_vs_tau",
+    14: "fig14_plug_area", 15: "fig15_forces_vs_plug", 16: "fig16_uy_5mm", 17: "fig17_displaced_area_definition",
+    18: "fig18_Fd_vs_travel", 19: "fig19_uy_150mm", 20: "fig20_F_vs_Ad",
+}
+TABLE_STEMS = {2: "table2_shear_strength", 3: "table3_ratios"}
+
+
+def promised_files(out_dir):
+    """Every file a complete set of runs yields in one variant's folder."""
+    out = [os.path.join(out_dir, f"{s}.{e}") for s in FIGURE_STEMS.values() for e in ("png", "pdf")]
+    out += [os.path.join(out_dir, f"{s}.{e}") for s in TABLE_STEMS.values() for e in ("csv", "md")]
+    return out + [os.path.join(out_dir, "summary.csv")]
+
+
+def _variant(run):
+    return run.model, str(run.parameters.get("force_direction", "paper"))
+
+
+def _dedupe(runs, report):
+    seen = {}
+    for r in runs:
+        key = (r.ridge, round(r.mu, 9), round(r.tau_cr, 6))
+        if key in seen:
+            report.append(f"- duplicate run (ridge {r.ridge}, mu {r.mu:g}, tau_cr {r.tau_cr / 1e3:g} kPa): "
+                          f"using {seen[key].name}, ignoring {r.name}")
+        else:
+            seen[key] = r
+    return list(seen.values())
+
+
+def make_variant(runs, out_dir, tau_ref, plug_force, report):
+    """Figures, tables and summary for one variant; appends MISSING lines to ``report``.
+    Returns the number of unexpected errors."""
+    os.makedirs(out_dir, exist_ok=True)
+    cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force)
+    summary.write_csv([cat.row(r) for r in runs], os.path.join(out_dir, "summary.csv"))
+    errors = 0
+    items = [(f"Fig. {n}", fn) for n, fn in sorted(FIGURES.items())]
+    items += [(f"Table {n}", fn) for n, fn in sorted(tables.TABLES.items())]
+    for label, fn in items:
+        try:
+            fn(cat)
+        except Missing as exc:
+            report.append(f"- {label}: not made: {exc}")
+        except Exception as exc:  # one broken item must not stop the others
+            errors += 1
+            report.append(f"- {label}: ERROR {type(exc).__name__}: {exc}")
+            traceback.print_exc()
+    report.extend(f"- partial: {n}" for n in cat.notes)
+    for r in runs:
+        for group, why in sorted(r.missing.items()):
+            if group != "fields":  # /fields is for ParaView only; no analysis needs it
+                report.append(f"- {r.name}: {why}")
+    return errors
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python3 -m postproc.make_figures", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("results_dir", help="folder of run results (*.h5), searched recursively")
+    ap.add_argument("-o", "--out-dir", default="figures", help="output folder (default ./figures)")
+    ap.add_argument("--tau-ref-kPa", type=float, default=50.0,
+                    help="bond strength of the single-strength figures (paper: 50 kPa)")
+    ap.add_argument("--plug-force", type=float, default=11e3,
+                    help="F_b of tau^(2), the cylindrical plug [N/m] (paper: ~11e3)")
+    args = ap.parse_args(argv)
+    if not os.path.isdir(args.results_dir):
+        ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
+    if args.tau_ref_kPa <= 0 or args.plug_force < 0:
+        ap.error("--tau-ref-kPa must be > 0 and --plug-force >= 0")
+
+    files, partial = results.find_results(args.results_dir)
+    skipped = [f"- {p}: still being written (*.part), skipped" for p in partial]
+    runs = []
+    for path in files:
+        try:
+            runs.append(results.load(path))
+        except results.ResultFileError as exc:
+            skipped.append(f"- skipped: {exc}")
+    os.makedirs(args.out_dir, exist_ok=True)
+    lines = ["# Items not made, and why", "", f"Results folder: `{args.results_dir}`; "
+             f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped.", ""]
+    if skipped:
+        lines += ["## Skipped files", ""] + skipped + [""]
+    errors = 0
+    variants = {}
+    for r in runs:
+        variants.setdefault(_variant(r), []).append(r)
+    for (model, fdir), vruns in sorted(variants.items()):
+        sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, f"{model}_{fdir}")
+        report = []
+        vruns = _dedupe(vruns, report)
+        errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report)
+        lines += [f"## model `{model}`, force_direction `{fdir}` -> `{sub}` ({len(vruns)} runs)", ""]
+        lines += report or ["- nothing missing"]
+        lines.append("")
+    if not runs:
+        lines.append("No readable run result: nothing could be made.")
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(args.out_dir, "MISSING.md"), "w") as fh:
+        fh.write(text)
+    print(text)
+    if not runs:
+        return 2
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

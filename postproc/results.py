@@ -1,0 +1,223 @@
+"""Read one punch-through run result (docs/results_format.md) into a light object.
+
+The force record, mesh summary and bond-point table are read eagerly (they are
+small); the snapshots (u_y fields) are read on demand, one at a time, because a
+folder of runs would not fit in memory otherwise.
+"""
+import os
+from dataclasses import dataclass, field
+
+import h5py
+import numpy as np
+
+FORMAT_NAME = "icerubble-run"
+FORMAT_VERSION = 1
+OPTIONAL_GROUPS = ("snapshots", "energy", "fields")
+REQUIRED_GROUPS = ("parameters", "pile", "mesh", "force", "bonds")
+
+# Body kinds (docs/conventions.md)
+BLOCK, LAYER, INDENTER = 0, 1, 2
+
+
+class ResultFileError(ValueError):
+    """A file that is not a complete, readable run result."""
+
+
+def _text(value):
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, np.ndarray) and value.shape == ():
+        return _text(value[()])
+    return value
+
+
+def _attrs(obj):
+    out = {}
+    for key, value in obj.attrs.items():
+        value = _text(value)
+        if isinstance(value, np.generic):
+            value = value.item()
+        out[key] = value
+    return out
+
+
+@dataclass
+class Snapshot:
+    name: str
+    t: float
+    y_I: float  # m
+
+
+@dataclass
+class RunResult:
+    """One run: root attributes, parameters, pile, force record, bonds, mesh summary.
+
+    ``missing`` lists optional groups that are absent, with a sentence each.
+    Snapshots are listed in ``snapshots`` and read with :meth:`u_elem`.
+    """
+    path: str
+    attrs: dict
+    parameters: dict
+    pile: dict
+    force_y: np.ndarray          # m, indenter travel (down positive)
+    force_F: np.ndarray          # N/m
+    bonds: dict                  # name -> array (docs/results_format.md /bonds)
+    elem_area: np.ndarray        # m^2, initial triangle areas
+    elem_centroid: np.ndarray    # m, initial centroids (M, 2)
+    elem_kind: np.ndarray        # body kind per triangle
+    snapshots: list = field(default_factory=list)
+    missing: dict = field(default_factory=dict)
+
+    # -- identity ---------------------------------------------------------
+    @property
+    def name(self):
+        return os.path.basename(self.path)
+
+    @property
+    def ridge(self):
+        return str(self.attrs.get("ridge", "?"))
+
+    @property
+    def model(self):
+        return str(self.attrs.get("model", "?"))
+
+    @property
+    def mu(self):
+        return float(self.parameters["mu"])
+
+    @property
+    def tau_cr(self):
+        return float(self.parameters["tau_cr"])
+
+    @property
+    def porosity(self):
+        return float(self.pile["porosity"])
+
+    @property
+    def keel_depth(self):
+        """h [m]: the parameter keel_depth, else keel_top_y - keel_bottom_y of /pile."""
+        if "keel_depth" in self.parameters:
+            return float(self.parameters["keel_depth"])
+        return float(self.pile["keel_top_y"] - self.pile["keel_bottom_y"])
+
+    @property
+    def indenter_width(self):
+        return float(self.parameters["indenter_width"])
+
+    def param(self, key, default):
+        return float(self.parameters.get(key, default))
+
+    # -- snapshots --------------------------------------------------------
+    def nearest_snapshot(self, y_I, tol=None):
+        """The snapshot whose y_I is nearest to ``y_I`` [m]; None if none lies within
+        ``tol`` (default: 0.5 mm or 5 % of y_I, whichever is larger)."""
+        if not self.snapshots:
+            return None
+        if tol is None:
+            tol = max(0.5e-3, 0.05 * y_I)
+        ys = np.array([s.y_I for s in self.snapshots])
+        i = int(np.argmin(np.abs(ys - y_I)))
+        return self.snapshots[i] if abs(ys[i] - y_I) <= tol else None
+
+    def mesh_polygons(self):
+        """(M, 3, 2) initial corner positions of every triangle [m], for field plots."""
+        with h5py.File(self.path, "r") as f:
+            nodes = np.asarray(f["mesh/nodes"][...], dtype=float)
+            tris = np.asarray(f["mesh/triangles"][...])
+        return nodes[tris]
+
+    def u_elem(self, snapshot):
+        """(M, 2) displacement of each triangle centroid [m] in ``snapshot``."""
+        with h5py.File(self.path, "r") as f:
+            return np.asarray(f["snapshots"][snapshot.name]["u_elem"][...], dtype=float)
+
+
+def load(path):
+    """Load one run result.
+
+    Refuses (ResultFileError) a file still named ``*.part``, a file whose root
+    attribute ``complete`` is not 1, a wrong format, and a file lacking a required
+    group. Missing optional groups (/snapshots, /energy, /fields) are listed in
+    ``RunResult.missing``.
+    """
+    path = os.fspath(path)
+    if path.endswith(".part"):
+        raise ResultFileError(f"{path}: still being written (*.part); only complete .h5 files are read")
+    if not os.path.isfile(path):
+        raise ResultFileError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise ResultFileError(f"{path}: not a readable HDF5 file ({exc})") from None
+    with f:
+        root = _attrs(f)
+        if root.get("format") != FORMAT_NAME:
+            raise ResultFileError(f"{path}: root attr format={root.get('format')!r}, expected {FORMAT_NAME!r}")
+        if int(root.get("format_version", -1)) != FORMAT_VERSION:
+            raise ResultFileError(f"{path}: format_version={root.get('format_version')!r}, "
+                                  f"this reader knows version {FORMAT_VERSION}")
+        if int(root.get("complete", 0)) != 1:
+            raise ResultFileError(f"{path}: root attr complete={root.get('complete')!r}, expected 1 "
+                                  "(the run did not finish writing)")
+        absent = [g for g in REQUIRED_GROUPS if g not in f]
+        if absent:
+            raise ResultFileError(f"{path}: required group(s) missing: {', '.join('/' + g for g in absent)}")
+
+        parameters = _attrs(f["parameters"])
+        for key in ("mu", "tau_cr", "indenter_width"):
+            if key not in parameters:
+                raise ResultFileError(f"{path}: /parameters lacks attr {key!r}")
+        pile = _attrs(f["pile"])
+        if "porosity" not in pile:
+            raise ResultFileError(f"{path}: /pile lacks attr 'porosity'")
+
+        y = np.asarray(f["force/y_I"][...], dtype=float)
+        F = np.asarray(f["force/F"][...], dtype=float)
+        if y.shape != F.shape or y.ndim != 1 or y.size < 2:
+            raise ResultFileError(f"{path}: /force/y_I and /force/F must be equal 1-D arrays of >= 2 samples")
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(F))):
+            raise ResultFileError(f"{path}: /force contains non-finite values")
+
+        bonds = {k: np.asarray(v[...]) for k, v in f["bonds"].items()}
+        for key in ("position", "y_I_fail", "y_I_split", "mode"):
+            if key not in bonds:
+                raise ResultFileError(f"{path}: /bonds lacks dataset {key!r}")
+
+        mesh = f["mesh"]
+        body = np.asarray(mesh["body"][...])
+        body_kind = np.asarray(mesh["body_kind"][...])
+        area = np.asarray(mesh["area"][...], dtype=float)
+        centroid = np.asarray(mesh["centroid"][...], dtype=float)
+
+        missing = {}
+        snapshots = []
+        if "snapshots" in f:
+            for name, g in sorted(f["snapshots"].items()):
+                snapshots.append(Snapshot(name, float(g.attrs["t"]), float(g.attrs["y_I"])))
+            if not snapshots:
+                missing["snapshots"] = "/snapshots is empty: no u_y fields (Figs. 16-20 need them)"
+        else:
+            missing["snapshots"] = "/snapshots absent: no u_y fields (Figs. 16-20 need them)"
+        if "energy" not in f:
+            missing["energy"] = "/energy absent: energy balance cannot be checked"
+        if "fields" not in f:
+            missing["fields"] = "/fields absent: no XDMF/VTU beside the file (ParaView only; not needed here)"
+
+    snapshots.sort(key=lambda s: s.y_I)
+    return RunResult(path=path, attrs=root, parameters=parameters, pile=pile,
+                     force_y=y, force_F=F, bonds=bonds, elem_area=area,
+                     elem_centroid=centroid, elem_kind=body_kind[body],
+                     snapshots=snapshots, missing=missing)
+
+
+def find_results(folder):
+    """Every ``*.h5`` under ``folder`` (recursively, as yade-batch nests them),
+    sorted, and every ``*.h5.part`` (reported, never read)."""
+    done, partial = [], []
+    for dirpath, _, names in os.walk(folder):
+        for n in names:
+            if n.endswith(".h5"):
+                done.append(os.path.join(dirpath, n))
+            elif n.endswith(".h5.part"):
+                partial.append(os.path.join(dirpath, n))
+    return sorted(done), sorted(partial)

@@ -1,0 +1,85 @@
+"""Rubble shear strength from the peak load (paper eq 15, Tables 2 and 3).
+
+tau = (F^m - F_b) / A_s with A_s = 2 h (two vertical shear planes through the keel
+depth h, the "cylindrical failure" in 2D). Three buoyant components F_b
+(section 4.1.1):
+  tau^(1): F_b = 0
+  tau^(2): F_b = a cylindrical plug, a fixed load (the paper: ~11 kN/m)
+  tau^(3): F_b = F_b(A_p, eta) of eq 13 with A_p at y_I = 20 mm
+"""
+import numpy as np
+
+from .failure_plane import mean_sd
+
+CYLINDRICAL_PLUG_FORCE = 11e3  # N/m, the paper's value for w_I = h = 4 m
+
+
+def shear_strength(F_m, F_b, keel_depth):
+    """tau = (F^m - F_b) / (2 h) [Pa] (eq 15), F in N/m, h in m."""
+    if not keel_depth > 0:
+        raise ValueError(f"keel_depth must be > 0, got {keel_depth}")
+    return (np.asarray(F_m, dtype=float) - np.asarray(F_b, dtype=float)) / (2.0 * keel_depth)
+
+
+def three_strengths(F_m, keel_depth, plug_force, F_b_plug):
+    """(tau1, tau2, tau3) [Pa] of Table 2 for one peak load: F_b = 0, F_b =
+    ``plug_force`` (cylindrical plug), F_b = ``F_b_plug`` (eq 13)."""
+    return tuple(float(shear_strength(F_m, fb, keel_depth)) for fb in (0.0, plug_force, F_b_plug))
+
+
+def failure_mode_ratio(mode, y_I_fail=None):
+    """(n_t, n_s, n_t/n_s) over fully failed bond points (Table 3): mode 1 tensile,
+    2 shear (docs/results_format.md). With ``y_I_fail`` only points that have a
+    failure travel are counted. n_t/n_s is NaN when n_s = 0."""
+    mode = np.asarray(mode)
+    done = np.ones(mode.shape, dtype=bool)
+    if y_I_fail is not None:
+        done = np.isfinite(np.asarray(y_I_fail, dtype=float))
+    n_t = int(np.count_nonzero(done & (mode == 1)))
+    n_s = int(np.count_nonzero(done & (mode == 2)))
+    return n_t, n_s, (n_t / n_s if n_s > 0 else np.nan)
+
+
+TAU_KEYS = ("tau1_kPa", "tau2_kPa", "tau3_kPa")
+
+
+def table2(rows, tau_cr_values=None):
+    """Table 2 from per-run summary rows (postproc.summary): for each tau_cr [kPa],
+    mean and sd of tau^(1..3) over all runs (both mu), and the ratios of the means
+    tau1/tau3 and tau2/tau3. Returns a list of dicts, one per tau_cr."""
+    if tau_cr_values is None:
+        tau_cr_values = sorted({r["tau_cr_kPa"] for r in rows})
+    out = []
+    for tc in tau_cr_values:
+        sel = [r for r in rows if np.isclose(r["tau_cr_kPa"], tc)]
+        entry = {"tau_cr_kPa": tc, "n_runs": len(sel)}
+        for k in TAU_KEYS:
+            entry[k] = mean_sd([r[k] for r in sel])
+        m1, m2, m3 = (entry[k][0] for k in TAU_KEYS)
+        entry["tau1/tau3"] = m1 / m3 if m3 and np.isfinite(m3) else np.nan
+        entry["tau2/tau3"] = m2 / m3 if m3 and np.isfinite(m3) else np.nan
+        out.append(entry)
+    return out
+
+
+def table3(rows, mu_low=0.05, mu_high=0.3, tau_cr_values=None):
+    """Table 3 from per-run summary rows: for each tau_cr [kPa], the ratio
+    tau(mu_high)/tau(mu_low) of runs on the same ridge (mean and sd over ridges) for
+    each tau measure, and n_t/n_s (mean and sd over all runs of that tau_cr)."""
+    if tau_cr_values is None:
+        tau_cr_values = sorted({r["tau_cr_kPa"] for r in rows})
+    out = []
+    for tc in tau_cr_values:
+        sel = [r for r in rows if np.isclose(r["tau_cr_kPa"], tc)]
+        entry = {"tau_cr_kPa": tc}
+        low = {r["ridge"]: r for r in sel if np.isclose(r["mu"], mu_low)}
+        high = {r["ridge"]: r for r in sel if np.isclose(r["mu"], mu_high)}
+        ridges = sorted(set(low) & set(high))
+        entry["n_pairs"] = len(ridges)
+        for k in TAU_KEYS:
+            ratios = [high[rd][k] / low[rd][k] for rd in ridges if low[rd][k]]
+            entry[k + "_ratio"] = mean_sd(ratios)
+        entry["nt_ns"] = mean_sd([r["nt_ns"] for r in sel])
+        entry["n_runs"] = len(sel)
+        out.append(entry)
+    return out

@@ -1,0 +1,113 @@
+"""One summary row per run (CSV), in the paper's units: kN/m, mm, kPa, degrees, m^2.
+
+`python3 -m postproc.summary RESULTS_DIR [-o summary.csv]`
+"""
+import argparse
+import csv
+import sys
+
+import numpy as np
+
+from . import displaced_area, failure_plane, loads, plug, results, shear_strength
+
+F20_TRAVEL = 20e-3  # m: the paper's "after the steep decrease" instant (Figs. 13-15, Table 2)
+POST_PEAK_INTERVALS = ((20e-3, 150e-3), (150e-3, 300e-3))  # m (section 3.1.1, Figs. 18, 20)
+
+COLUMNS = [
+    "file", "ridge", "model", "force_direction", "seed", "mu", "tau_cr_kPa", "sigma_cr_kPa",
+    "porosity", "keel_depth_m", "indenter_width_m", "y_I_end_mm",
+    "F_m_kN_per_m", "y_I_peak_mm", "F_20mm_kN_per_m",
+    "F_mean_20_150mm_kN_per_m", "F_mean_150_300mm_kN_per_m",
+    "alpha_left_20mm_deg", "alpha_right_20mm_deg",
+    "alpha_mean_1_20mm_deg", "alpha_sd_1_20mm_deg", "alpha_n_1_20mm",
+    "A_p_20mm_m2", "A_p_mean_1_20mm_m2", "F_b_Ap_20mm_kN_per_m",
+    "tau1_kPa", "tau2_kPa", "tau3_kPa",
+    "n_split", "n_failed", "n_t", "n_s", "nt_ns", "n_snapshots", "missing",
+]
+
+
+def _try(fn, *args):
+    try:
+        return fn(*args)
+    except ValueError:
+        return np.nan
+
+
+def summarize(run, plug_force=shear_strength.CYLINDRICAL_PLUG_FORCE, include_split=False):
+    """Dict of the per-run scalars of the paper's analyses (keys: COLUMNS)."""
+    y, F = run.force_y, run.force_F
+    F_m, y_peak = loads.peak_load(y, F)
+    F20 = _try(loads.load_at, y, F, F20_TRAVEL)
+    means = [_try(loads.mean_load, y, F, a, b) for a, b in POST_PEAK_INTERVALS]
+    aL, aR = failure_plane.alpha_at(run, F20_TRAVEL, include_split)
+    a_samples = failure_plane.alpha_samples(run, include_split=include_split)
+    a_mean, a_sd = failure_plane.mean_sd(a_samples)
+    Ap20 = plug.plug_area(run, F20_TRAVEL, include_split)
+    Ap_all = [plug.plug_area(run, t, include_split) for t in failure_plane.ALPHA_TRAVELS]
+    Ap_mean = failure_plane.mean_sd(Ap_all)[0]
+    Fb = float(plug.run_buoyant_load(run, Ap20))
+    h = run.keel_depth
+    t1, t2, t3 = shear_strength.three_strengths(F_m, h, plug_force, Fb)
+    b = run.bonds
+    n_t, n_s, ratio = shear_strength.failure_mode_ratio(b["mode"], b["y_I_fail"])
+    n_split = int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_split"], dtype=float))))
+    n_failed = int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_fail"], dtype=float))))
+    p = run.parameters
+    return {
+        "file": run.path, "ridge": run.ridge, "model": run.model,
+        "force_direction": str(p.get("force_direction", "paper")),
+        "seed": run.attrs.get("seed", ""), "mu": run.mu, "tau_cr_kPa": run.tau_cr / 1e3,
+        "sigma_cr_kPa": float(p.get("sigma_cr", np.nan)) / 1e3,
+        "porosity": run.porosity, "keel_depth_m": h, "indenter_width_m": run.indenter_width,
+        "y_I_end_mm": float(y[-1]) * 1e3,
+        "F_m_kN_per_m": F_m / 1e3, "y_I_peak_mm": y_peak * 1e3, "F_20mm_kN_per_m": F20 / 1e3,
+        "F_mean_20_150mm_kN_per_m": means[0] / 1e3, "F_mean_150_300mm_kN_per_m": means[1] / 1e3,
+        "alpha_left_20mm_deg": aL, "alpha_right_20mm_deg": aR,
+        "alpha_mean_1_20mm_deg": a_mean, "alpha_sd_1_20mm_deg": a_sd,
+        "alpha_n_1_20mm": int(a_samples.size),
+        "A_p_20mm_m2": Ap20, "A_p_mean_1_20mm_m2": Ap_mean, "F_b_Ap_20mm_kN_per_m": Fb / 1e3,
+        "tau1_kPa": t1 / 1e3, "tau2_kPa": t2 / 1e3, "tau3_kPa": t3 / 1e3,
+        "n_split": n_split, "n_failed": n_failed, "n_t": n_t, "n_s": n_s, "nt_ns": ratio,
+        "n_snapshots": len(run.snapshots), "missing": "; ".join(sorted(run.missing)),
+    }
+
+
+
+def _fmt(v):
+    if isinstance(v, float):
+        return "" if not np.isfinite(v) else f"{v:.6g}"
+    return v
+
+
+def write_csv(rows, path):
+    """Write summary rows (dicts with COLUMNS) to ``path``; NaN becomes an empty cell."""
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: _fmt(r.get(k, "")) for k in COLUMNS})
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python3 -m postproc.summary", description=__doc__)
+    ap.add_argument("results_dir")
+    ap.add_argument("-o", "--output", default="summary.csv")
+    ap.add_argument("--plug-force", type=float, default=shear_strength.CYLINDRICAL_PLUG_FORCE,
+                    help="F_b of tau^(2) [N/m] (default 11e3)")
+    args = ap.parse_args(argv)
+    files, partial = results.find_results(args.results_dir)
+    rows = []
+    for p in partial:
+        print(f"skipped (still being written): {p}", file=sys.stderr)
+    for path in files:
+        try:
+            rows.append(summarize(results.load(path), args.plug_force))
+        except results.ResultFileError as exc:
+            print(f"skipped: {exc}", file=sys.stderr)
+    write_csv(rows, args.output)
+    print(f"{len(rows)} run(s) -> {args.output}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
