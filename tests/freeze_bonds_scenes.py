@@ -1,0 +1,38 @@
+"""Small bonded scenes shared by the freeze-bond tests (tests/test_freeze_bonds*.py)."""
+import numpy as np
+
+from icerubble import fdem
+from icerubble.bond_points import find_bond_points
+
+ICE = dict(E=2e9, nu=0.3, rho=920.0)
+
+
+def bonded(nodes, tri, body, sigma_cr, tau_cr, G, damping=0.0, **bond_kw):
+    """A model of the mesh with every inter-body edge bonded at uniform
+    strength (bottom_fraction=1: no depth scaling)."""
+    m = fdem.Model(nodes, tri, body, dict(ICE, damping=damping))
+    bp = find_bond_points(nodes, tri, body, keel_top_y=nodes[:, 1].max(), keel_depth=1.0,
+                          sigma_cr=sigma_cr, tau_cr=tau_cr, G=G, bottom_fraction=1.0)
+    m.set(gravity=False)
+    m.set_bond_points(bp, **bond_kw)
+    return m, bp
+
+
+def two_block_bar(nx=20, ny=4, h=0.05, **kw):
+    """Bar [0, nx h] x [0, ny h] of two blocks joined across x = nx h / 2."""
+    nodes, tri = fdem.rectangle_mesh(nx, ny, h)
+    c = nodes[tri].mean(axis=1)
+    body = (c[:, 0] > 0.5 * nx * h).astype(np.int32)
+    m, bp = bonded(nodes, tri, body, **kw)
+    return m, bp, nodes
+
+
+def diagonal_square(n=8, h=0.05, **kw):
+    """Square [0, n h]^2 of two blocks joined along the diagonal y = x
+    (rectangle_mesh cuts every cell along it): normal (1, -1)/sqrt(2) from the
+    upper-left block 0 to the lower-right block 1."""
+    nodes, tri = fdem.rectangle_mesh(n, n, h)
+    c = nodes[tri].mean(axis=1)
+    body = (c[:, 0] > c[:, 1]).astype(np.int32)
+    m, bp = bonded(nodes, tri, body, **kw)
+    return m, bp, nodes
