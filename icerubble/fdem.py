@@ -20,10 +20,18 @@ Example::
 See docs/engine_api.md.
 """
 import numbers
+import os
 
 import numpy as np
 
-from icerubble import _cst
+# On a machine whose cores are busy with other work, OpenMP threads that spin
+# while waiting for a descheduled partner make a step 10-100x slower; passive
+# waiting costs a little when the machine is idle. Read when the OpenMP
+# runtime loads (not inside YADE, which loads it first); set
+# OMP_WAIT_POLICY=active to override.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+from icerubble import _cst  # noqa: E402
 
 InstabilityError = _cst.InstabilityError
 
@@ -43,6 +51,7 @@ PARAMETERS = {
     "penalty": (2e11, "contact penalty s [Pa], > 0"),
     "mu": (0.3, "Coulomb friction coefficient, >= 0"),
     "check_stable_dt": (True, "refuse dt above the stable step"),
+    "check_energy": (True, "stop when energy grows without a source"),
     "energy_tolerance": (0.1, "stop when the energy balance residual exceeds this "
                               "fraction of the energy terms, > 0"),
     "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores"),
@@ -108,6 +117,10 @@ class Model:
             raise ValueError("body ids must be >= 0")
         self._m = _cst.Model(nodes, tri, body.astype(np.int32))
         self._set_materials(materials)
+        missing = sorted(set(np.unique(body).tolist()) - set(self.materials))
+        if missing:
+            raise ValueError(f"materials: no material for body id(s) {missing} "
+                             f"(E, nu, rho, damping per body)")
         self.node_sets = {}
         for name, ids in (node_sets or {}).items():
             self.add_node_set(name, ids)
@@ -117,7 +130,7 @@ class Model:
     # ------------------------------------------------------------- setup
     def _set_materials(self, materials):
         nb = self._m.n_bodies
-        if isinstance(materials, dict) and set(materials) <= set(MATERIAL_KEYS) and materials:
+        if isinstance(materials, dict) and materials and all(isinstance(k, str) for k in materials):
             per_body = {b: materials for b in range(nb)}
         elif isinstance(materials, dict):
             per_body = dict(materials)
@@ -153,7 +166,7 @@ class Model:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)}; valid: {sorted(PARAMETERS)}")
         p = dict(self._params)
         for k, v in params.items():
-            if k in ("gravity", "buoyancy", "drag", "check_stable_dt"):
+            if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy"):
                 p[k] = _flag(k, v)
             elif k == "threads":
                 if not isinstance(v, numbers.Integral) or v < 0:
@@ -171,6 +184,8 @@ class Model:
             self._m.set_contact(p["penalty"], p["mu"])
         if "check_stable_dt" in params:
             self._m.set_check_stable_dt(p["check_stable_dt"])
+        if "check_energy" in params:
+            self._m.set_check_energy(p["check_energy"])
         if "energy_tolerance" in params:
             self._m.set_energy_tolerance(p["energy_tolerance"])
         if "threads" in params:
@@ -330,6 +345,7 @@ class Model:
     @property
     def mass(self):
         """Lumped node masses [kg per m width] (view)."""
+        self._m.prepare()
         return self._nodes("mass")
 
     @property
@@ -383,6 +399,7 @@ class Model:
     @property
     def surface_triangles(self):
         """Ids of triangles with a node on their body's boundary (contact candidates)."""
+        self._m.prepare()
         return self._m.surface_triangles()
 
     @property

@@ -50,6 +50,7 @@ class Model {
   void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
   void set_contact(double penalty, double mu);
   void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
+  void set_check_energy(bool on) { check_energy_ = on; }
   void set_energy_tolerance(double tol);
   void set_threads(int n);
 
@@ -77,6 +78,9 @@ class Model {
   void set_triangle_node(int32_t tri, int corner, int32_t node);
   // Masses, gather list, boundary nodes, surface triangles; call after edits.
   void rebuild_topology();
+  // rebuild_topology + masses + constraint masks if anything changed
+  // (validates materials); step() and stable_step() call it.
+  void prepare_topology();
 
   // --- read access ---
   Nodes& nodes() { return nodes_; }
@@ -120,7 +124,6 @@ class Model {
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
-  void prepare_topology();  // topology, masses, constraint masks (validates materials)
   void compute_masses();
   void build_constraints();
   ContactInput contact_input() const;
@@ -144,6 +147,7 @@ class Model {
   ContactSolver contact_;
   double dt_ = 0.0;
   bool check_stable_dt_ = true;
+  bool check_energy_ = true;
   double energy_tolerance_ = 0.1;
   int threads_ = 0;  // 0: OpenMP default
 

@@ -127,6 +127,7 @@ void bind_model(py::module_& m) {
            py::arg("y_w"), py::arg("c_w"))
       .def("set_contact", &Model::set_contact, py::arg("penalty"), py::arg("mu"))
       .def("set_check_stable_dt", &Model::set_check_stable_dt)
+      .def("set_check_energy", &Model::set_check_energy)
       .def("set_energy_tolerance", &Model::set_energy_tolerance)
       .def("set_threads", &Model::set_threads)
       .def("add_boundary_condition",
@@ -196,6 +197,7 @@ void bind_model(py::module_& m) {
       .def("add_node", &Model::add_node)
       .def("set_triangle_node", &Model::set_triangle_node)
       .def("rebuild_topology", &Model::rebuild_topology)
+      .def("prepare", &Model::prepare_topology)
       .def_property_readonly("n_nodes", [](Model& M) { return M.nodes().size(); })
       .def_property_readonly("n_triangles", [](Model& M) { return M.triangles().size(); })
       .def_property_readonly("n_bodies", &Model::n_bodies)
