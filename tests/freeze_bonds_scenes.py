@@ -13,7 +13,7 @@ def bonded(nodes, tri, body, sigma_cr, tau_cr, G, damping=0.0, **bond_kw):
     m = fdem.Model(nodes, tri, body, dict(ICE, damping=damping))
     bp = find_bond_points(nodes, tri, body, keel_top_y=nodes[:, 1].max(), keel_depth=1.0,
                           sigma_cr=sigma_cr, tau_cr=tau_cr, G=G, bottom_fraction=1.0)
-    m.set(gravity=False)
+    m.set(gravity=False, penalty=1e9)
     m.set_bond_points(bp, **bond_kw)
     return m, bp
 

@@ -57,9 +57,12 @@ void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& g
   // the acceleration (F+ + F-)/(m+ + m-) of the unsplit node.
   //   elastic: F = the elastic element forces (the paper's internal forces "for
   //            the stress state t_e = sigma_cr"): gives f0.
-  //   else:    F = every force of the step but friction and the cohesive pairs
-  //            (gravity, drag and the contact share are proportional to mass and
-  //            nearly drop out): the force that holds the nodes together.
+  //   else:    the force that keeps the pair together: F = every force of the
+  //            step but friction and the cohesive pairs (gravity, drag and the
+  //            contact share are proportional to mass and nearly drop out),
+  //            plus m_r (v- - v+)/dt, which also stops a relative velocity the
+  //            pair already has (stick of a rigid-plastic link; 0 at the split,
+  //            where both nodes share the velocity).
   const Nodes& N = M.nodes_;
   const int32_t a = node_plus_[k], b = node_minus_[k];
   const double mp = N.mass[a], mm = N.mass[b];
@@ -78,6 +81,11 @@ void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& g
   const double m = mp + mm;
   gx = (-mm * Fpx + mp * Fmx) / m;
   gy = (-mm * Fpy + mp * Fmy) / m;
+  if (!elastic) {
+    const double s = mp * mm / (m * M.dt());
+    gx += s * (N.vx[b] - N.vx[a]);
+    gy += s * (N.vy[b] - N.vy[a]);
+  }
 }
 
 void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
