@@ -36,3 +36,30 @@ def diagonal_square(n=8, h=0.05, **kw):
     body = (c[:, 0] > c[:, 1]).astype(np.int32)
     m, bp = bonded(nodes, tri, body, **kw)
     return m, bp, nodes
+
+
+def elastic_force(m, name, component):
+    """Elastic element force the nodes of set ``name`` feel, summed [N/m]: at a
+    held node, what the body pulls on its support with."""
+    f = m.forces("internal") - m.forces("viscous")
+    return f[m.node_sets[name], component].sum()
+
+
+def pull_bar(direction="paper", sigma_cr=1e4, tau_cr=5e4, G=1.0, v_slow=1e-4, v_fast=4e-3,
+             t_fast=0.07, damping=0.0, **kw):
+    """The two-block bar, left end held in x (one node also in y), right end
+    pulled in x: a smooth start to v_slow (0.02 s), v_slow past the peak, then
+    v_fast from t_fast to t_fast + 0.01 s so the softening does not take many
+    steps. Returns model, bond points, nodes, height H."""
+    m, bp, nodes = two_block_bar(sigma_cr=sigma_cr, tau_cr=tau_cr, G=G, damping=damping,
+                                 direction=direction, **kw)
+    L, H = nodes[:, 0].max(), nodes[:, 1].max()
+    m.add_node_set("left", np.flatnonzero(nodes[:, 0] == 0.0))
+    m.add_node_set("right", np.flatnonzero(nodes[:, 0] == L))
+    m.add_node_set("pin", [0])
+    m.fix("left", x=True, y=False)
+    m.fix("pin", x=False, y=True)
+    m.prescribe_velocity("right", (1, 0), y=False,
+                         table=([0.0, 0.02, t_fast, t_fast + 0.01], [0.0, v_slow, v_slow, v_fast]))
+    m.set(dt=0.9 * m.stable_time_step()["dt"])
+    return m, bp, nodes, H
