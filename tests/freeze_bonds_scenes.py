@@ -63,3 +63,48 @@ def pull_bar(direction="paper", sigma_cr=1e4, tau_cr=5e4, G=1.0, v_slow=1e-4, v_
                          table=([0.0, 0.02, t_fast, t_fast + 0.01], [0.0, v_slow, v_slow, v_fast]))
     m.set(dt=0.9 * m.stable_time_step()["dt"])
     return m, bp, nodes, H
+
+
+def body_nodes(m, b):
+    """Ids of the nodes that triangles of body b use (split copies included)."""
+    return np.unique(np.asarray(m.triangles)[np.asarray(m.body) == b])
+
+
+def loaded_diagonal_square(load, v, n=8, h=0.05, ramp=0.01, sigma_cr=1e4, tau_cr=5e4, G=1.0,
+                           **kw):
+    """The diagonal square under a uniform stress that CST represents exactly:
+    'tension' / 'compression': uniaxial sigma_xx (left edge held in x, corner
+    (0, 0) also in y, right edge driven in +x / -x); 'shear': sigma_xx = -sigma_yy
+    (rollers: left x, bottom y held; right driven +x, top -y), i.e. pure shear
+    on the diagonal. Speed v after a linear ramp of ``ramp`` seconds."""
+    m, bp, nodes = diagonal_square(n=n, h=h, sigma_cr=sigma_cr, tau_cr=tau_cr, G=G, **kw)
+    W = n * h
+    on = lambda c, x: np.flatnonzero(np.isclose(nodes[:, c], x))
+    table = ([0.0, ramp], [0.0, v])
+    m.add_node_set("left", on(0, 0.0))
+    m.add_node_set("right", on(0, W))
+    m.fix("left", x=True, y=False)
+    if load == "shear":
+        m.add_node_set("bottom", on(1, 0.0))
+        m.add_node_set("top", on(1, W))
+        m.fix("bottom", x=False, y=True)
+        m.prescribe_velocity("right", (1, 0), table=table, y=False)
+        m.prescribe_velocity("top", (0, -1), table=table, x=False)
+    else:
+        m.add_node_set("pin", [0])
+        m.fix("pin", x=False, y=True)
+        m.prescribe_velocity("right", (1 if load == "tension" else -1, 0), table=table, y=False)
+    m.set(dt=0.9 * m.stable_time_step()["dt"])
+    return m, bp, nodes, W
+
+
+def step_until_split(m, limit):
+    """Step until some bond point splits; returns the elastic force the right
+    edge pulls with (x) just before the splitting step, and after it."""
+    before = None
+    while m.bonds.counts["split"] == 0:
+        if m.time > limit:
+            raise AssertionError(f"no bond point split by t = {limit} s")
+        before = -elastic_force(m, "right", 0) if m.step_count else 0.0
+        m.step(1)
+    return before
