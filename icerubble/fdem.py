@@ -514,7 +514,7 @@ class Model:
         if len(b["node"]):
             self._m.set_bonds(b["node"], b["sigma_cr"], b["tau_cr"], b["G"], b["pair_point"],
                               b["body_minus"], b["body_plus"], b["nx"], b["ny"], b["length"],
-                              b["frame_p"], b["frame_q"])
+                              b["frame_p"], b["frame_q"], for_restore=True)
             self.set_bond_params(**cp["bond_params"])
         self.set_positions(cp["positions"])
         self.set_velocities(cp["velocities"])

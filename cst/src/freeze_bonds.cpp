@@ -67,7 +67,7 @@ void FreezeBonds::clear() {
   *this = FreezeBonds{};
 }
 
-void FreezeBonds::set(Model& M, const BondInput& in) {
+void FreezeBonds::set(Model& M, const BondInput& in, bool for_restore) {
   if (!parent_.empty())
     bad("bond points can only be set before any bond point has split "
         "(restore a checkpoint to continue a run with split bonds)");
@@ -122,7 +122,7 @@ void FreezeBonds::set(Model& M, const BondInput& in) {
     const int32_t bm = in.body_minus[k], bp = in.body_plus[k];
     if (bm < 0 || bm >= nb || bp < 0 || bp >= nb || bm == bp)
       bad(where + ": body_minus and body_plus must be two different bodies in [0, " + std::to_string(nb - 1) + "]");
-    if (!body_at(i, bm) || !body_at(i, bp))
+    if (!for_restore && (!body_at(i, bm) || !body_at(i, bp)))
       bad(where + ": bodies " + std::to_string(bm) + " and " + std::to_string(bp) +
           " must both have triangles at node " + std::to_string(i));
     const double nn = std::hypot(in.nx[k], in.ny[k]);
@@ -323,7 +323,7 @@ void FreezeBonds::check(Model& M) {
     const bool was_near = near_[p];
     const double r = point_ratio(M, p, mu);
     near_[p] = r >= frac;
-    fail_[p] = r >= 1.0 ? (was_near ? 1 : 2) : 0;
+    fail_[p] = r >= 1.0 ? (was_near || k == 1 ? 1 : 2) : 0;
   }
   checks_ += evaluated;
   std::vector<int32_t> failing;

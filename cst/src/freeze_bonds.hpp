@@ -87,7 +87,9 @@ class FreezeBonds {
  public:
   // Validates against the model's mesh (ValueError naming the bad entry)
   // before storing anything. Only allowed while no bond has split.
-  void set(Model& M, const BondInput& in);
+  // for_restore: the model is rebuilt from a checkpoint, so a split point's
+  // bodies are no longer at its node; restore() checks the split topology.
+  void set(Model& M, const BondInput& in, bool for_restore = false);
   void set_params(const BondParams& p);
   const BondParams& params() const { return params_; }
   void clear();

@@ -122,7 +122,8 @@ void bind_freeze_bonds(py::module_& m) {
   cls.def("set_bonds",
           [](Model& M, py::handle node, py::handle sigma_cr, py::handle tau_cr, py::handle G,
              py::handle pair_point, py::handle body_minus, py::handle body_plus, py::handle nx,
-             py::handle ny, py::handle length, py::handle frame_p, py::handle frame_q) {
+             py::handle ny, py::handle length, py::handle frame_p, py::handle frame_q,
+             bool for_restore) {
             BondInput in;
             in.node = vec<int32_t>(node);
             in.sigma_cr = vec<double>(sigma_cr);
@@ -136,11 +137,12 @@ void bind_freeze_bonds(py::module_& m) {
             in.length = vec<double>(length);
             in.frame_p = vec<int32_t>(frame_p);
             in.frame_q = vec<int32_t>(frame_q);
-            M.bonds().set(M, in);
+            M.bonds().set(M, in, for_restore);
           },
           py::arg("node"), py::arg("sigma_cr"), py::arg("tau_cr"), py::arg("G"),
           py::arg("pair_point"), py::arg("body_minus"), py::arg("body_plus"), py::arg("nx"),
-          py::arg("ny"), py::arg("length"), py::arg("frame_p"), py::arg("frame_q"))
+          py::arg("ny"), py::arg("length"), py::arg("frame_p"), py::arg("frame_q"),
+          py::arg("for_restore") = false)
       .def("set_bond_params",
            [](Model& M, double mu, const std::string& direction, bool check_failure,
               int32_t screen_interval, double screen_fraction) {
