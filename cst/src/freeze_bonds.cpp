@@ -275,9 +275,9 @@ void FreezeBonds::current_normal(const Model& M, int32_t k, double& nx, double& 
   // rotation from the reference frame edge d0 to its current direction d
   double c = d0x_[k] * dx + d0y_[k] * dy;
   double s = d0x_[k] * dy - d0y_[k] * dx;
-  const double r = std::hypot(c, s);
-  c /= r;
-  s /= r;
+  const double r = 1.0 / std::sqrt(c * c + s * s);  // |d0| |d|, never 0 for a valid mesh
+  c *= r;
+  s *= r;
   nx = c * n0x_[k] - s * n0y_[k];
   ny = s * n0x_[k] + c * n0y_[k];
 }
@@ -370,10 +370,12 @@ void FreezeBonds::apply(Model& M) {
     double fn = 0.0, ft = 0.0;  // the law's force, along the opening (bond axes)
     bool failed = false;
     cl::FailureMode mode = cl::FailureMode::none;
-    const double m_r = N.mass[ip] * N.mass[im] / (N.mass[ip] + N.mass[im]);
+    // dm < delta_r without a division: dm m+ m- < 4 f0 max(1, c) dt² (m+ + m-)
+    const double mp = N.mass[ip], mm = N.mass[im];
     const double c = dir == cl::ForceDirection::paper ? beta : beta * beta;
-    const double delta_r = std::max(kRigidOpening * delta_f_[k], 4.0 * f0_[k] * std::max(1.0, c) * dt2 / m_r);
-    if (dm < delta_r) {
+    const bool rigid = dm < kRigidOpening * delta_f_[k] ||
+                       dm * mp * mm < 4.0 * f0_[k] * std::max(1.0, c) * dt2 * (mp + mm);
+    if (rigid) {
       const cl::StepOutcome s = cl::step_opened_bond(dn, dt, beta, f0_[k], delta_f_[k], dm, dir);
       failed = s.failed_now;
       mode = s.mode;
