@@ -20,7 +20,7 @@ def test_split_keeps_mass_and_node_accelerations():
     unsplit node's acceleration (eq 8 makes the pair force exactly the one
     that does this) and carry its mass (m+ + m- = m, each the third of its
     side's triangles). Without the eq-8 force the nodes would accelerate by
-    f+/m+ and f-/m-, ~870 m/s² apart here; the comparison is at round-off of
+    f+/m+ and f-/m-, 870-980 m/s² apart here; the comparison is at round-off of
     that (1e-9)."""
     a, bp, nodes, H = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G)
     b, _, _, _ = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G)
