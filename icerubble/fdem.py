@@ -274,6 +274,7 @@ class Model:
         if not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0 (got {n!r})")
         self._m.step(int(n))
+        self._follow_splits()
 
     def evaluate(self):
         """Compute all forces, stresses and reactions at the current state without moving."""
@@ -408,6 +409,186 @@ class Model:
     def memory_bytes(self):
         """Bytes held by the engine's arrays."""
         return self._m.memory_bytes()
+
+    # ------------------------------------------------------------- freeze bonds
+    # Initially rigid cohesive freeze bonds (paper section 2.3, MODEL.md 3.3,
+    # docs/freeze_bonds.md): the engine splits a bond point when eq 5 holds and
+    # then applies the cohesive pair forces of eqs 8-12.
+
+    def set_bond_points(self, bond_points, *, direction="paper", check_failure=True, mu=None,
+                        screen_interval=8, screen_fraction=0.5):
+        """Freeze bonds at the bond points of ``bond_points`` (a
+        bond_points.BondPoints from find_bond_points on this model's mesh).
+
+        direction: 'paper' (eq 11 as printed) or 'work_conjugate';
+        check_failure: False while the scene settles (bonds hold, none splits);
+        mu: friction coefficient of the compressive branch of eq 6, None = the
+        contact mu (set(mu=...)); screen_interval/screen_fraction: pre-screening
+        (docs/freeze_bonds.md), screen_interval=1 checks every point every step.
+        """
+        from icerubble.bond_points import bond_pairs
+        pairs = bond_pairs(bond_points, self.reference_positions)
+        self._m.set_bonds(np.asarray(bond_points.node, dtype=np.int32),
+                          np.asarray(bond_points.sigma_cr, dtype=float),
+                          np.asarray(bond_points.tau_cr, dtype=float),
+                          np.asarray(bond_points.G, dtype=float),
+                          pairs["point"], pairs["body_minus"], pairs["body_plus"],
+                          pairs["normal"][:, 0].copy(), pairs["normal"][:, 1].copy(),
+                          pairs["length"], pairs["frame_p"], pairs["frame_q"])
+        self.set_bond_params(direction=direction, check_failure=check_failure, mu=mu,
+                             screen_interval=screen_interval, screen_fraction=screen_fraction)
+
+    def set_bond_params(self, **params):
+        """Change direction, check_failure, mu, screen_interval, screen_fraction
+        (see set_bond_points); ValueError on a bad value."""
+        valid = ("direction", "check_failure", "mu", "screen_interval", "screen_fraction")
+        unknown = set(params) - set(valid)
+        if unknown:
+            raise ValueError(f"unknown bond parameter(s) {sorted(unknown)}; valid: {valid}")
+        p = dict(self._m.bond_params(), **params)
+        if p["direction"] not in ("paper", "work_conjugate"):
+            raise ValueError(f"direction must be 'paper' or 'work_conjugate' (got {p['direction']!r})")
+        si = p["screen_interval"]
+        if isinstance(si, (bool, np.bool_)) or not isinstance(si, numbers.Integral) or si < 1:
+            raise ValueError(f"screen_interval must be an integer >= 1 (got {si!r})")
+        mu = float("nan") if p["mu"] is None else _number("mu", p["mu"])
+        self._m.set_bond_params(mu, p["direction"], _flag("check_failure", p["check_failure"]),
+                                int(si), _number("screen_fraction", p["screen_fraction"]))
+
+    @property
+    def bond_params(self):
+        return self._m.bond_params()
+
+    @property
+    def bonds(self):
+        """Bond state, events and energy: see BondsView."""
+        return BondsView(self._m)
+
+    def _follow_splits(self):
+        """Add the nodes split off a node to every node set holding that node,
+        so reactions and node-set lookups keep covering both sides."""
+        parents = self._m.bond_parents()
+        seen = getattr(self, "_parents_seen", 0)
+        if len(parents) == seen:
+            return
+        base = self._m.n_nodes - len(parents)
+        for name, ids in self.node_sets.items():
+            members = set(ids.tolist())
+            new = [base + j for j in range(seen, len(parents)) if parents[j] in members]
+            if new:
+                self.node_sets[name] = np.concatenate([ids, np.array(new, dtype=np.int32)])
+        self._parents_seen = len(parents)
+
+    def checkpoint(self):
+        """Everything needed to continue this run bit-identically: the mesh as it
+        is now (reference positions, triangles with split nodes, bodies), node
+        positions and velocities, node sets, the bond input and bond state
+        (which points split, their new nodes, f0, delta_f, delta_m, events) and
+        the clock. Rebuild with Model.from_checkpoint(cp, materials), set the
+        same parameters and boundary conditions, then restore_checkpoint(cp).
+        The energy ledger restarts at the restore."""
+        self._follow_splits()
+        return {
+            "reference_positions": self.reference_positions,
+            "triangles": np.array(self.triangles),
+            "body": np.array(self.body),
+            "positions": self.positions,
+            "velocities": self.velocities,
+            "node_sets": {k: v.copy() for k, v in self.node_sets.items()},
+            "bond_input": self._m.bond_input(),
+            "bond_params": self._m.bond_params(),
+            "bond_state": self._m.bond_state(),
+        }
+
+    @classmethod
+    def from_checkpoint(cls, cp, materials):
+        """A model on the checkpoint's mesh (split nodes included) and node sets."""
+        return cls(cp["reference_positions"], cp["triangles"], cp["body"], materials,
+                   node_sets=cp["node_sets"])
+
+    def restore_checkpoint(self, cp):
+        """Positions, velocities, bonds and clock of checkpoint ``cp`` into a
+        model built by from_checkpoint (boundary conditions and parameters are
+        the caller's, as when the run was started)."""
+        b = cp["bond_input"]
+        if len(b["node"]):
+            self._m.set_bonds(b["node"], b["sigma_cr"], b["tau_cr"], b["G"], b["pair_point"],
+                              b["body_minus"], b["body_plus"], b["nx"], b["ny"], b["length"],
+                              b["frame_p"], b["frame_q"], for_restore=True)
+            self.set_bond_params(**cp["bond_params"])
+        self.set_positions(cp["positions"])
+        self.set_velocities(cp["velocities"])
+        self._m.restore_bond_state(cp["bond_state"])
+        self._parents_seen = len(self._m.bond_parents())
+
+
+class BondsView:
+    """Read access to the freeze bonds of a Model (docs/freeze_bonds.md).
+
+    Points are the bond points as passed to set_bond_points; pairs are their
+    cohesive pairs (one per ordinary point, one per body pair at a junction).
+    """
+
+    def __init__(self, m):
+        self._m = m
+
+    @property
+    def counts(self):
+        """points, pairs, split (points), failed (pairs), late_detections, checks."""
+        return self._m.bond_counts()
+
+    def state(self):
+        """The full bond state as numpy arrays (checkpoint content)."""
+        return self._m.bond_state()
+
+    def energy(self):
+        """work done against the cohesive forces, stored (recoverable),
+        dissipated = work - stored, dissipation_effective = sum 1/2 f0 delta_m
+        (G l per fully failed pair) [J/m], since the bonds were set."""
+        return self._m.bond_energy()
+
+    def tractions(self):
+        """(t_n, t_t) per pair at its last check [Pa] (eq 7)."""
+        return self._m.bond_tractions()
+
+    def pairs(self):
+        """Static pair data: point, body_minus, body_plus, normal, length."""
+        b = self._m.bond_input()
+        return {"point": b["pair_point"], "body_minus": b["body_minus"], "body_plus": b["body_plus"],
+                "normal": np.column_stack((b["nx"], b["ny"])), "length": b["length"]}
+
+    def events(self):
+        """Event log (docs/results_format.md /bonds): per bond point t_split,
+        x_split, y_split, t_fail (when its last pair failed fully),
+        delta_n_fail, delta_t_fail and mode of that pair (0 intact or still
+        cohesive, 1 tensile, 2 shear; NaN times if it has not happened); per
+        pair the same with the prefix pair_, and pair_point, pair_f0,
+        pair_delta_f, pair_split_tn, pair_split_tt (traction at the split)."""
+        s = self._m.bond_state()
+        b = self._m.bond_input()
+        point = b["pair_point"]
+        P = len(b["node"])
+        ev = {"t_split": s["t_split"], "x_split": s["x_split"], "y_split": s["y_split"]}
+        t_fail = np.full(P, np.nan)
+        dn = np.full(P, np.nan)
+        dt = np.full(P, np.nan)
+        x = np.full(P, np.nan)
+        y = np.full(P, np.nan)
+        mode = np.zeros(P, dtype=np.int8)
+        done = np.ones(P, dtype=bool)
+        np.logical_and.at(done, point, s["pair_state"] == 2)
+        for k in np.argsort(s["t_fail"], kind="stable"):
+            p = point[k]
+            if done[p] and np.isfinite(s["t_fail"][k]):
+                t_fail[p], dn[p], dt[p] = s["t_fail"][k], s["dn_fail"][k], s["dt_fail"][k]
+                x[p], y[p], mode[p] = s["x_fail"][k], s["y_fail"][k], s["mode"][k]
+        ev.update(t_fail=t_fail, x_fail=x, y_fail=y, delta_n_fail=dn, delta_t_fail=dt, mode=mode)
+        ev.update(pair_point=point, pair_t_fail=s["t_fail"], pair_x_fail=s["x_fail"],
+                  pair_y_fail=s["y_fail"], pair_delta_n_fail=s["dn_fail"],
+                  pair_delta_t_fail=s["dt_fail"], pair_mode=s["mode"], pair_f0=s["f0"],
+                  pair_delta_f=s["delta_f"], pair_split_tn=s["split_tn"],
+                  pair_split_tt=s["split_tt"])
+        return ev
 
 
 def rectangle_mesh(nx, ny, hx, hy=None, origin=(0.0, 0.0)):

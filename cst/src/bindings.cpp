@@ -5,4 +5,5 @@ PYBIND11_MODULE(_cst, m) {
   m.def("version", []() { return "0.1"; });
   cst::bind_contact(m);
   cst::bind_model(m);
+  cst::bind_freeze_bonds(m);
 }

@@ -5,4 +5,5 @@
 namespace cst {
 void bind_contact(pybind11::module_& m);
 void bind_model(pybind11::module_& m);
+void bind_freeze_bonds(pybind11::module_& m);  // after bind_model: adds to Model
 }

@@ -20,7 +20,8 @@ struct EnergyLedger {
   double friction = 0.0;  // friction dissipation
   double damping = 0.0;   // strain-rate damping dissipation
   double drag = 0.0;      // water drag dissipation
-  double cohesive = 0.0;  // freeze-bond cohesive forces (0 until bonds land)
+  double cohesive = 0.0;  // freeze-bond cohesive forces: work minus cohesive_stored
+  double cohesive_stored = 0.0;  // current, recoverable on the secant branches (freeze_bonds.cpp)
   // Cumulative work done on the system by sources.
   double work_gravity = 0.0;
   double work_buoyancy = 0.0;
@@ -34,7 +35,7 @@ struct EnergyLedger {
   double elastic_midstep = 0.0;
   bool started = false;
 
-  double stored() const { return kinetic + elastic_midstep + contact; }
+  double stored() const { return kinetic + elastic_midstep + contact + cohesive_stored; }
   double dissipated() const { return friction + damping + drag + cohesive; }
   double supplied() const { return work_gravity + work_buoyancy + work_boundary; }
   // Energy present or lost minus energy brought in: 0 for an exact scheme.

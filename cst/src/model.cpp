@@ -310,7 +310,8 @@ void Model::reset_energy() { energy_ = EnergyLedger{}; }
 
 size_t Model::memory_bytes() const {
   size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
-             surface_tris_.capacity() * sizeof(int32_t) + partial_.capacity() * sizeof(double);
+             surface_tris_.capacity() * sizeof(int32_t) + partial_.capacity() * sizeof(double) +
+             bonds_.memory_bytes();
   for (const BoundaryCondition& bc : bcs_) b += bc.nodes.capacity() * sizeof(int32_t);
   return b;
 }
@@ -522,21 +523,9 @@ void Model::compute_contact_forces() {
   contact_work_step_ = contact_.stored_energy();
 }
 
-void Model::check_freeze_bonds() {
-  // Hook (4): freeze-bond points whose traction (eq 7, from tris_.stress)
-  // meets the criterion (eqs 5-6) split here: append the new node with
-  // add_node(), move the triangles on one side with set_triangle_node(),
-  // then prepare_topology() (prepared_ = false first) and re-check dt
-  // against stable_step(): split nodes are lighter, which lowers the contact
-  // limit. The per-corner internal forces of this step (tris_.f_corner) give
-  // f+ and f- for eq 8.
-}
+void Model::check_freeze_bonds() { bonds_.check(*this); }      // (4) freeze_bonds.cpp
 
-void Model::apply_cohesive_forces() {
-  // Hook (5): cohesive forces of opened bonds (eqs 9-11) are added to
-  // nodes_.f_coh_x / f_coh_y (zeroed each step); their work is booked as
-  // cohesive energy by update_positions().
-}
+void Model::apply_cohesive_forces() { bonds_.apply(*this); }  // (5) freeze_bonds.cpp
 
 void Model::assemble_forces() {
   // Serial: one pass of adds, cheaper than waking the threads again.

@@ -12,6 +12,7 @@
 #include "cst_element.hpp"
 #include "energy.hpp"
 #include "external_forces.hpp"
+#include "freeze_bonds.hpp"
 #include "material.hpp"
 #include "mesh_arrays.hpp"
 #include "time_step.hpp"
@@ -103,7 +104,12 @@ class Model {
   int32_t touching_pairs() const { return contact_.touching_pairs(); }
   size_t memory_bytes() const;
 
+  // --- freeze bonds (freeze_bonds.hpp; splitting edits the topology) ---
+  FreezeBonds& bonds() { return bonds_; }
+
  private:
+  friend class FreezeBonds;
+
   // The time step, MODEL.md 3.
   void advance();
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
@@ -156,6 +162,7 @@ class Model {
   int32_t first_inverted_ = -1;
   StepTimings timings_;
   std::vector<double> partial_;  // per-thread partial sums, fixed-order reduction
+  FreezeBonds bonds_;
 };
 
 }  // namespace cst

@@ -64,6 +64,7 @@ py::dict energy_dict(const EnergyLedger& e) {
   d["damping"] = e.damping;
   d["drag"] = e.drag;
   d["cohesive"] = e.cohesive;
+  d["cohesive_stored"] = e.cohesive_stored;
   d["work_gravity"] = e.work_gravity;
   d["work_buoyancy"] = e.work_buoyancy;
   d["work_boundary"] = e.work_boundary;
