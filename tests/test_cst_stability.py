@@ -155,3 +155,26 @@ def test_rough_start_at_the_stable_step_is_not_stopped():
     m.step(3000)
     e = m.energies()
     assert abs(e["residual"]) < 1e-2 * e["initial"]
+
+
+def test_contact_limit_of_a_bonded_mesh_is_that_of_its_split_bodies():
+    """Freeze-bonded bodies share nodes until their bond points split; the
+    contact limit must already hold for the split state (split nodes are
+    lighter and become boundary nodes), so it equals the limit of the same
+    bodies meshed apart (every shared node duplicated)."""
+    h = 0.1
+    nodes, tri = fdem.rectangle_mesh(10, 4, h)
+    body = (nodes[tri].mean(axis=1)[:, 0] > 0.5).astype(int)
+    bonded = fdem.Model(nodes, tri, body, dict(E=2e9, nu=0.3, rho=920.0))
+    # duplicate the interface nodes for body 1
+    shared = np.intersect1d(np.unique(tri[body == 0]), np.unique(tri[body == 1]))
+    copy = {int(k): len(nodes) + i for i, k in enumerate(shared)}
+    nodes2 = np.vstack([nodes, nodes[shared]])
+    tri2 = tri.copy()
+    for t in np.flatnonzero(body == 1):
+        tri2[t] = [copy.get(int(k), k) for k in tri2[t]]
+    apart = fdem.Model(nodes2, tri2, body, dict(E=2e9, nu=0.3, rho=920.0))
+    for m in (bonded, apart):
+        m.set(penalty=2e11)
+    sb, sa = bonded.stable_time_step(), apart.stable_time_step()
+    assert sb["dt_contact"] == pytest.approx(sa["dt_contact"], rel=1e-12)

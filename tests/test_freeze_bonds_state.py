@@ -31,7 +31,9 @@ def test_checkpoint_continues_bit_identically():
     same positions, velocities and bond state as N + M steps straight."""
     straight, bp, nodes, H = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, direction="work_conjugate")
     first, _, _, _ = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, direction="work_conjugate")
-    N, M = 6000, 2500  # split at ~3700, softening at 6000, failure at ~8100
+    # split at t ~ 0.056 s, full failure at ~ 0.124 s: checkpoint while softening
+    dt = straight.params["dt"]
+    N, M = int(0.08 / dt), int(0.06 / dt)
     straight.step(N + M)
     first.step(N)
     assert first.bonds.counts["split"] == len(bp) and first.bonds.counts["failed"] == 0
@@ -130,8 +132,9 @@ def test_prescreening_does_not_change_a_slow_run():
     criterion, so a run with screening is bit-identical to one without."""
     a, bp, _, _ = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, screen_interval=1)
     b, _, _, _ = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, screen_interval=16)
-    a.step(5000)
-    b.step(5000)
+    n = int(0.07 / a.params["dt"])  # every point splits at t ~ 0.056 s
+    a.step(n)
+    b.step(n)
     assert a.bonds.counts["split"] == len(bp)
     np.testing.assert_array_equal(a.positions, b.positions)
     assert b.bonds.counts["checks"] < 0.6 * a.bonds.counts["checks"]

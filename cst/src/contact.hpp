@@ -94,8 +94,11 @@ struct ContactStableStep {
   double stiffness = 0.0; // its k_i [N/m per m width]
   double mass = 0.0;      // its m_i [kg per m width]
 };
-// Uses tri, n_tri, x, y and mass of `in` (all triangles; boundary edges are
-// the edges used by one triangle only). Throws std::invalid_argument on bad p.
+// Uses tri, body, n_tri, x, y and mass of `in`. Each body is taken on its own
+// (boundary edges: used by one triangle of the body; a node shared by bodies,
+// i.e. a freeze-bond point, counts per body with that body's mass share), so
+// the limit also holds after every bond point has split.
+// Throws std::invalid_argument on bad p.
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in);
 
 class ContactSolver {
