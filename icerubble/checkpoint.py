@@ -8,17 +8,10 @@ import json
 
 import numpy as np
 
-from .h5io import AtomicH5, open_complete
+from .h5io import AtomicH5, open_complete, read_tree, write_tree
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
 DRIVER_FIELDS = ("phase", "t_load", "y_top0", "F_at_rest")
-
-
-def _put(group, name, value):
-    if isinstance(value, np.ndarray):
-        group.create_dataset(name, data=value)
-    else:
-        group.attrs[name] = value
 
 
 def save(run, path):
@@ -29,9 +22,7 @@ def save(run, path):
             d.attrs[k] = np.nan if v is None else v
         d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
         d.attrs["params"] = json.dumps(run.params)
-        g = f.create_group("engine")
-        for k, v in run.model.export_state().items():
-            _put(g, k, v)
+        write_tree(f.create_group("engine"), run.model.checkpoint())
         r = f.create_group("recorder")
         s = run.recorder.state()
         r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 3))
@@ -64,10 +55,7 @@ def restore(run, path):
                 v = v.decode()
             setattr(run, k, v.item() if hasattr(v, "item") else v)
         run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
-        g = f["engine"]
-        state = {k: g[k][...] for k in g}
-        state.update({k: v for k, v in g.attrs.items()})
-        run.model.import_state(state)
+        run.model = run.scene.restore(read_tree(f["engine"]))
         run.apply_boundary_conditions()
         r = f["recorder"]
         s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],

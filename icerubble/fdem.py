@@ -484,9 +484,9 @@ class Model:
         is now (reference positions, triangles with split nodes, bodies), node
         positions and velocities, node sets, the bond input and bond state
         (which points split, their new nodes, f0, delta_f, delta_m, events) and
-        the clock. Rebuild with Model.from_checkpoint(cp, materials), set the
-        same parameters and boundary conditions, then restore_checkpoint(cp).
-        The energy ledger restarts at the restore."""
+        the clock and the energy ledger. Rebuild with
+        Model.from_checkpoint(cp, materials), set the same parameters and
+        boundary conditions, then restore_checkpoint(cp)."""
         self._follow_splits()
         return {
             "reference_positions": self.reference_positions,
@@ -498,6 +498,7 @@ class Model:
             "bond_input": self._m.bond_input(),
             "bond_params": self._m.bond_params(),
             "bond_state": self._m.bond_state(),
+            "energy": self._m.energy(),
         }
 
     @classmethod
@@ -520,6 +521,8 @@ class Model:
         self.set_velocities(cp["velocities"])
         self._m.restore_bond_state(cp["bond_state"])
         self._parents_seen = len(self._m.bond_parents())
+        if "energy" in cp:
+            self._m.restore_energy(cp["energy"])
 
 
 class BondsView:

@@ -95,3 +95,31 @@ def open_complete(path, fmt=None):
         f.close()
         raise ValueError(f"{path} is incomplete (root attribute complete != 1)")
     return f
+
+
+def write_tree(group, tree):
+    """A nested dict of arrays, numbers and strings into an HDF5 group
+    (arrays -> datasets, scalars -> attributes, dicts -> subgroups)."""
+    for k, v in tree.items():
+        if isinstance(v, dict):
+            write_tree(group.create_group(k), v)
+        elif isinstance(v, np.ndarray) or isinstance(v, (list, tuple)):
+            group.create_dataset(k, data=np.asarray(v))
+        else:
+            group.attrs[k] = "__none__" if v is None else v
+
+
+def read_tree(group):
+    """Inverse of write_tree."""
+    out = {}
+    for k, v in group.attrs.items():
+        if isinstance(v, bytes):
+            v = v.decode()
+        if isinstance(v, str) and v == "__none__":
+            v = None
+        elif isinstance(v, np.generic):
+            v = v.item()
+        out[k] = v
+    for k, v in group.items():
+        out[k] = read_tree(v) if isinstance(v, h5py.Group) else v[...]
+    return out

@@ -18,7 +18,7 @@ class Progress:
         self.last = -1e30
         self.start_travel = None
 
-    def update(self, step, t, y_I, F=None, force=False):
+    def update(self, step, t, y_I, F=None, force=False, extra=None):
         now = time.perf_counter()
         if not force and now - self.last < self.every:
             return
@@ -33,5 +33,7 @@ class Progress:
         else:
             eta = "       ? s"
         f_txt = "" if F is None else f"  F {F / 1e3:9.3f} kN/m"
+        if extra is not None:
+            f_txt += "  " + (extra() if callable(extra) else str(extra))
         print(f"[{self.label}] step {step:>10d}  t {t:8.4f} s  y_I {y_I * 1e3:8.3f} mm{f_txt}"
               f"  wall {wall:7.0f} s  ETA {eta}", file=self.stream, flush=True)

@@ -154,6 +154,7 @@ class PunchThrough:
     def settle(self):
         """Damped motion to rest under gravity and buoyancy, indenter free."""
         m, o, dt = self.model, self.options, self.params["dt"]
+        self.apply_boundary_conditions()
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
         t_start = m.time
         prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
@@ -189,6 +190,7 @@ class PunchThrough:
         self.t_load = m.time
         self.phase = "load"
         self.apply_boundary_conditions()
+        m.set_bond_params(check_failure=True)
         m.reset_energy()
         self.recorder.set_reference(m.positions)
         self.recorder.force(0.0, 0.0, self.F_at_rest)
@@ -212,12 +214,34 @@ class PunchThrough:
                 self.recorder.energy(t_rel, m.energies())
             if self.recorder.wants_snapshot(y_I):
                 self.snapshot(t_rel, y_I)
-            prog.update(m.step_count, t_rel, y_I, F)
+            prog.update(m.step_count, t_rel, y_I, F, extra=self._bond_text)
             if y_I >= p["target_travel"]:
                 break
             self._maybe_checkpoint()
-        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True)
+        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True, extra=self._bond_text)
         self.recorder.energy(m.time - self.t_load, m.energies())
+
+    def _bond_text(self):
+        c = self.model.bonds.counts
+        return f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
+
+    def bond_events(self):
+        """The engine's bond event log with times from the start of loading
+        and the indenter travel at each event (interpolated in the F record)."""
+        ev = self.model.bonds.events()
+        fr = np.array(self.recorder.force_rows, dtype=float).reshape(-1, 3)
+        out = {}
+        for kind in ("split", "fail"):
+            t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.t_load
+            y = np.full_like(t, np.nan)
+            ok = np.isfinite(t)
+            if len(fr) >= 2:
+                y[ok] = np.interp(t[ok], fr[:, 0], fr[:, 1])
+            out[f"t_{kind}"], out[f"y_I_{kind}"] = t, y
+        out["delta_n_fail"] = ev["delta_n_fail"]
+        out["delta_t_fail"] = ev["delta_t_fail"]
+        out["mode"] = ev["mode"]
+        return out
 
     def snapshot(self, t_rel, y_I):
         m = self.model
@@ -239,4 +263,5 @@ class PunchThrough:
 
     def write(self):
         self.recorder.meta["F_at_rest"] = self.F_at_rest
+        self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)

@@ -57,21 +57,36 @@ class Scene:
         ys = nodes[self.indenter_nodes, 1]
         self.indenter_thickness = float(ys.max() - ys.min())
 
-        damping = element_damping_time(params, self.element_size)
-        material = dict(E=params["E"], nu=params["nu"], rho=params["rho_i"], damping=damping)
-        self.model = fdem.Model(nodes, tri, body, materials=material,
-                                node_sets={"layer_top": mesh["layer_top"],
-                                           "indenter_top": mesh["indenter_top"],
-                                           "indenter": self.indenter_nodes})
-        self.model.set(dt=params["dt"], gravity=True, g=params["g"], buoyancy=True, drag=True,
-                       rho_w=params["rho_w"], y_w=self.y_w, c_w=params["c_w"],
-                       penalty=params["penalty"], mu=params["mu"], threads=threads)
-        self.model.fix("layer_top")
+        self.material = dict(E=params["E"], nu=params["nu"], rho=params["rho_i"],
+                             damping=element_damping_time(params, self.element_size))
+        self.threads = threads
         self.bond_points = find_bond_points(
             nodes, tri, body, keel_top_y=self.keel_top_y, keel_depth=self.keel_depth,
             sigma_cr=params["sigma_cr"], tau_cr=params["tau_cr"], G=params["G"],
             bottom_fraction=params["strength_bottom_fraction"],
             exclude_pairs=self._cut_pairs())
+        self.model = fdem.Model(nodes, tri, body, materials=self.material,
+                                node_sets={"layer_top": mesh["layer_top"],
+                                           "indenter_top": mesh["indenter_top"],
+                                           "indenter": self.indenter_nodes})
+        self._configure(self.model)
+        # bonds hold while the scene settles; the driver switches failure on
+        self.model.set_bond_points(self.bond_points, direction=params["force_direction"],
+                                   check_failure=False)
+
+    def _configure(self, m):
+        p = self.params
+        m.set(dt=p["dt"], gravity=True, g=p["g"], buoyancy=True, drag=True,
+              rho_w=p["rho_w"], y_w=self.y_w, c_w=p["c_w"], penalty=p["penalty"], mu=p["mu"],
+              threads=self.threads)
+
+    def restore(self, cp):
+        """Replace the model by one continuing checkpoint ``cp`` (fdem.Model.checkpoint)."""
+        m = fdem.Model.from_checkpoint(cp, self.material)
+        self._configure(m)
+        m.restore_checkpoint(cp)
+        self.model = m
+        return m
 
     def _cut_pairs(self):
         """Indenter and consolidated layer are cut apart, never frozen together."""

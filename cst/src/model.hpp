@@ -72,6 +72,8 @@ class Model {
   void evaluate();
   StableStep stable_step();
   void reset_energy();
+  // Continue the bookkeeping of a checkpointed run (after positions/velocities are set).
+  void restore_energy(const EnergyLedger& e) { energy_ = e; }
 
   // --- topology editing for freeze-bond node splitting ---
   int32_t add_node(double x, double y, double x0, double y0, double vx, double vy);

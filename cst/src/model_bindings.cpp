@@ -174,6 +174,28 @@ void bind_model(py::module_& m) {
       .def("reset_energy", &Model::reset_energy)
       .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })
       .def("energy", [](const Model& M) { return energy_dict(M.energy()); })
+      .def("restore_energy",
+           [](Model& M, const py::dict& d) {
+             EnergyLedger e;
+             auto get = [&](const char* k) { return d[k].cast<double>(); };
+             e.kinetic = get("kinetic");
+             e.elastic = get("elastic");
+             e.contact = get("contact");
+             e.friction = get("friction");
+             e.damping = get("damping");
+             e.drag = get("drag");
+             e.cohesive = get("cohesive");
+             e.cohesive_stored = get("cohesive_stored");
+             e.work_gravity = get("work_gravity");
+             e.work_buoyancy = get("work_buoyancy");
+             e.work_boundary = get("work_boundary");
+             e.initial = get("initial");
+             e.elastic_midstep = get("elastic_midstep");
+             e.contact_solver = get("contact_solver");
+             e.friction_solver = get("friction_solver");
+             e.started = true;
+             M.restore_energy(e);
+           })
       .def("timings", [](const Model& M) {
         const StepTimings& t = M.timings();
         py::dict d;
