@@ -435,6 +435,7 @@ void FreezeBonds::apply(Model& M) {
     stored += s_pair_[j];
     eff += e_pair_[j];
   }
+  apply_crack_closure(M);
   if (!update) return;
   work_ += work;
   stored_ = stored;
@@ -446,6 +447,36 @@ void FreezeBonds::apply(Model& M) {
   E.cohesive -= stored - E.cohesive_stored;
   E.cohesive_stored = stored;
   if (any_failed) refresh_lists();
+}
+
+// ---------------------------------------------------------------- crack closure
+
+// The crack faces of a bond point take part in contact (eqs 1-4) only once no
+// node is shared between them any more: triangles that share a node never
+// contact. Until the neighbouring bond points have split too, a closing crack
+// would therefore interpenetrate freely, and when the last shared node splits
+// the contact would meet a deep overlap at once and throw the faces apart
+// (energy out of nothing). A node-to-node penalty on the split pair, as stiff
+// as the contact penalty s (N/m per m, below the 6 s node stiffness of the
+// potential contact the stable step allows for), keeps x+ and x- from
+// crossing along the bond normal. It is conservative: its forces go with the
+// contact forces, whose work the ledger books as stored contact energy.
+void FreezeBonds::apply_crack_closure(Model& M) {
+  const double k = M.contact_params().penalty;
+  Nodes& W = M.nodes_;
+  const int32_t n = int32_t(pair_state_.size());
+  for (int32_t j = 0; j < n; ++j) {
+    if (pair_state_[j] == 0) continue;
+    const int32_t ip = node_plus_[j], im = node_minus_[j];
+    const double nx = fnx_[j], ny = fny_[j];
+    const double dn = (W.x[ip] - W.x[im]) * nx + (W.y[ip] - W.y[im]) * ny;
+    if (dn >= 0.0) continue;
+    const double f = -k * dn;  // pushes x+ along +n and x- along -n
+    W.f_con_x[ip] += f * nx;
+    W.f_con_y[ip] += f * ny;
+    W.f_con_x[im] -= f * nx;
+    W.f_con_y[im] -= f * ny;
+  }
 }
 
 // ---------------------------------------------------------------- checkpoints

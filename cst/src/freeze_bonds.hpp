@@ -124,6 +124,7 @@ class FreezeBonds {
   size_t memory_bytes() const;
 
  private:
+  void apply_crack_closure(Model& M);
   static int team_size(const Model& M, int64_t items);
   double mu(const Model& M) const;
   void refresh_lists();
