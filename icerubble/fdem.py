@@ -499,6 +499,8 @@ class Model:
             "bond_params": self._m.bond_params(),
             "bond_state": self._m.bond_state(),
             "energy": self._m.energy(),
+            "contact_warm_start": {k: np.asarray(v) for k, v in
+                                   zip(("keys", "forces"), self._m.contact_warm_start())},
         }
 
     @classmethod
@@ -523,6 +525,10 @@ class Model:
         self._parents_seen = len(self._m.bond_parents())
         if "energy" in cp:
             self._m.restore_energy(cp["energy"])
+        if "contact_warm_start" in cp:
+            w = cp["contact_warm_start"]
+            self._m.set_contact_warm_start(np.asarray(w["keys"], dtype=np.uint64),
+                                           np.asarray(w["forces"], dtype=float))
 
 
 class BondsView:

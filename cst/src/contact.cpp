@@ -11,6 +11,8 @@
 
 #include "contact.hpp"
 
+#include <algorithm>
+
 namespace cst {
 namespace {
 
@@ -114,10 +116,20 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
     hit_[i] = potential_contact_pair(xa, ya, xb, yb, p.penalty, results_[i]) ? 1 : 0;
   }
 
+  // Touching pairs in (contactor, target) order, not in the order the
+  // candidate list happened to be built: forces are then summed, and friction
+  // solved, in an order fixed by the state alone, so a run resumed from a
+  // checkpoint (with a freshly built list) continues bit for bit.
+  hits_.clear();
+  for (int64_t i = 0; i < nc; ++i)
+    if (hit_[i]) hits_.push_back(i);
+  std::sort(hits_.begin(), hits_.end(), [this](int64_t u, int64_t v) {
+    const CandidatePair &a = candidates_[u], &b = candidates_[v];
+    return a.a != b.a ? a.a < b.a : a.b < b.b;
+  });
   pairs_.clear();
   double energy = 0.0;
-  for (int64_t i = 0; i < nc; ++i) {
-    if (!hit_[i]) continue;
+  for (const int64_t i : hits_) {
     const PairContact& r = results_[i];
     ContactPair cp;
     cp.contactor = candidates_[i].a;

@@ -119,6 +119,14 @@ class ContactSolver {
   int32_t touching_pairs() const { return n_touching_; }
   const ContactTimings& timings() const { return timings_; }
   const std::vector<ContactPair>& pairs() const { return pairs_; }
+  // Friction warm start (last step's tangential force per (contactor, target)
+  // key, keys sorted): part of a checkpoint, so a resumed run continues exactly.
+  const std::vector<uint64_t>& warm_start_keys() const { return prev_key_; }
+  const std::vector<double>& warm_start_forces() const { return prev_lambda_; }
+  void set_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
+    prev_key_ = keys;
+    prev_lambda_ = forces;
+  }
   // Bounding-box candidates of the last broad phase (diagnostics and tests).
   const std::vector<CandidatePair>& candidates() const { return candidates_; }
   // Candidate reuse: boxes are grown by skin_fraction times the largest
@@ -148,6 +156,7 @@ class ContactSolver {
   std::vector<ContactPair> pairs_;
   std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
   std::vector<std::pair<uint64_t, double>> order_;
+  std::vector<int64_t> hits_;       // touching candidates, in pair order
   std::vector<uint64_t> prev_key_;  // (contactor, target) of last step's pairs, sorted
   std::vector<double> prev_lambda_; // their tangential forces (warm start)
 };

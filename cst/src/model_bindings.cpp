@@ -174,6 +174,15 @@ void bind_model(py::module_& m) {
       .def("reset_energy", &Model::reset_energy)
       .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })
       .def("energy", [](const Model& M) { return energy_dict(M.energy()); })
+      .def("contact_warm_start",
+           [](Model& M) {
+             return py::make_tuple(M.contact().warm_start_keys(), M.contact().warm_start_forces());
+           })
+      .def("set_contact_warm_start",
+           [](Model& M, const std::vector<uint64_t>& k, const std::vector<double>& f) {
+             if (k.size() != f.size()) throw std::invalid_argument("warm start: keys and forces differ in length");
+             M.contact().set_warm_start(k, f);
+           })
       .def("restore_energy",
            [](Model& M, const py::dict& d) {
              EnergyLedger e;
