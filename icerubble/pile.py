@@ -1,0 +1,246 @@
+"""Rubble pile of phase 1 (paper section 2.4): block generation, keel porosity, pile HDF5.
+
+Pure numpy/h5py, importable from /usr/bin/python3 and from inside ``yade``.
+A *block* is a convex polygon given by its corners (k, 2), counter-clockwise.
+Layout of the pile file: docs/pile_and_mesh.md.
+"""
+from __future__ import annotations
+
+import datetime
+import os
+
+import numpy as np
+
+PILE_FORMAT = "icerubble-pile"
+PILE_FORMAT_VERSION = 1
+
+# Paper Table 1 and section 2.4.
+RHO_I = 920.0
+RHO_W = 1010.0
+G = 9.81
+LAYER_THICKNESS = 1.0
+BLOCK_THICKNESS = (0.2, 0.4)
+BLOCK_LENGTH = (0.6, 1.8)
+
+
+def layer_bottom_y(layer_thickness=LAYER_THICKNESS, rho_i=RHO_I, rho_w=RHO_W):
+    """y of the consolidated layer bottom (= keel top): -d, d = (rho_i/rho_w) t_c."""
+    return -(rho_i / rho_w) * layer_thickness
+
+
+# ---------------------------------------------------------------- validation
+
+def require_range(name, value, lo=None, hi=None, lo_open=False):
+    """Raise ValueError naming the parameter and its valid range."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    bad = not np.isfinite(v)
+    if lo is not None:
+        bad |= (v <= lo) if lo_open else (v < lo)
+    if hi is not None:
+        bad |= v > hi
+    if bad:
+        lo_s = "-inf" if lo is None else f"{lo:g}"
+        hi_s = "inf" if hi is None else f"{hi:g}"
+        br = "(" if lo_open else "["
+        raise ValueError(f"{name} = {value!r} is outside the valid range {br}{lo_s}, {hi_s}]")
+    return v
+
+
+def validate_block_sizes(t_min, t_max, l_min, l_max):
+    require_range("t_min (block thickness, m)", t_min, 0.0, lo_open=True)
+    require_range("t_max (block thickness, m)", t_max, t_min)
+    require_range("l_min (block length, m)", l_min, 0.0, lo_open=True)
+    require_range("l_max (block length, m)", l_max, l_min)
+    if l_min < t_max:
+        raise ValueError(f"l_min = {l_min} must be >= t_max = {t_max} (a block's length is its long side)")
+
+
+# ---------------------------------------------------------------- geometry
+
+def rectangle(center, length, thickness, angle):
+    """Corners (4, 2) of a length x thickness rectangle rotated by angle (rad), CCW."""
+    c, s = np.cos(angle), np.sin(angle)
+    hx, hy = 0.5 * length, 0.5 * thickness
+    local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
+    rot = np.array([[c, -s], [s, c]])
+    return np.asarray(center, float) + local @ rot.T
+
+
+def polygon_area(p):
+    """Signed area (shoelace); positive for counter-clockwise corners."""
+    p = np.asarray(p, float)
+    if len(p) < 3:
+        return 0.0
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def ccw(p):
+    """Same polygon, counter-clockwise."""
+    p = np.asarray(p, float)
+    return p if polygon_area(p) >= 0 else p[::-1].copy()
+
+
+def clip_halfplane(poly, n, c):
+    """Part of convex polygon `poly` with n.x <= c (Sutherland-Hodgman, one edge)."""
+    out = []
+    m = len(poly)
+    for i in range(m):
+        a, b = poly[i], poly[(i + 1) % m]
+        da, db = np.dot(n, a) - c, np.dot(n, b) - c
+        if da <= 0:
+            out.append(a)
+        if (da < 0 < db) or (db < 0 < da):
+            out.append(a + (b - a) * (da / (da - db)))
+    return np.array(out).reshape(-1, 2)
+
+
+def clip_box(poly, x0, x1, y0, y1):
+    """Part of convex polygon `poly` inside the axis-aligned box."""
+    p = np.asarray(poly, float)
+    for n, c in (((1.0, 0.0), x1), ((-1.0, 0.0), -x0), ((0.0, 1.0), y1), ((0.0, -1.0), -y0)):
+        if len(p) == 0:
+            break
+        p = clip_halfplane(p, np.array(n), c)
+    return p
+
+
+# ---------------------------------------------------------------- generation
+
+def compact_rows(n_blocks, domain_width, top_y, rng, t_range=BLOCK_THICKNESS,
+                 l_range=BLOCK_LENGTH, max_tilt=np.radians(30.0), gap=0.03, n_area=None):
+    """Compact start of phase 1: random blocks in rows just below `top_y`.
+
+    Blocks (thickness, length uniform in the ranges, tilt uniform in +-max_tilt)
+    are laid left to right in rows across the domain, each in its own slot of its
+    rotated bounding box plus `gap`, rows stacked downward. A compact start
+    settles in a few seconds of simulated time where a tall random column needs
+    tens (yade_2023_facts.md). If `n_blocks` is None, blocks are added until
+    their area reaches `n_area` (m^2). Returns (corners (n,4,2), thickness, length, angle).
+    """
+    validate_block_sizes(t_range[0], t_range[1], l_range[0], l_range[1])
+    if domain_width < l_range[1] + 2 * gap:
+        raise ValueError(f"domain_width = {domain_width} m must exceed the longest block "
+                         f"l_max = {l_range[1]} m plus gaps")
+    x_left = -0.5 * domain_width + gap
+    x_right = 0.5 * domain_width - gap
+    corners, ts, ls, angs = [], [], [], []
+    area = 0.0
+    row_top = top_y - gap
+    x = x_left
+    row_h = 0.0
+    while (n_blocks is not None and len(corners) < n_blocks) or \
+          (n_blocks is None and area < n_area):
+        t = rng.uniform(*t_range)
+        ln = rng.uniform(*l_range)
+        a = rng.uniform(-max_tilt, max_tilt)
+        w = ln * abs(np.cos(a)) + t * abs(np.sin(a))
+        h = ln * abs(np.sin(a)) + t * abs(np.cos(a))
+        if x + w > x_right:  # next row
+            row_top -= row_h + gap
+            x, row_h = x_left, 0.0
+        centre = (x + 0.5 * w, row_top - 0.5 * h)
+        corners.append(rectangle(centre, ln, t, a))
+        ts.append(t), ls.append(ln), angs.append(a)
+        area += t * ln
+        x += w + gap
+        row_h = max(row_h, h)
+    return np.array(corners), np.array(ts), np.array(ls), np.array(angs)
+
+
+def blocks_for_keel(domain_width, keel_depth, porosity):
+    """Ice area (m^2) that fills a keel of that depth at that porosity."""
+    return (1.0 - porosity) * domain_width * keel_depth
+
+
+# ---------------------------------------------------------------- keel region
+
+def keel_bounds(polygons, keel_top_y, x_min, x_max, column_width=0.5):
+    """Keel region (x_min, x_max, bottom_y, top_y).
+
+    The keel bottom of a ragged pile is taken as the mean, over columns of width
+    `column_width` across [x_min, x_max], of the lowest ice point in the column
+    (a column without ice counts depth 0). Documented in docs/pile_and_mesh.md.
+    """
+    ncol = max(1, int(round((x_max - x_min) / column_width)))
+    edges = np.linspace(x_min, x_max, ncol + 1)
+    lowest = np.full(ncol, keel_top_y)
+    for p in polygons:
+        pxmin, pxmax = p[:, 0].min(), p[:, 0].max()
+        for j in range(ncol):
+            if edges[j + 1] <= pxmin or edges[j] >= pxmax:
+                continue
+            q = clip_box(p, edges[j], edges[j + 1], -np.inf, np.inf)
+            if len(q) >= 3:
+                lowest[j] = min(lowest[j], q[:, 1].min())
+    return float(x_min), float(x_max), float(lowest.mean()), float(keel_top_y)
+
+
+def porosity(polygons, bounds):
+    """eta = void area / total area of the keel region (paper section 2.4, Table 1).
+
+    `polygons` must not overlap (or overlap negligibly: phase-1 contact overlaps
+    are ~1e-4 of the block area and are counted twice).
+    """
+    x0, x1, y0, y1 = bounds
+    total = (x1 - x0) * (y1 - y0)
+    if not total > 0:
+        raise ValueError(f"keel region {bounds} has no area")
+    ice = sum(abs(polygon_area(clip_box(p, x0, x1, y0, y1))) for p in polygons)
+    return 1.0 - ice / total
+
+
+# ---------------------------------------------------------------- HDF5 I/O
+
+def write_pile(path, corners, thickness, length, params, meta):
+    """Write a settled pile to `path` (via `path`.part, renamed when complete)."""
+    import h5py
+    corners = np.array([ccw(c) for c in corners], dtype=float)
+    part = path + ".part"
+    with h5py.File(part, "w") as f:
+        f.attrs["format"] = PILE_FORMAT
+        f.attrs["format_version"] = PILE_FORMAT_VERSION
+        f.attrs["complete"] = 0
+        f.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat()
+        for k, v in meta.items():
+            f.attrs[k] = v
+        pg = f.create_group("parameters")
+        for k, v in params.items():
+            pg.attrs[k] = v
+        b = f.create_group("blocks")
+        d = b.create_dataset("corners", data=corners)
+        d.attrs["units"] = "m"
+        d = b.create_dataset("thickness", data=np.asarray(thickness, float))
+        d.attrs["units"] = "m"
+        d = b.create_dataset("length", data=np.asarray(length, float))
+        d.attrs["units"] = "m"
+        f.attrs["complete"] = 1
+    os.replace(part, path)
+
+
+def read_pile(path):
+    """Read a pile file; ValueError if it is not a complete icerubble pile."""
+    import h5py
+    if not os.path.isfile(path):
+        raise ValueError(f"pile file {path!r} does not exist")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise ValueError(f"pile file {path!r} is not an HDF5 file ({e})") from None
+    with f:
+        if f.attrs.get("format") != PILE_FORMAT:
+            raise ValueError(f"{path!r} is not an {PILE_FORMAT} file (format attribute "
+                             f"{f.attrs.get('format')!r})")
+        if int(f.attrs.get("complete", 0)) != 1:
+            raise ValueError(f"pile file {path!r} is incomplete (complete != 1)")
+        corners = f["blocks/corners"][...]
+        if corners.ndim != 3 or corners.shape[1:] != (4, 2) or not np.isfinite(corners).all():
+            raise ValueError(f"{path!r}: blocks/corners must be finite (n,4,2), got {corners.shape}")
+        return dict(corners=corners,
+                    thickness=f["blocks/thickness"][...],
+                    length=f["blocks/length"][...],
+                    params=dict(f["parameters"].attrs),
+                    meta=dict(f.attrs))
