@@ -172,7 +172,7 @@ def main():
     top = pile.layer_bottom_y(P.layer_thickness, P.rho_i, P.rho_w)
     n_req = int(P.n_blocks) if int(P.n_blocks) > 0 else None
     area = None if n_req else pile.blocks_for_keel(P.domain_width, P.keel_depth, P.porosity_guess)
-    corners, ts, ls, _ = pile.compact_rows(
+    corners, ts, ls, _ = pile.compact_start(
         n_req, P.domain_width, top, rng, (P.t_min, P.t_max), (P.l_min, P.l_max),
         np.radians(P.max_tilt), n_area=area)
     n = len(corners)
