@@ -1,0 +1,511 @@
+"""Mesh of the settled pile for phase 2 (paper section 2.4): gmsh, continuous over touching blocks.
+
+Bodies: blocks 0..n-1 (body_kind 0, same index as in the pile file), then the
+consolidated layer left of the indenter (kind 1), the indenter (kind 2) and the
+layer right of it (kind 1). The mesh is continuous wherever two bodies are bonded:
+their common boundary is one gmsh curve (occ.fragment), so the elements on both
+sides share its nodes. Every element edge between two different bodies is a
+freeze-bond edge (MODEL.md 3.3). The indenter is cut free from the layer (as in a
+punch-through test): its side faces share no nodes with the layer.
+
+Contact rule (phase-1 blocks touch with mm overlaps or gaps; resolve_contacts):
+for every pair closer than `gap_tol`, the contact line is the separating axis of
+least overlap (an edge normal of either block), placed midway between the two
+blocks' extreme points along it (for the layer and the side walls: on their face,
+they do not move). Corners of each block within `gap_tol` of that line, or past it,
+are moved onto it along its normal. The two blocks then lie on opposite sides of
+the line and their faces on it are exactly collinear. If the common part of those
+faces (the chord) is at least `min_bond_length`, the contact is bonded; otherwise
+(a corner touching a face) both are pulled back to leave a gap `eps_sep`, so the
+contact is left to the phase-2 contact law. Sweeps repeat until no corner moves.
+Layout of the mesh file: docs/pile_and_mesh.md.
+"""
+from __future__ import annotations
+
+import datetime
+import os
+import time
+
+import numpy as np
+
+from . import pile as _pile
+
+MESH_FORMAT = "icerubble-mesh"
+MESH_FORMAT_VERSION = 1
+KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
+
+
+# ---------------------------------------------------------------- contact rule
+
+def _axes(p):
+    """Unit outward edge normals of a counter-clockwise convex polygon."""
+    e = np.roll(p, -1, axis=0) - p
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1)
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
+def contact_line(a, b):
+    """Target face of the contact between convex CCW polygons a and b.
+
+    The separating axis of least overlap is an outward edge normal n of one of
+    them, the target; the other is the contactor. Returns
+    (target, n, c, depth): target 0 (a) or 1 (b), the target face line n.x = c
+    (target in n.x <= c), and the overlap depth of the contactor past it
+    (negative: a gap).
+    """
+    best = None
+    for which, (t, k) in enumerate(((a, b), (b, a))):
+        for n in _axes(t):
+            c = (t @ n).max()
+            depth = c - (k @ n).min()
+            if best is None or depth < best[3]:
+                best = (which, n, c, depth)
+    return best
+
+
+def _segment_on(p, n, c, tol):
+    """Extent (s0, s1) along the line n.x = c of the corners of p lying on it, or None."""
+    on = np.abs(p @ n - c) <= tol
+    if on.sum() < 2:
+        return None
+    s = p[on] @ np.array([-n[1], n[0]])
+    return s.min(), s.max()
+
+
+def _snap_face(p, n, c, gap_tol):
+    """A face of p that lies within gap_tol outside the line (a near face-face contact) moves onto it."""
+    d = c - p @ n  # > 0: outside the target, on the contactor's own side
+    sel = (d > 0) & (d <= gap_tol)
+    if sel.sum() >= 2:
+        p = p.copy()
+        p[sel] += d[sel][:, None] * n[None, :]
+    return p
+
+
+def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol):
+    """Contactor k against target face n.x = c: (new k, chord, bonded)."""
+    k = _snap_face(k, n, c, gap_tol)
+    # the overlap sliver goes to the target: cut the contactor along the target face
+    k = _pile.clip_halfplane(k, -n, -c)
+    sk, st = _segment_on(k, n, c, on_tol), _segment_on(t, n, c, on_tol)
+    chord = 0.0 if sk is None or st is None else max(0.0, min(sk[1], st[1]) - max(sk[0], st[0]))
+    if chord < min_bond_length:  # a corner touch: leave it to the phase-2 contact law
+        k = _pile.clip_halfplane(k, -n, -(c + eps_sep))
+        return k, chord, False
+    return k, chord, True
+
+
+def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_length=0.05,
+                     eps_sep=1e-4, min_feature=0.01):
+    """Apply the contact rule (module docstring) to the block corners (n, k, 2).
+
+    Returns (polys, contacts): the resolved blocks (list of CCW convex polygons,
+    subsets of the inputs up to face snaps of at most gap_tol) and a list of
+    (i, j, chord, bonded), j = -1 for the consolidated layer (with the indenter).
+    """
+    polys = [np.array(_pile.ccw(p), float) for p in corners]
+    n = len(polys)
+    on_tol = 1e-9 * max(1.0, x_max - x_min)
+    contacts = []
+    lines = [[] for _ in range(n)]  # bonded contact lines (n, c) of each block
+    # phase-1 side walls (not meshed): blocks are cut to the domain, never bonded there
+    for i in range(n):
+        polys[i] = _pile.clip_box(polys[i], x_min, x_max, -np.inf, np.inf)
+    # the layer is always the target: its face is the keel top y = layer_y
+    up = np.array([0.0, 1.0])
+    for i in range(n):
+        if polys[i][:, 1].max() <= layer_y - gap_tol:
+            continue
+        k = _snap_face(polys[i], up, layer_y, gap_tol)
+        k = _pile.clip_halfplane(k, up, layer_y)
+        seg = _segment_on(k, up, layer_y, on_tol)
+        chord = 0.0 if seg is None else seg[1] - seg[0]
+        if chord < min_bond_length:
+            k = _pile.clip_halfplane(k, up, layer_y - eps_sep)
+        polys[i] = k
+        contacts.append((i, -1, chord, chord >= min_bond_length))
+        if chord >= min_bond_length:
+            lines[i].append((up, layer_y))
+    lo = np.array([p.min(axis=0) for p in polys])
+    hi = np.array([p.max(axis=0) for p in polys])
+    reach = gap_tol + on_tol
+    near = np.argwhere(np.triu((lo[:, None, 0] <= hi[None, :, 0] + reach) &
+                               (lo[None, :, 0] <= hi[:, None, 0] + reach) &
+                               (lo[:, None, 1] <= hi[None, :, 1] + reach) &
+                               (lo[None, :, 1] <= hi[:, None, 1] + reach), k=1))
+    pairs = []
+    for i, j in near:
+        which, nrm, c, depth = contact_line(polys[i], polys[j])
+        if depth < -gap_tol:
+            continue
+        ti, ki = (i, j) if which == 0 else (j, i)
+        polys[ki], chord, bonded = _resolve_pair(polys[ti], polys[ki], nrm, c, gap_tol,
+                                                 min_bond_length, eps_sep, on_tol)
+        contacts.append((int(i), int(j), chord, bonded))
+        if bonded:
+            lines[ti].append((nrm, c))
+            lines[ki].append((nrm, c))
+            pairs.append((ti, ki, nrm, c))
+    for ti, ki, nrm, c in pairs:
+        _weld_ends(polys, lines, ti, ki, nrm, c, min_feature, on_tol)
+    for i in range(n):
+        polys[i] = _collapse_short_edges(polys[i], lines[i], min_feature, on_tol)
+    return polys, contacts
+
+
+def _free(v, own_lines, skip, on_tol):
+    """True if corner v lies on no bonded line of its block other than `skip`."""
+    return all(abs(v @ n - c) > on_tol for n, c in own_lines if not (n is skip[0] and c == skip[1]))
+
+
+def _weld_ends(polys, lines, ti, ki, n, c, min_feature, on_tol):
+    """Make near-coincident ends of a bonded face pair coincide.
+
+    Where one face ends less than `min_feature` beyond the other, its end corner
+    slides along the line onto the other's end (the block only shrinks), unless
+    that corner also lies on another bonded line of its block.
+    """
+    t = np.array([-n[1], n[0]])
+    for _ in range(2):
+        ends = []
+        for b in (ti, ki):
+            p = polys[b]
+            on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
+            if len(on) < 2:
+                return
+            s = p[on] @ t
+            ends.append((on[np.argmin(s)], s.min(), on[np.argmax(s)], s.max()))
+        (ta0, ts0, ta1, ts1), (ka0, ks0, ka1, ks1) = ends
+        for lo_end in (True, False):
+            if lo_end:
+                (bl, il, sl), (bs, is_, ss) = ((ti, ta0, ts0), (ki, ka0, ks0)) if ts0 < ks0 else \
+                                              ((ki, ka0, ks0), (ti, ta0, ts0))
+            else:
+                (bl, il, sl), (bs, is_, ss) = ((ti, ta1, ts1), (ki, ka1, ks1)) if ts1 > ks1 else \
+                                              ((ki, ka1, ks1), (ti, ta1, ts1))
+            gap = abs(sl - ss)
+            if 0.0 < gap < min_feature and _free(polys[bl][il], lines[bl], (n, c), on_tol):
+                polys[bl][il] = polys[bs][is_]
+
+
+def _collapse_short_edges(p, own_lines, min_feature, on_tol):
+    """Edges shorter than min_feature disappear (the block only shrinks).
+
+    A corner on a bonded line is kept and the other end of the short edge is
+    dropped; with no bonded corner the edge shrinks to its midpoint; an edge
+    between two bonded lines stays, so bonded faces stay exact.
+    """
+    def bonded(v):
+        return any(abs(v @ n - c) <= on_tol for n, c in own_lines)
+
+    while len(p) > 3:
+        e = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)
+        changed = False
+        for k in np.argsort(e):
+            if e[k] >= min_feature:
+                break
+            ka, kb = k, (k + 1) % len(p)
+            ba, bb = bonded(p[ka]), bonded(p[kb])
+            if ba and bb:
+                continue
+            if ba or bb:
+                p = np.delete(p, kb if ba else ka, axis=0)
+            else:
+                mid = 0.5 * (p[ka] + p[kb])
+                p = np.delete(p, kb, axis=0)
+                p[ka if ka < kb else ka - 1] = mid
+            changed = True
+            break
+        if not changed:
+            break
+    return p
+
+
+# ---------------------------------------------------------------- gmsh
+
+def _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
+              indenter_thickness, domain_width, layer_thickness):
+    r = _pile.require_range
+    r("element_size (m)", element_size, 0.0, lo_open=True)
+    r("gap_tol (m)", gap_tol, 0.0)
+    r("min_bond_length (m)", min_bond_length, 0.0, lo_open=True)
+    r("eps_sep (m)", eps_sep, 0.0, lo_open=True)
+    r("min_feature (m)", min_feature, 0.0, min_bond_length)
+    r("layer_thickness (m)", layer_thickness, 0.0, lo_open=True)
+    r("indenter_width (m)", indenter_width, 0.0, lo_open=True)
+    r("indenter_thickness (m)", indenter_thickness, 0.0, lo_open=True)
+    if indenter_width >= domain_width:
+        raise ValueError(f"indenter_width = {indenter_width} m must be smaller than the "
+                         f"domain width {domain_width} m")
+    if abs(indenter_thickness - layer_thickness) > 1e-12:
+        raise ValueError(f"indenter_thickness = {indenter_thickness} m must equal the layer "
+                         f"thickness {layer_thickness} m (the indenter is a plate cut from it)")
+
+
+def _surface(occ, poly):
+    pts = [occ.addPoint(float(x), float(y), 0.0) for x, y in poly]
+    lines = [occ.addLine(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))]
+    return occ.addPlaneSurface([occ.addCurveLoop(lines)])
+
+
+def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=1e-4,
+               min_feature=0.01, indenter_width=4.0, indenter_thickness=1.0, algorithm=6,
+               verbose=False):
+    """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
+    import gmsh
+    meta = pile_data["meta"]
+    W = float(meta["domain_width"])
+    t_c = float(meta["layer_thickness"])
+    y_b = float(meta["layer_bottom_y"])
+    _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
+              indenter_thickness, W, t_c)
+    times = {}
+    t0 = time.perf_counter()
+    x0, x1 = -0.5 * W, 0.5 * W
+    polys, contacts = resolve_contacts(pile_data["corners"], y_b, x0, x1, gap_tol,
+                                       min_bond_length, eps_sep, min_feature)
+    times["resolve"] = time.perf_counter() - t0
+    nb = len(polys)
+    xi = 0.5 * indenter_width
+    y_t = y_b + t_c
+    plates = [[(x0, y_b), (-xi, y_b), (-xi, y_t), (x0, y_t)],
+              [(-xi, y_b), (xi, y_b), (xi, y_t), (-xi, y_t)],
+              [(xi, y_b), (x1, y_b), (x1, y_t), (xi, y_t)]]
+    body_kind = np.array([KIND_BLOCK] * nb + [KIND_LAYER, KIND_INDENTER, KIND_LAYER], np.int8)
+    owner_rank = np.r_[np.arange(nb) + 3, [0, 1, 2]]  # overlap slivers: plates first, then lower id
+
+    t0 = time.perf_counter()
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
+        gmsh.model.add("pile")
+        occ = gmsh.model.occ
+        tags = [_surface(occ, p) for p in polys] + [_surface(occ, p) for p in plates]
+        _, child_map = occ.fragment([(2, t) for t in tags], [])
+        occ.synchronize()
+        times["fragment"] = time.perf_counter() - t0
+        parents = {}
+        for body, children in enumerate(child_map):
+            for dim, tag in children:
+                if dim == 2:
+                    parents.setdefault(tag, []).append(body)
+        surf_body = {}
+        n_slivers, sliver_area = 0, 0.0
+        for tag, bodies in parents.items():
+            surf_body[tag] = min(bodies, key=lambda b: owner_rank[b])
+            if len(bodies) > 1:
+                n_slivers += 1
+                sliver_area += occ.getMass(2, tag)
+        t0 = time.perf_counter()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", element_size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+        # near a short curve the size follows its length, so small features get
+        # small, well-shaped triangles instead of slivers
+        curve_len = {c: occ.getMass(1, c) for _, c in gmsh.model.getEntities(1)}
+        for _, pt in gmsh.model.getEntities(0):
+            up, _ = gmsh.model.getAdjacencies(0, pt)
+            lmin = min((curve_len[c] for c in up), default=element_size)
+            gmsh.model.mesh.setSize([(0, pt)], min(element_size, lmin))
+        gmsh.model.mesh.generate(2)
+        times["mesh"] = time.perf_counter() - t0
+        node_tags, coords, _ = gmsh.model.mesh.getNodes()
+        index = np.full(int(node_tags.max()) + 1, -1, np.int64)
+        index[node_tags] = np.arange(len(node_tags))
+        nodes = coords.reshape(-1, 3)[:, :2].copy()
+        tris, body = [], []
+        for tag, b in surf_body.items():
+            etypes, _, enodes = gmsh.model.mesh.getElements(2, tag)
+            for et, en in zip(etypes, enodes):
+                if et != 2:
+                    raise RuntimeError(f"gmsh returned element type {et} on surface {tag}; "
+                                       "expected 3-node triangles")
+                t3 = index[np.asarray(en, np.int64)].reshape(-1, 3)
+                tris.append(t3)
+                body.append(np.full(len(t3), b, np.int32))
+    finally:
+        gmsh.finalize()
+    tris = np.vstack(tris)
+    body = np.concatenate(body)
+    # counter-clockwise
+    a = _signed_areas(nodes, tris)
+    tris[a < 0] = tris[a < 0][:, ::-1]
+    nodes, tris = _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t)
+    bond_edges, bond_bodies = find_bond_edges(tris, body)
+    tol = 1e-9 * max(1.0, W)
+    layer_top = np.unique(tris[np.isin(body, [nb, nb + 2])])
+    layer_top = layer_top[np.abs(nodes[layer_top, 1] - y_t) < tol]
+    ind_top = np.unique(tris[body == nb + 1])
+    ind_top = ind_top[np.abs(nodes[ind_top, 1] - y_t) < tol]
+    blocks_final = [p.copy() for p in polys]
+    bounds = _pile.keel_bounds(blocks_final, y_b, x0, x1)
+    eta = porosity_of_mesh(nodes, tris, body_kind[body] == KIND_BLOCK, bounds)
+    return dict(nodes=nodes, triangles=tris.astype(np.int32), body=body, body_kind=body_kind,
+                bond_edges=bond_edges, bond_edge_bodies=bond_bodies,
+                layer_top=layer_top.astype(np.int32), indenter_top=ind_top.astype(np.int32),
+                keel_bounds=bounds, porosity=eta, quality=quality(nodes, tris),
+                contacts=contacts, resolved_blocks=blocks_final,
+                element_size=float(element_size), times=times,
+                settings=dict(gap_tol=gap_tol, min_bond_length=min_bond_length, eps_sep=eps_sep,
+                              min_feature=min_feature,
+                              indenter_width=indenter_width, indenter_thickness=indenter_thickness,
+                              layer_thickness=t_c, layer_bottom_y=y_b, domain_width=W,
+                              algorithm=algorithm),
+                resolve_info=dict(n_slivers=n_slivers, sliver_area=sliver_area))
+
+
+def _signed_areas(nodes, tris):
+    p0, p1, p2 = nodes[tris[:, 0]], nodes[tris[:, 1]], nodes[tris[:, 2]]
+    return 0.5 * ((p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1]) -
+                  (p2[:, 0] - p0[:, 0]) * (p1[:, 1] - p0[:, 1]))
+
+
+def _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t):
+    """Give the indenter its own copies of the nodes on its two side faces.
+
+    The bottom corners (+-xi, y_b) stay with the indenter (and any block bonded
+    there); the layer gets copies, so layer and indenter share no node.
+    """
+    tol = 1e-9 * max(1.0, xi)
+    ind = body == nb + 1
+    lay = np.isin(body, [nb, nb + 2])
+    ind_nodes = np.unique(tris[ind])
+    lay_nodes = np.unique(tris[lay])
+    shared = np.intersect1d(ind_nodes, lay_nodes)
+    on_cut = (np.abs(np.abs(nodes[shared, 0]) - xi) < tol) & (nodes[shared, 1] > y_b - tol) & \
+             (nodes[shared, 1] < y_t + tol)
+    if not on_cut.all():
+        raise RuntimeError("indenter and layer share nodes off the cut lines")
+    new_id = {int(k): len(nodes) + m for m, k in enumerate(shared)}
+    nodes = np.vstack([nodes, nodes[shared]])
+    lt = tris[lay]
+    for k, v in new_id.items():
+        lt[lt == k] = v
+    tris = tris.copy()
+    tris[lay] = lt
+    return nodes, tris
+
+
+def find_bond_edges(tris, body):
+    """Element edges whose two triangles belong to different bodies (freeze-bond edges)."""
+    e = np.vstack([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    owner = np.tile(np.arange(len(tris)), 3)
+    key = np.sort(e, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    ks, ow = key[order], owner[order]
+    same = np.all(ks[1:] == ks[:-1], axis=1)
+    i = np.flatnonzero(same)
+    if np.any(same[1:] & same[:-1]):
+        raise RuntimeError("an element edge is shared by more than two triangles")
+    b1, b2 = body[ow[i]], body[ow[i + 1]]
+    sel = b1 != b2
+    edges = ks[i[sel]].astype(np.int32)
+    bb = np.sort(np.stack([b1[sel], b2[sel]], axis=1), axis=1).astype(np.int32)
+    return edges, bb
+
+
+def porosity_of_mesh(nodes, tris, is_ice, bounds):
+    """eta = 1 - (ice triangle area inside the keel region) / (region area)."""
+    x0, x1, y0, y1 = bounds
+    pts = nodes[tris[is_ice]]
+    inside = np.all((pts[:, :, 0] >= x0) & (pts[:, :, 0] <= x1) &
+                    (pts[:, :, 1] >= y0) & (pts[:, :, 1] <= y1), axis=1)
+    ice = np.abs(_signed_areas(nodes, tris[is_ice][inside])).sum()
+    for p in pts[~inside]:
+        ice += abs(_pile.polygon_area(_pile.clip_box(p, x0, x1, y0, y1)))
+    return 1.0 - ice / ((x1 - x0) * (y1 - y0))
+
+
+def quality(nodes, tris):
+    """Angles, edge lengths and areas of the triangles."""
+    p = nodes[tris]
+    e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+    ln = np.linalg.norm(e, axis=2)
+    ang = []
+    for k in range(3):
+        u, v = -e[:, k - 1], e[:, k]
+        cosv = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        ang.append(np.degrees(np.arccos(np.clip(cosv, -1, 1))))
+    ang = np.stack(ang, axis=1)
+    area = _signed_areas(nodes, tris)
+    mn = ang.min(axis=1)
+    return dict(min_angle_deg=float(mn.min()), mean_min_angle_deg=float(mn.mean()),
+                max_angle_deg=float(ang.max()), frac_min_angle_below_20=float((mn < 20).mean()),
+                min_edge=float(ln.min()), max_edge=float(ln.max()), mean_edge=float(ln.mean()),
+                min_area=float(area.min()), max_area=float(area.max()))
+
+
+# ---------------------------------------------------------------- HDF5
+
+def write_mesh(path, m, source=""):
+    """Write the mesh dict to `path` (via .part, renamed when complete)."""
+    import h5py
+    part = path + ".part"
+    with h5py.File(part, "w") as f:
+        f.attrs["format"] = MESH_FORMAT
+        f.attrs["format_version"] = MESH_FORMAT_VERSION
+        f.attrs["complete"] = 0
+        f.attrs["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat()
+        f.attrs["source_pile"] = source
+        f.attrs["element_size"] = m["element_size"]
+        f.attrs["porosity"] = m["porosity"]
+        for k, v in zip(("keel_x_min", "keel_x_max", "keel_bottom_y", "keel_top_y"), m["keel_bounds"]):
+            f.attrs[k] = v
+        for k, v in m["settings"].items():
+            f.attrs[k] = v
+
+        def ds(name, data, units):
+            d = f.create_dataset(name, data=data)
+            d.attrs["units"] = units
+
+        ds("nodes", m["nodes"], "m")
+        ds("triangles", m["triangles"], "-")
+        ds("body", m["body"], "-")
+        ds("body_kind", m["body_kind"], "-")
+        ds("bond_edges", m["bond_edges"], "-")
+        ds("bond_edge_bodies", m["bond_edge_bodies"], "-")
+        ds("node_sets/layer_top", m["layer_top"], "-")
+        ds("node_sets/indenter_top", m["indenter_top"], "-")
+        c = m["contacts"]
+        ds("contacts/bodies", np.array([(i, j) for i, j, _, _ in c], np.int32).reshape(-1, 2), "-")
+        ds("contacts/chord", np.array([x for _, _, x, _ in c], float), "m")
+        ds("contacts/bonded", np.array([b for _, _, _, b in c], np.int8), "-")
+        rb = m["resolved_blocks"]
+        ds("resolved_blocks/vertices", np.vstack(rb), "m")
+        ds("resolved_blocks/offsets", np.cumsum([0] + [len(p) for p in rb]).astype(np.int64), "-")
+        q = f.create_group("quality")
+        for k, v in m["quality"].items():
+            q.attrs[k] = v
+        for k, v in m["resolve_info"].items():
+            q.attrs[k] = v
+        f.attrs["complete"] = 1
+    os.replace(part, path)
+
+
+def read_mesh(path):
+    """Read a mesh file into a dict; ValueError if it is not a complete icerubble mesh."""
+    import h5py
+    if not os.path.isfile(path):
+        raise ValueError(f"mesh file {path!r} does not exist")
+    with h5py.File(path, "r") as f:
+        if f.attrs.get("format") != MESH_FORMAT or int(f.attrs.get("complete", 0)) != 1:
+            raise ValueError(f"{path!r} is not a complete {MESH_FORMAT} file")
+        out = {k: f[k][...] for k in ("nodes", "triangles", "body", "body_kind", "bond_edges",
+                                      "bond_edge_bodies")}
+        v, o = f["resolved_blocks/vertices"][...], f["resolved_blocks/offsets"][...]
+        out["resolved_blocks"] = [v[o[i]:o[i + 1]] for i in range(len(o) - 1)]
+        out["layer_top"] = f["node_sets/layer_top"][...]
+        out["indenter_top"] = f["node_sets/indenter_top"][...]
+        out["contacts"] = dict(bodies=f["contacts/bodies"][...], chord=f["contacts/chord"][...],
+                               bonded=f["contacts/bonded"][...].astype(bool))
+        out["attrs"] = dict(f.attrs)
+        out["quality"] = dict(f["quality"].attrs)
+        return out
+
+
+def mesh_pile_file(pile_path, mesh_path, **kw):
+    """Read a pile file, mesh it, write the mesh file; returns the mesh dict."""
+    p = _pile.read_pile(pile_path)  # validates before any work
+    m = build_mesh(p, **kw)
+    write_mesh(mesh_path, m, source=os.path.abspath(pile_path))
+    return m
