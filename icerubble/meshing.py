@@ -221,6 +221,18 @@ def _collapse_short_edges(p, own_lines, min_feature, on_tol):
     return p
 
 
+def max_overlap_depth(polys):
+    """Largest overlap depth between any two convex polygons (<= 0: none overlap)."""
+    worst = -np.inf
+    lo = np.array([p.min(axis=0) for p in polys])
+    hi = np.array([p.max(axis=0) for p in polys])
+    for i in range(len(polys)):
+        for j in range(i + 1, len(polys)):
+            if np.all(lo[i] <= hi[j]) and np.all(lo[j] <= hi[i]):
+                worst = max(worst, contact_line(polys[i], polys[j])[3])
+    return worst
+
+
 # ---------------------------------------------------------------- gmsh
 
 def _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
@@ -361,10 +373,11 @@ def _signed_areas(nodes, tris):
 
 
 def _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t):
-    """Give the indenter its own copies of the nodes on its two side faces.
+    """Give the layer its own copies of the nodes on the indenter's two side faces.
 
-    The bottom corners (+-xi, y_b) stay with the indenter (and any block bonded
-    there); the layer gets copies, so layer and indenter share no node.
+    The indenter is cut free from the layer (no bond edge between them). A bottom
+    corner (+-xi, y_b) where a block bridges the cut stays one node of all three
+    bodies, so the block keeps its bonds to both (a bond point of three bodies).
     """
     tol = 1e-9 * max(1.0, xi)
     ind = body == nb + 1
@@ -376,6 +389,7 @@ def _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t):
              (nodes[shared, 1] < y_t + tol)
     if not on_cut.all():
         raise RuntimeError("indenter and layer share nodes off the cut lines")
+    shared = np.setdiff1d(shared, np.unique(tris[body < nb]))
     new_id = {int(k): len(nodes) + m for m, k in enumerate(shared)}
     nodes = np.vstack([nodes, nodes[shared]])
     lt = tris[lay]
