@@ -64,10 +64,14 @@ def test_bonds_where_blocks_touch_by_the_tolerance_rule(case_mesh):
     for k, v in expected.items():
         # the bond edges cover exactly the common face: only round-off differs
         assert got[k] == pytest.approx(v, abs=1e-9), k
-    contacts = {frozenset((i, j)): (chord, bonded) for i, j, chord, bonded in case_mesh["contacts"]}
+    c = case_mesh["contacts"]
+    contacts = {frozenset((int(i), int(j))): (ch, b) for (i, j), ch, b in
+                zip(c["bodies"], c["chord"], c["bonded"])}
     # D's corner cut along C's face is 2 x 3 mm long: a corner touch, not bonded
     chord, bonded = contacts[frozenset((2, 3))]
     assert chord == pytest.approx(0.006, abs=1e-9) and not bonded
+    # all faces here are parallel or far apart: the mesh bonds exactly the rule's chords
+    np.testing.assert_allclose(c["bond_length"], np.where(c["bonded"], c["chord"], 0.0), atol=1e-9)
     assert not any(4 in pair for pair in contacts)
 
 
@@ -78,8 +82,9 @@ def test_overlap_sliver_goes_to_the_target_and_gaps_snap(case_mesh):
     assert area[1] == pytest.approx(1.0 * 0.298, rel=1e-12)     # B loses the 2 mm overlap
     assert area[2] == pytest.approx(1.4 * 0.254, rel=1e-12)     # C's top face snapped 4 mm up
     assert meshing.max_overlap_depth(rb) <= 1e-12
-    # D no longer touches C: it was pulled back by eps_sep = 1e-4 m
-    assert rb[3][:, 1].max() == pytest.approx(YB - 0.254 - 1e-4, abs=1e-12)
+    # D no longer touches C: it was pulled back by eps_sep
+    eps = case_mesh["settings"]["eps_sep"]
+    assert rb[3][:, 1].max() == pytest.approx(YB - 0.254 - eps, abs=1e-12)
 
 
 def test_every_bond_edge_joins_exactly_two_bodies(case_mesh):

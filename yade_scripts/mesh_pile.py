@@ -36,10 +36,10 @@ def main(argv=None):
                                min_bond_length=a.min_bond_length, min_feature=a.min_feature,
                                eps_sep=a.eps_sep, indenter_width=a.indenter_width)
     q = m["quality"]
-    nb = sum(1 for c in m["contacts"] if c[3])
+    nb = int(m["contacts"]["bonded"].sum())
     print(f"mesh_pile: wrote {a.mesh} in {time.perf_counter() - t0:.1f} s: "
           f"{len(m['nodes'])} nodes, {len(m['triangles'])} triangles, {len(m['bond_edges'])} bond edges, "
-          f"{nb}/{len(m['contacts'])} contacts bonded, porosity {m['porosity']:.3f}, "
+          f"{nb}/{len(m['contacts']['bonded'])} contacts bonded, porosity {m['porosity']:.3f}, "
           f"min angle {q['min_angle_deg']:.1f} deg, min edge {q['min_edge'] * 1e3:.2f} mm")
 
 
