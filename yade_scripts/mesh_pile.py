@@ -27,14 +27,16 @@ def main(argv=None):
                     help="shorter contacts are left unbonded (m), default 0.05")
     ap.add_argument("--min-feature", type=float, default=0.01,
                     help="shorter block edges are collapsed (m), default 0.01")
-    ap.add_argument("--eps-sep", type=float, default=1e-4,
-                    help="gap left at unbonded contacts (m), default 1e-4")
+    ap.add_argument("--eps-sep", type=float, default=2e-3,
+                    help="gap left at unbonded contacts (m), default 2e-3")
+    ap.add_argument("--fuzzy", type=float, default=1e-3,
+                    help="gmsh/OCC boolean tolerance (m), < eps_sep/2, default 1e-3")
     ap.add_argument("--indenter-width", type=float, default=4.0, help="m, default 4 (paper)")
     a = ap.parse_args(argv)
     t0 = time.perf_counter()
     m = meshing.mesh_pile_file(a.pile, a.mesh, element_size=a.element_size, gap_tol=a.gap_tol,
                                min_bond_length=a.min_bond_length, min_feature=a.min_feature,
-                               eps_sep=a.eps_sep, indenter_width=a.indenter_width)
+                               eps_sep=a.eps_sep, fuzzy=a.fuzzy, indenter_width=a.indenter_width)
     q = m["quality"]
     nb = int(m["contacts"]["bonded"].sum())
     print(f"mesh_pile: wrote {a.mesh} in {time.perf_counter() - t0:.1f} s: "
