@@ -69,6 +69,11 @@ utils.readParamsFromTable(
 )
 from yade.params import table as P  # noqa: E402
 
+try:  # O.reset() wipes O.tags: keep the batch description now
+    DESCRIPTION = O.tags['description']
+except KeyError:
+    DESCRIPTION = ''
+
 
 def validate(P):
     r = pile.require_range
@@ -229,9 +234,13 @@ def main():
     while O.time < P.max_time:
         O.run(steps_per_check, True)
         ke = kinetic()
-        if not np.isfinite(ke):
-            raise RuntimeError(f"phase 1 unstable at step {O.iter}: kinetic energy {ke}; "
-                               f"lower dt_safety ({P.dt_safety}) or E_settle ({P.E_settle})")
+        if not np.isfinite(ke) or ke / n > 1e3 * P.g * P.t_max * P.l_max * P.rho_w:
+            worst = max(ids, key=lambda i: (not np.isfinite(O.bodies[i].state.vel.norm()),
+                                            O.bodies[i].state.vel.norm()))
+            raise RuntimeError(f"phase 1 unstable at step {O.iter} (t = {O.time:.3f} s): kinetic "
+                               f"energy {ke:.3e} J/m, fastest block {worst} at "
+                               f"{tuple(O.bodies[worst].state.pos)[:2]}; lower dt_safety "
+                               f"({P.dt_safety}) or E_settle ({P.E_settle})")
         quiet = quiet + 1 if ke / n < P.ke_per_block else 0
         print(f"  t {O.time:7.2f} s  step {O.iter:7d}  KE/block {ke / n:.3e} J/m  "
               f"contacts {O.interactions.countReal():5d}  wall {time.time() - t_wall0:6.1f} s", flush=True)
@@ -245,7 +254,7 @@ def main():
     out_corners = np.array([world_corners(O.bodies[i]) for i in ids])
     bounds = pile.keel_bounds(out_corners, top, -0.5 * W, 0.5 * W)
     eta = pile.porosity(out_corners, bounds)
-    desc = O.tags.get('description', '') if hasattr(O.tags, 'get') else ''
+    desc = DESCRIPTION
     out = P.out or (f"pile_{desc}.h5" if desc and desc != 'interactive' else "pile.h5")
     params = {k: getattr(P, k) for k in (
         'seed', 'domain_width', 'n_blocks', 'keel_depth', 'porosity_guess', 't_min', 't_max',
