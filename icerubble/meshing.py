@@ -8,16 +8,15 @@ sides share its nodes. Every element edge between two different bodies is a
 freeze-bond edge (MODEL.md 3.3). The indenter is cut free from the layer (as in a
 punch-through test): its side faces share no nodes with the layer.
 
-Contact rule (phase-1 blocks touch with mm overlaps or gaps; resolve_contacts):
-for every pair closer than `gap_tol`, the contact line is the separating axis of
-least overlap (an edge normal of either block), placed midway between the two
-blocks' extreme points along it (for the layer and the side walls: on their face,
-they do not move). Corners of each block within `gap_tol` of that line, or past it,
-are moved onto it along its normal. The two blocks then lie on opposite sides of
-the line and their faces on it are exactly collinear. If the common part of those
-faces (the chord) is at least `min_bond_length`, the contact is bonded; otherwise
-(a corner touching a face) both are pulled back to leave a gap `eps_sep`, so the
-contact is left to the phase-2 contact law. Sweeps repeat until no corner moves.
+Contact rule (phase-1 blocks touch with mm-cm overlaps or small gaps;
+resolve_contacts, full statement in docs/pile_and_mesh.md): for every pair closer
+than `gap_tol` the contact line is the target face, the edge whose normal is the
+separating axis of least overlap (the layer is always the target). A contactor
+face within `gap_tol` of it snaps onto it; the contactor is cut along it, so the
+overlap sliver goes to the target and both meet on an exactly shared line. A common
+face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is cut
+back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
+except by the snaps. The fragment then runs with the fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
 """
 from __future__ import annotations
