@@ -8,16 +8,15 @@ sides share its nodes. Every element edge between two different bodies is a
 freeze-bond edge (MODEL.md 3.3). The indenter is cut free from the layer (as in a
 punch-through test): its side faces share no nodes with the layer.
 
-Contact rule (phase-1 blocks touch with mm overlaps or gaps; resolve_contacts):
-for every pair closer than `gap_tol`, the contact line is the separating axis of
-least overlap (an edge normal of either block), placed midway between the two
-blocks' extreme points along it (for the layer and the side walls: on their face,
-they do not move). Corners of each block within `gap_tol` of that line, or past it,
-are moved onto it along its normal. The two blocks then lie on opposite sides of
-the line and their faces on it are exactly collinear. If the common part of those
-faces (the chord) is at least `min_bond_length`, the contact is bonded; otherwise
-(a corner touching a face) both are pulled back to leave a gap `eps_sep`, so the
-contact is left to the phase-2 contact law. Sweeps repeat until no corner moves.
+Contact rule (phase-1 blocks touch with mm-cm overlaps or small gaps;
+resolve_contacts, full statement in docs/pile_and_mesh.md): for every pair closer
+than `gap_tol` the contact line is the target face, the edge whose normal is the
+separating axis of least overlap (the layer is always the target). A contactor
+face within `gap_tol` of it snaps onto it; the contactor is cut along it, so the
+overlap sliver goes to the target and both meet on an exactly shared line. A common
+face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is cut
+back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
+except by the snaps. The fragment then runs with the fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
 """
 from __future__ import annotations
@@ -72,19 +71,30 @@ def _segment_on(p, n, c, tol):
     return s.min(), s.max()
 
 
-def _snap_face(p, n, c, gap_tol):
-    """A face of p that lies within gap_tol outside the line (a near face-face contact) moves onto it."""
-    d = c - p @ n  # > 0: outside the target, on the contactor's own side
-    sel = (d > 0) & (d <= gap_tol)
-    if sel.sum() >= 2:
+def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
+    """A face of p lying within gap_tol of the line n.x = c (a near face-face contact) moves onto it.
+
+    p lies in n.x <= c (the target beyond). Corners already on a bonded line of p
+    stay, so earlier bonds stay exact.
+    """
+    d = c - p @ n  # > 0: a gap to the line; < 0: past it (the cut that follows puts it on)
+    near = d <= gap_tol  # corners past the line are cut onto it anyway
+    if near.sum() < 2:
+        return p
+    move = near & (d > on_tol)
+    for k in np.flatnonzero(move):
+        if any(abs(p[k] @ m - cm) <= on_tol for m, cm in own_lines):
+            move[k] = False
+    if move.any():
         p = p.copy()
-        p[sel] += d[sel][:, None] * n[None, :]
+        p[move] += d[move][:, None] * n[None, :]
     return p
 
 
-def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol):
+def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol, k_lines=()):
     """Contactor k against target face n.x = c: (new k, chord, bonded)."""
-    k = _snap_face(k, n, c, gap_tol)
+    # the contactor lies in n.x >= c: in _snap_face's terms the target is on the -n side
+    k = _snap_face(k, -n, -c, gap_tol, k_lines, on_tol)
     # the overlap sliver goes to the target: cut the contactor along the target face
     k = _pile.clip_halfplane(k, -n, -c)
     sk, st = _segment_on(k, n, c, on_tol), _segment_on(t, n, c, on_tol)
@@ -96,7 +106,7 @@ def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol):
 
 
 def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_length=0.05,
-                     eps_sep=1e-4, min_feature=0.01):
+                     eps_sep=2e-3, min_feature=0.01):
     """Apply the contact rule (module docstring) to the block corners (n, k, 2).
 
     Returns (polys, contacts): the resolved blocks (list of CCW convex polygons,
@@ -116,7 +126,7 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
     for i in range(n):
         if polys[i][:, 1].max() <= layer_y - gap_tol:
             continue
-        k = _snap_face(polys[i], up, layer_y, gap_tol)
+        k = _snap_face(polys[i], up, layer_y, gap_tol, (), on_tol)
         k = _pile.clip_halfplane(k, up, layer_y)
         seg = _segment_on(k, up, layer_y, on_tol)
         chord = 0.0 if seg is None else seg[1] - seg[0]
@@ -133,24 +143,48 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
                                (lo[None, :, 0] <= hi[:, None, 0] + reach) &
                                (lo[:, None, 1] <= hi[None, :, 1] + reach) &
                                (lo[None, :, 1] <= hi[:, None, 1] + reach), k=1))
-    pairs = []
-    for i, j in near:
-        which, nrm, c, depth = contact_line(polys[i], polys[j])
-        if depth < -gap_tol:
-            continue
-        ti, ki = (i, j) if which == 0 else (j, i)
-        polys[ki], chord, bonded = _resolve_pair(polys[ti], polys[ki], nrm, c, gap_tol,
-                                                 min_bond_length, eps_sep, on_tol)
-        contacts.append((int(i), int(j), chord, bonded))
-        if bonded:
-            lines[ti].append((nrm, c))
-            lines[ki].append((nrm, c))
-            pairs.append((ti, ki, nrm, c))
+    # pass 1 resolves every near pair; a face snap moves corners out by < gap_tol and
+    # may push into a block resolved before, so pass 2 cuts what still overlaps
+    # (cuts only shrink blocks: one such pass leaves no overlap)
+    found = {}
+    for pass_gap in (gap_tol, 0.0):
+        for i, j in near:
+            which, nrm, c, depth = contact_line(polys[i], polys[j])
+            if depth < -gap_tol or (pass_gap == 0.0 and depth <= on_tol):
+                continue
+            ti, ki = (i, j) if which == 0 else (j, i)
+            polys[ki], chord, bonded = _resolve_pair(polys[ti], polys[ki], nrm, c, pass_gap,
+                                                     min_bond_length, eps_sep, on_tol, lines[ki])
+            if bonded:
+                lines[ti].append((nrm, c))
+                lines[ki].append((nrm, c))
+            found[(int(i), int(j))] = (chord, bonded, (ti, ki, nrm, c) if bonded else None)
+    pairs = [v[2] for v in found.values() if v[1]]
     for ti, ki, nrm, c in pairs:
         _weld_ends(polys, lines, ti, ki, nrm, c, min_feature, on_tol)
     for i in range(n):
-        polys[i] = _collapse_short_edges(polys[i], lines[i], min_feature, on_tol)
-    return polys, contacts
+        polys[i] = _collapse_short_edges(_dedupe(polys[i], on_tol), lines[i], min_feature, on_tol)
+    # report the common face as it is in the final geometry (later cuts can shorten it)
+    final = []
+    for i, j, chord, bonded in contacts:  # the layer
+        if bonded:
+            seg = _segment_on(polys[i], up, layer_y, on_tol)
+            chord = 0.0 if seg is None else seg[1] - seg[0]
+        final.append((i, j, chord, bonded))
+    for (i, j), (chord, bonded, line) in found.items():
+        if bonded:
+            ti, ki, nrm, c = line
+            sk, st = _segment_on(polys[ki], nrm, c, on_tol), _segment_on(polys[ti], nrm, c, on_tol)
+            chord = 0.0 if sk is None or st is None else \
+                max(0.0, min(sk[1], st[1]) - max(sk[0], st[0]))
+        final.append((i, j, chord, bonded))
+    return polys, final
+
+
+def _dedupe(p, tol):
+    """Drop corners that coincide with the previous one (cuts through a corner repeat it)."""
+    keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > tol
+    return p[keep] if keep.sum() >= 3 else p
 
 
 def _free(v, own_lines, skip, on_tol):
@@ -221,6 +255,18 @@ def _collapse_short_edges(p, own_lines, min_feature, on_tol):
     return p
 
 
+def max_overlap_depth(polys):
+    """Largest overlap depth between any two convex polygons (<= 0: none overlap)."""
+    worst = -np.inf
+    lo = np.array([p.min(axis=0) for p in polys])
+    hi = np.array([p.max(axis=0) for p in polys])
+    for i in range(len(polys)):
+        for j in range(i + 1, len(polys)):
+            if np.all(lo[i] <= hi[j]) and np.all(lo[j] <= hi[i]):
+                worst = max(worst, contact_line(polys[i], polys[j])[3])
+    return worst
+
+
 # ---------------------------------------------------------------- gmsh
 
 def _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
@@ -248,9 +294,9 @@ def _surface(occ, poly):
     return occ.addPlaneSurface([occ.addCurveLoop(lines)])
 
 
-def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=1e-4,
-               min_feature=0.01, indenter_width=4.0, indenter_thickness=1.0, algorithm=6,
-               verbose=False):
+def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
+               min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
+               algorithm=6, verbose=False):
     """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
     import gmsh
     meta = pile_data["meta"]
@@ -259,6 +305,7 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     y_b = float(meta["layer_bottom_y"])
     _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
               indenter_thickness, W, t_c)
+    _pile.require_range("fuzzy (m)", fuzzy, 0.0, 0.5 * eps_sep)
     times = {}
     t0 = time.perf_counter()
     x0, x1 = -0.5 * W, 0.5 * W
@@ -279,6 +326,11 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     try:
         gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
         gmsh.model.add("pile")
+        # OCC fuzzy booleans: corners and faces closer than `fuzzy` are one
+        # (round-off and sub-mm mismatches of the contact rule would otherwise
+        # leave sub-mm curves that force tiny elements); unbonded contacts are
+        # kept apart by eps_sep > 2 fuzzy.
+        gmsh.option.setNumber("Geometry.ToleranceBoolean", fuzzy)
         occ = gmsh.model.occ
         tags = [_surface(occ, p) for p in polys] + [_surface(occ, p) for p in plates]
         _, child_map = occ.fragment([(2, t) for t in tags], [])
@@ -344,14 +396,35 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                 bond_edges=bond_edges, bond_edge_bodies=bond_bodies,
                 layer_top=layer_top.astype(np.int32), indenter_top=ind_top.astype(np.int32),
                 keel_bounds=bounds, porosity=eta, quality=quality(nodes, tris),
-                contacts=contacts, resolved_blocks=blocks_final,
+                contacts=contact_table(contacts, nodes, bond_edges, bond_bodies, nb),
+                resolved_blocks=blocks_final,
                 element_size=float(element_size), times=times,
                 settings=dict(gap_tol=gap_tol, min_bond_length=min_bond_length, eps_sep=eps_sep,
-                              min_feature=min_feature,
+                              min_feature=min_feature, fuzzy=fuzzy,
                               indenter_width=indenter_width, indenter_thickness=indenter_thickness,
                               layer_thickness=t_c, layer_bottom_y=y_b, domain_width=W,
                               algorithm=algorithm),
                 resolve_info=dict(n_slivers=n_slivers, sliver_area=sliver_area))
+
+
+def contact_table(contacts, nodes, bond_edges, bond_bodies, nb):
+    """Contacts of the rule with the bond length the mesh actually has for each.
+
+    bodies (C,2): block ids, j = -1 for the layer and indenter together; chord (C,):
+    common face of the rule; bonded (C,); bond_length (C,): total length of the
+    bond edges between the two (>= chord where the fuzzy fragment also joined
+    faces diverging by less than `fuzzy` next to the common face).
+    """
+    length = np.linalg.norm(nodes[bond_edges[:, 0]] - nodes[bond_edges[:, 1]], axis=1)
+    per = {}
+    for (i, j), ln in zip(bond_bodies, length):
+        key = (int(i), -1 if j >= nb else int(j))
+        per[key] = per.get(key, 0.0) + float(ln)
+    bodies = np.array([(i, j) for i, j, _, _ in contacts], np.int32).reshape(-1, 2)
+    bond_length = np.array([per.get((min(i, j), max(i, j)) if j >= 0 else (i, -1), 0.0)
+                            for i, j, _, _ in contacts])
+    return dict(bodies=bodies, chord=np.array([c for _, _, c, _ in contacts], float),
+                bonded=np.array([b for _, _, _, b in contacts], bool), bond_length=bond_length)
 
 
 def _signed_areas(nodes, tris):
@@ -361,10 +434,11 @@ def _signed_areas(nodes, tris):
 
 
 def _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t):
-    """Give the indenter its own copies of the nodes on its two side faces.
+    """Give the layer its own copies of the nodes on the indenter's two side faces.
 
-    The bottom corners (+-xi, y_b) stay with the indenter (and any block bonded
-    there); the layer gets copies, so layer and indenter share no node.
+    The indenter is cut free from the layer (no bond edge between them). A bottom
+    corner (+-xi, y_b) where a block bridges the cut stays one node of all three
+    bodies, so the block keeps its bonds to both (a bond point of three bodies).
     """
     tol = 1e-9 * max(1.0, xi)
     ind = body == nb + 1
@@ -376,6 +450,7 @@ def _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t):
              (nodes[shared, 1] < y_t + tol)
     if not on_cut.all():
         raise RuntimeError("indenter and layer share nodes off the cut lines")
+    shared = np.setdiff1d(shared, np.unique(tris[body < nb]))
     new_id = {int(k): len(nodes) + m for m, k in enumerate(shared)}
     nodes = np.vstack([nodes, nodes[shared]])
     lt = tris[lay]
@@ -467,9 +542,10 @@ def write_mesh(path, m, source=""):
         ds("node_sets/layer_top", m["layer_top"], "-")
         ds("node_sets/indenter_top", m["indenter_top"], "-")
         c = m["contacts"]
-        ds("contacts/bodies", np.array([(i, j) for i, j, _, _ in c], np.int32).reshape(-1, 2), "-")
-        ds("contacts/chord", np.array([x for _, _, x, _ in c], float), "m")
-        ds("contacts/bonded", np.array([b for _, _, _, b in c], np.int8), "-")
+        ds("contacts/bodies", c["bodies"], "-")
+        ds("contacts/chord", c["chord"], "m")
+        ds("contacts/bonded", c["bonded"].astype(np.int8), "-")
+        ds("contacts/bond_length", c["bond_length"], "m")
         rb = m["resolved_blocks"]
         ds("resolved_blocks/vertices", np.vstack(rb), "m")
         ds("resolved_blocks/offsets", np.cumsum([0] + [len(p) for p in rb]).astype(np.int64), "-")
@@ -497,7 +573,8 @@ def read_mesh(path):
         out["layer_top"] = f["node_sets/layer_top"][...]
         out["indenter_top"] = f["node_sets/indenter_top"][...]
         out["contacts"] = dict(bodies=f["contacts/bodies"][...], chord=f["contacts/chord"][...],
-                               bonded=f["contacts/bonded"][...].astype(bool))
+                               bonded=f["contacts/bonded"][...].astype(bool),
+                               bond_length=f["contacts/bond_length"][...])
         out["attrs"] = dict(f.attrs)
         out["quality"] = dict(f["quality"].attrs)
         return out

@@ -111,19 +111,27 @@ def clip_box(poly, x0, x1, y0, y1):
 # ---------------------------------------------------------------- generation
 
 def _profiles(poly, xs):
-    """Upper and lower boundary y of convex polygon `poly` at abscissae xs (nan outside)."""
+    """Upper and lower boundary y of convex polygon `poly` at abscissae xs.
+
+    A corner lying between two samples also counts at both, so that comparing
+    intervals [xs[k], xs[k+1]] through these values is conservative.
+    """
     up = np.full(len(xs), -np.inf)
     lo = np.full(len(xs), np.inf)
     m = len(poly)
     for k in range(m):
         a, b = poly[k], poly[(k + 1) % m]
-        if a[0] == b[0]:
-            continue
-        x0, x1 = min(a[0], b[0]), max(a[0], b[0])
-        sel = (xs >= x0) & (xs <= x1)
-        y = a[1] + (b[1] - a[1]) * (xs[sel] - a[0]) / (b[0] - a[0])
-        up[sel] = np.maximum(up[sel], y)
-        lo[sel] = np.minimum(lo[sel], y)
+        if a[0] != b[0]:
+            x0, x1 = min(a[0], b[0]), max(a[0], b[0])
+            sel = (xs >= x0) & (xs <= x1)
+            y = a[1] + (b[1] - a[1]) * (xs[sel] - a[0]) / (b[0] - a[0])
+            up[sel] = np.maximum(up[sel], y)
+            lo[sel] = np.minimum(lo[sel], y)
+        j = np.searchsorted(xs, a[0])
+        for jj in (j - 1, j):
+            if 0 <= jj < len(xs):
+                up[jj] = max(up[jj], a[1])
+                lo[jj] = min(lo[jj], a[1])
     return up, lo
 
 
@@ -159,14 +167,15 @@ def compact_start(n_blocks, domain_width, top_y, rng, t_range=BLOCK_THICKNESS,
         ln = rng.uniform(*l_range)
         a = rng.uniform(-max_tilt, max_tilt)
         w = ln * abs(np.cos(a)) + t * abs(np.sin(a))
-        k = int(np.floor(w / resolution)) + 1
+        k = int(np.ceil(w / resolution)) + 1  # samples cover the whole block
         local = xs[:k] - xs[0]
         poly = rectangle((0.5 * w, 0.0), ln, t, a)
         up, lo = _profiles(poly, local)
-        up = np.where(np.isfinite(up), up, -np.inf)
+        up_iv = np.maximum(up[:-1], up[1:])  # per interval between samples
+        sky_iv = np.minimum(sky[:-1], sky[1:])
         # every horizontal position: how far up the block rises there
-        win = np.lib.stride_tricks.sliding_window_view(sky, k)
-        rise = np.min(win - gap - up[None, :], axis=1)
+        win = np.lib.stride_tricks.sliding_window_view(sky_iv, k - 1)
+        rise = np.min(win - gap - up_iv[None, :], axis=1)
         best = np.flatnonzero(rise >= rise.max() - 0.01)  # highest, ties at random
         j = best[rng.integers(len(best))]
         poly[:, 0] += xs[j]

@@ -1,0 +1,278 @@
+"""Phase 1 (paper section 2.4): rigid blocks float up under the consolidated layer into a pile.
+
+Run:   yade -n -x yade_scripts/make_pile.py            (defaults below: the demo pile)
+       yade-batch --job-threads=1 -j 1 --disable-pynotify data/pile_small.table yade_scripts/make_pile.py
+Output: an icerubble-pile HDF5 file (layout: docs/pile_and_mesh.md).
+
+Model (2D, per metre of width; every block is a YADE polyhedron, a rectangle
+extruded 1 m in z, motion in the x-y plane only):
+- net buoyancy (rho_w - rho_i) g V upward on every block, applied as NewtonIntegrator
+  gravity g_net = +(rho_w - rho_i)/rho_i g on bodies of density rho_i: no Python per step;
+- the consolidated layer (bottom at y = -d) and two side walls at x = +-W/2 are fixed
+  polyhedra, so the keel spans the domain width as in the paper;
+- soft contacts (E_settle, normal force = E/2 x overlap volume) and Cundall local damping
+  (NewtonIntegrator.damping) dissipate the kinetic energy: a settling device, not water drag.
+  The pile is re-meshed afterwards, so the soft contact only sets the (mm) overlaps;
+- friction: YADE 2023.02a polyhedra friction is wrong with more than one contact
+  (yade_2023_facts.md), so the law runs frictionless and Coulomb friction mu_settle is
+  added from Python each step (ContactFriction below: an elastic-plastic tangential
+  spring per contact, Cundall-Strack in 2D). Friction jams the pile; a frictionless
+  pile creeps for tens of seconds and ends denser (porosity ~0.14 on the demo pile).
+Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
+"""
+import os
+import sys
+import time
+
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0])))
+if _ROOT not in sys.path:
+    sys.path.insert(0, _ROOT)
+
+import numpy as np
+import yade
+import yade.config
+from yade import utils, polyhedra_utils
+from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
+                          InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
+                          Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
+                          Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator,
+                          PyRunner)
+from yade import Vector3
+
+from icerubble import pile
+
+# every touching pair prints a warning each step otherwise (facts file)
+yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
+
+utils.readParamsFromTable(
+    seed=1,                # random generator seed (block sizes, tilts, velocities)
+    domain_width=10.0,     # m, keel width between the side walls (paper: 50)
+    n_blocks=0,            # number of blocks; 0: from keel_depth and porosity_guess
+    keel_depth=1.8,        # m, target keel depth when n_blocks = 0 (paper: ~4)
+    porosity_guess=0.25,   # porosity used only to count blocks for keel_depth (paper: ~0.25)
+    t_min=0.2, t_max=0.4,  # m, block thickness range (paper Table 1)
+    l_min=0.6, l_max=1.8,  # m, block length range (paper Table 1)
+    max_tilt=30.0,         # deg, initial random tilt range +-
+    v_max=0.2,             # m/s, initial random speed (uniform direction)
+    w_max=0.5,             # rad/s, initial random spin range +-
+    mu_settle=0.3,         # friction coefficient while settling (paper: 0.05 or 0.3)
+    E_settle=2e6,          # Pa, contact Young's modulus for settling (k_n = E/2 per m^3)
+    damping=0.5,           # Cundall local damping of NewtonIntegrator, [0, 1)
+    dt_safety=0.5,         # fraction of the critical step of a block chain (see below)
+    ke_per_block=1e-4,     # J/m, settled when kinetic energy / n_blocks stays below this
+    check_interval=0.25,   # s simulated between kinetic-energy checks
+    n_quiet=4,             # consecutive quiet checks required
+    max_time=300.0,        # s simulated: give up (writes settled=0) after this
+    rho_i=920.0, rho_w=1010.0, g=9.81, layer_thickness=1.0,
+    out='',                # output file; '' -> pile_<description>.h5 or pile.h5
+    noTableOk=True,
+)
+from yade.params import table as P  # noqa: E402
+
+try:  # O.reset() wipes O.tags: keep the batch description now
+    DESCRIPTION = O.tags['description']
+except KeyError:
+    DESCRIPTION = ''
+
+
+def validate(P):
+    r = pile.require_range
+    r("seed", P.seed, 0)
+    r("domain_width (m)", P.domain_width, 0.0, lo_open=True)
+    r("n_blocks", P.n_blocks, 0)
+    r("keel_depth (m)", P.keel_depth, 0.0, lo_open=True)
+    r("porosity_guess", P.porosity_guess, 0.0, 0.95)
+    pile.validate_block_sizes(P.t_min, P.t_max, P.l_min, P.l_max)
+    r("max_tilt (deg)", P.max_tilt, 0.0, 90.0)
+    r("v_max (m/s)", P.v_max, 0.0)
+    r("w_max (rad/s)", P.w_max, 0.0)
+    r("mu_settle", P.mu_settle, 0.0, 2.0)
+    r("E_settle (Pa)", P.E_settle, 0.0, lo_open=True)
+    r("damping", P.damping, 0.0, 0.99)
+    r("dt_safety", P.dt_safety, 0.0, 1.0, lo_open=True)
+    r("ke_per_block (J/m)", P.ke_per_block, 0.0, lo_open=True)
+    r("check_interval (s)", P.check_interval, 0.0, lo_open=True)
+    r("n_quiet", P.n_quiet, 1)
+    r("max_time (s)", P.max_time, 0.0, lo_open=True)
+    r("rho_i (kg/m^3)", P.rho_i, 0.0, lo_open=True)
+    r("rho_w (kg/m^3)", P.rho_w, P.rho_i, lo_open=True)  # blocks must float
+    r("g (m/s^2)", P.g, 0.0, lo_open=True)
+    r("layer_thickness (m)", P.layer_thickness, 0.0, lo_open=True)
+
+
+def prism(mat, corners_xy, fixed=False):
+    """A polygon extruded from z = -0.5 to 0.5 (1 m of width)."""
+    v = [Vector3(float(x), float(y), z) for (x, y) in corners_xy for z in (-0.5, 0.5)]
+    b = polyhedra_utils.polyhedra(mat, v=v, fixed=fixed)
+    if not fixed:
+        b.state.blockedDOFs = 'zXY'
+    return b
+
+
+def box(x0, x1, y0, y1):
+    return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+
+
+def world_corners(b):
+    """Settled block outline: the z > 0 face of the prism, in world x-y."""
+    pts = [b.state.pos + b.state.ori * v for v in b.shape.v]
+    xy = np.array([(p[0], p[1]) for p in pts if p[2] > 0.0])
+    c = xy.mean(axis=0)
+    order = np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]))
+    return xy[order]
+
+
+class ContactFriction:
+    """Coulomb friction between blocks, from Python (the law's own friction is broken).
+
+    Per real contact a tangential spring s (m) in the plane: s += v_t dt with v_t the
+    tangential velocity of body 2 relative to body 1 at the contact point; the force on
+    body 2 is -k_t s t, capped at mu |F_n| (slip: s reset to the cap). k_t = k_n t_min (1 m)
+    keeps the tangential frequency below the normal one, so the step dt stays stable.
+    """
+
+    def __init__(self, mu, k_t, dt):
+        self.mu, self.k_t, self.dt = mu, k_t, dt
+        self.s = {}
+        self.states = [b.state for b in O.bodies]
+
+    def __call__(self):
+        mu, k_t, dt, st = self.mu, self.k_t, self.dt, self.states
+        new = {}
+        addF, addT = O.forces.addF, O.forces.addT
+        for i in O.interactions:
+            if not i.isReal:
+                continue
+            fn = i.phys.normalForce.norm()
+            if fn == 0.0:
+                continue
+            g = i.geom
+            n, c = g.normal, g.contactPoint
+            tx, ty = -n[1], n[0]
+            a, b = st[i.id1], st[i.id2]
+            pa, pb, va, vb = a.pos, b.pos, a.vel, b.vel
+            wa, wb = a.angVel[2], b.angVel[2]
+            rax, ray, rbx, rby = c[0] - pa[0], c[1] - pa[1], c[0] - pb[0], c[1] - pb[1]
+            vt = ((vb[0] - wb * rby) - (va[0] - wa * ray)) * tx + \
+                 ((vb[1] + wb * rbx) - (va[1] + wa * rax)) * ty
+            key = (i.id1, i.id2)
+            s = self.s.get(key, 0.0) + vt * dt
+            f, fmax = k_t * s, mu * fn
+            if abs(f) > fmax:
+                f = fmax if f > 0 else -fmax
+                s = f / k_t
+            new[key] = s
+            fx, fy = -f * tx, -f * ty  # on body 2; body 1 gets the opposite
+            addF(i.id2, Vector3(fx, fy, 0.0))
+            addT(i.id2, Vector3(0.0, 0.0, rbx * fy - rby * fx))
+            addF(i.id1, Vector3(-fx, -fy, 0.0))
+            addT(i.id1, Vector3(0.0, 0.0, -(rax * fy - ray * fx)))
+        self.s = new
+
+
+def main():
+    validate(P)
+    t_wall0 = time.time()
+    rng = np.random.default_rng(int(P.seed))
+    top = pile.layer_bottom_y(P.layer_thickness, P.rho_i, P.rho_w)
+    n_req = int(P.n_blocks) if int(P.n_blocks) > 0 else None
+    area = None if n_req else pile.blocks_for_keel(P.domain_width, P.keel_depth, P.porosity_guess)
+    corners, ts, ls, _ = pile.compact_start(
+        n_req, P.domain_width, top, rng, (P.t_min, P.t_max), (P.l_min, P.l_max),
+        np.radians(P.max_tilt), n_area=area)
+    n = len(corners)
+
+    O.reset()
+    mat_ice = PolyhedraMat(density=P.rho_i, young=P.E_settle, poisson=0.3, frictionAngle=0.0)
+    O.materials.append(mat_ice)
+    W, bottom = P.domain_width, corners[:, :, 1].min() - 1.0
+    fixed_ids = O.bodies.append([
+        prism(mat_ice, box(-0.5 * W - 2.0, 0.5 * W + 2.0, top, top + P.layer_thickness), fixed=True),
+        prism(mat_ice, box(-0.5 * W - 1.0, -0.5 * W, bottom, top), fixed=True),
+        prism(mat_ice, box(0.5 * W, 0.5 * W + 1.0, bottom, top), fixed=True),
+    ])
+    blocks = [prism(mat_ice, c) for c in corners]
+    ids = O.bodies.append(blocks)
+    for b in blocks:
+        phi = rng.uniform(0, 2 * np.pi)
+        s = P.v_max * np.sqrt(rng.uniform())
+        b.state.vel = Vector3(s * np.cos(phi), s * np.sin(phi), 0.0)
+        b.state.angVel = Vector3(0.0, 0.0, rng.uniform(-P.w_max, P.w_max))
+
+    g_net = (P.rho_w - P.rho_i) / P.rho_i * P.g  # upward: net buoyancy per unit ice mass
+    O.engines = [
+        ForceResetter(),
+        InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.05 * P.t_min),
+        InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
+                        [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
+                        [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),
+        PyRunner(iterPeriod=1, command='friction()'),
+        NewtonIntegrator(damping=P.damping, gravity=(0.0, g_net, 0.0)),
+    ]
+    # Critical step of a chain of blocks pressed face to face: face stiffness k_n A,
+    # mass rho t A, omega_max^2 = 4 k_n / (rho_i t_min). PWaveTimeStep is useless for
+    # polyhedra (returns 1.0), GlobalStiffnessTimeStepper mixes units (facts file).
+    k_n = 0.5 * P.E_settle
+    dt = P.dt_safety * 2.0 / np.sqrt(4.0 * k_n / (P.rho_i * P.t_min))
+    O.dt = dt
+    global friction
+    friction = ContactFriction(P.mu_settle, k_n * P.t_min, dt)
+    if P.mu_settle == 0.0:
+        O.engines = O.engines[:3] + O.engines[4:]
+    steps_per_check = max(1, int(round(P.check_interval / dt)))
+
+    block_states = [O.bodies[i].state for i in ids]
+    def kinetic():
+        ke = 0.0
+        for s in block_states:
+            v, w = s.vel, s.angVel
+            ke += 0.5 * s.mass * v.squaredNorm() + 0.5 * s.inertia[2] * w[2] ** 2
+        return ke  # J per metre of width (prisms are 1 m deep)
+
+    quiet, settled = 0, False
+    print(f"make_pile: {n} blocks, domain {W} m, dt {dt:.3g} s, {steps_per_check} steps/check", flush=True)
+    while O.time < P.max_time:
+        O.run(steps_per_check, True)
+        ke = kinetic()
+        if not np.isfinite(ke) or ke / n > 1e3 * P.g * P.t_max * P.l_max * P.rho_w:
+            worst = max(ids, key=lambda i: (not np.isfinite(O.bodies[i].state.vel.norm()),
+                                            O.bodies[i].state.vel.norm()))
+            raise RuntimeError(f"phase 1 unstable at step {O.iter} (t = {O.time:.3f} s): kinetic "
+                               f"energy {ke:.3e} J/m, fastest block {worst} at "
+                               f"{tuple(O.bodies[worst].state.pos)[:2]}; lower dt_safety "
+                               f"({P.dt_safety}) or E_settle ({P.E_settle})")
+        quiet = quiet + 1 if ke / n < P.ke_per_block else 0
+        print(f"  t {O.time:7.2f} s  step {O.iter:7d}  KE/block {ke / n:.3e} J/m  "
+              f"contacts {O.interactions.countReal():5d}  wall {time.time() - t_wall0:6.1f} s", flush=True)
+        if quiet >= P.n_quiet:
+            settled = True
+            break
+    if not settled:
+        print(f"make_pile: NOT settled after {O.time:.1f} s simulated (KE/block {ke / n:.3e} J/m)",
+              flush=True)
+
+    out_corners = np.array([world_corners(O.bodies[i]) for i in ids])
+    bounds = pile.keel_bounds(out_corners, top, -0.5 * W, 0.5 * W)
+    eta = pile.porosity(out_corners, bounds)
+    desc = DESCRIPTION
+    out = P.out or (f"pile_{desc}.h5" if desc and desc != 'interactive' else "pile.h5")
+    params = {k: getattr(P, k) for k in (
+        'seed', 'domain_width', 'n_blocks', 'keel_depth', 'porosity_guess', 't_min', 't_max',
+        'l_min', 'l_max', 'max_tilt', 'v_max', 'w_max', 'mu_settle', 'E_settle', 'damping', 'dt_safety',
+        'ke_per_block', 'check_interval', 'n_quiet', 'max_time', 'rho_i', 'rho_w', 'g',
+        'layer_thickness')}
+    meta = dict(seed=int(P.seed), n_blocks=n, yade_version=yade.config.version,
+                settled=int(settled), settle_time=float(O.time), steps=int(O.iter), dt=dt,
+                wall_time=time.time() - t_wall0, final_kinetic_energy=ke, ke_per_block=ke / n,
+                porosity=eta, keel_x_min=bounds[0], keel_x_max=bounds[1],
+                keel_bottom_y=bounds[2], keel_top_y=bounds[3], layer_bottom_y=top,
+                layer_thickness=float(P.layer_thickness), domain_width=float(W),
+                friction=float(P.mu_settle))
+    pile.write_pile(out, out_corners, ts, ls, params, meta)
+    print(f"make_pile: wrote {out}: {n} blocks, settled={settled}, t={O.time:.2f} s simulated, "
+          f"wall {meta['wall_time']:.1f} s, porosity {eta:.3f}, keel {bounds[3] - bounds[2]:.2f} m deep",
+          flush=True)
+
+
+main()
+utils.waitIfBatch()
