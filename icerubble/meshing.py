@@ -563,7 +563,11 @@ def read_mesh(path):
     import h5py
     if not os.path.isfile(path):
         raise ValueError(f"mesh file {path!r} does not exist")
-    with h5py.File(path, "r") as f:
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise ValueError(f"mesh file {path!r} is not an HDF5 file ({e})") from None
+    with f:
         if f.attrs.get("format") != MESH_FORMAT or int(f.attrs.get("complete", 0)) != 1:
             raise ValueError(f"{path!r} is not a complete {MESH_FORMAT} file")
         out = {k: f[k][...] for k in ("nodes", "triangles", "body", "body_kind", "bond_edges",
