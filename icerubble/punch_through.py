@@ -32,6 +32,7 @@ from .vtu import write_pvd, write_vtu
 FORCE_SAMPLE_TRAVEL = 0.05e-3
 ENERGY_EVERY = 10          # F samples per energy sample
 SETTLE_CHECK_INTERVAL = 2e-3  # s simulated between two at-rest checks
+KINETIC_DAMPING_PER_CHECK = 20  # kinetic-energy peak checks per at-rest check
 RAMP_SAMPLES = 2001        # points of the tabulated indenter ramp
 
 
@@ -52,7 +53,7 @@ class RunOptions:
     def __init__(self, settle_max_time=5.0, settle_min_time=0.05, settle_velocity=1e-4,
                  settle_accel=1e-3, settle_hold_time=0.02,
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
-                 stop_after_steps=None):
+                 stop_after_steps=None, dt_fraction=None):
         if settle_max_time <= 0:
             raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
         if not 0 <= settle_min_time <= settle_max_time:
@@ -73,6 +74,10 @@ class RunOptions:
         self.threads = threads
         self.vtu = vtu
         self.stop_after_steps = stop_after_steps   # for tests of interrupted runs
+        if dt_fraction is not None and not 0.0 < dt_fraction <= 1.0:
+            raise ValueError(f"dt_fraction={dt_fraction} must be in (0, 1]: the time step as a "
+                             "fraction of the mesh's stable step")
+        self.dt_fraction = dt_fraction             # None: use params['dt'] as given
 
 
 class PunchThrough:
@@ -89,6 +94,11 @@ class PunchThrough:
         self.meta = dict(ridge="", seed=-1, model="fem-dem")
         self.meta.update(meta or {})
         self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
+        if self.options.dt_fraction is not None:
+            # the stable step of this mesh (it already carries a 0.9 safety factor)
+            self.params["dt"] = self.options.dt_fraction * self.scene.model.stable_time_step()["dt"]
+            self.scene.params = self.params
+            self.scene.model.set(dt=self.params["dt"])
         a = self.mesh["attrs"]
         pile_attrs = dict(porosity=float(a["porosity"]),
                           n_blocks=int(np.sum(self.scene.body_kind == 0)),
@@ -103,6 +113,7 @@ class PunchThrough:
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
         self.F_at_rest = math.nan
+        self.ke_prev = 0.0          # kinetic damping while settling
         self.vtu_entries = []
         self.model = m
 
@@ -135,8 +146,10 @@ class PunchThrough:
             raise KeyboardInterrupt(f"stopped after {self.model.step_count} steps (stop_after_steps)")
 
     def apply_boundary_conditions(self):
-        """Layer top held; in the load phase the indenter top is driven."""
+        """Layer top held; in the load phase the indenter top is driven. Drag
+        is off while settling (see settle)."""
         m = self.model
+        m.set(drag=self.phase == "load")
         m.clear_boundary_conditions()
         m.fix("layer_top")
         if self.phase == "load":
@@ -152,14 +165,28 @@ class PunchThrough:
         return float(np.hypot(*v.T).max()), float(a.max() / self.params["g"])
 
     def settle(self):
-        """Damped motion to rest under gravity and buoyancy, indenter free."""
+        """Dynamic relaxation to rest under gravity and buoyancy, indenter free.
+
+        Drag is off and the motion is damped kinetically instead: all node
+        velocities are zeroed whenever the kinetic energy passes a peak. At rest
+        drag does no work, so this finds the same equilibrium, and a loose
+        block floats up to its support in a fraction of the time drag would
+        let it (its terminal speed in water is ~1 cm/s).
+        """
         m, o, dt = self.model, self.options, self.params["dt"]
         self.apply_boundary_conditions()
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
+        kd_chunk = max(1, chunk // KINETIC_DAMPING_PER_CHECK)
         t_start = m.time
         prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
         while True:
-            m.step(chunk)
+            for _ in range(chunk // kd_chunk):
+                m.step(kd_chunk)
+                ke = m.energies()["kinetic"]
+                if ke < self.ke_prev:
+                    m.set_velocities(np.zeros((m.n_nodes, 2)))
+                    ke = 0.0
+                self.ke_prev = ke
             vmax, amax = self._out_of_balance()
             t_rel = m.time - t_start
             prog.update(m.step_count, m.time, 0.0)
@@ -173,6 +200,7 @@ class PunchThrough:
                     f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), max "
                     f"out-of-balance acceleration {amax:.3g} g (settle_accel={o.settle_accel})")
             self._maybe_checkpoint()
+        m.set(drag=True)
         # Hold the indenter where it came to rest and measure what holding it
         # takes: ~0 if the system is in balance (paper 2.4). The first steps
         # of the hold carry the impulse of the residual speed, so average the

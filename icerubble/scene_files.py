@@ -54,7 +54,10 @@ def scene_files(name, ridge, root="runs", threads=2):
         run_phase1(pile_path, ridge, sc["pile"], threads=threads)
     if not os.path.exists(mesh_path):
         t0 = time.perf_counter()
-        m = meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"])
+        # block edges shorter than a fifth of the element size are collapsed: they
+        # would only make tiny elements that set a tiny stable step
+        m = meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"],
+                                   min_feature=0.2 * sc["element_size"])
         q = m["quality"]
         print(f"[scene] mesh: {len(m['nodes'])} nodes, {len(m['triangles'])} triangles, "
               f"{len(m['bond_edges'])} bond edges, porosity {m['porosity']:.3f}, min angle "

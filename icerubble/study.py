@@ -27,7 +27,9 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         print(f"[study] {out} exists (complete): nothing to do", flush=True)
         return out
     t0 = time.perf_counter()
-    run = PunchThrough(mesh_path, out, params=params, options=options or RunOptions(),
+    if options is None:
+        options = RunOptions(dt_fraction=sc.get("dt_fraction"))
+    run = PunchThrough(mesh_path, out, params=params, options=options,
                        meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
                                  scene=scene_name))
     run.run(resume=resume)
