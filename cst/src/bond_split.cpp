@@ -20,35 +20,8 @@ namespace cst {
 namespace cl = cohesive_law;
 
 void FreezeBonds::regather(Model& M, int32_t i) const {
-  // The per-node sums of Model::compute_body_forces, for one node.
-  Nodes& N = M.nodes_;
-  const Triangles& T = M.tris_;
-  const bool damping = M.any_damping_;
-  const bool water = M.ext_.water(), buoy = M.ext_.buoyancy, drag = M.ext_.drag;
-  const double g = M.ext_.gravity ? M.ext_.g : 0.0;
-  double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
-  for (int32_t j = M.gather_.start[i]; j < M.gather_.start[i + 1]; ++j) {
-    const int32_t s = M.gather_.slot[j];
-    fx += T.f_corner[2 * s];
-    fy += T.f_corner[2 * s + 1];
-    if (damping) {
-      vx += T.f_visc_corner[2 * s];
-      vy += T.f_visc_corner[2 * s + 1];
-    }
-    if (water) {
-      if (buoy) fb += T.f_buoy_corner[s];
-      if (drag) k += T.drag_k_tri[s / 3];
-    }
-  }
-  N.f_int_x[i] = fx;
-  N.f_int_y[i] = fy;
-  N.f_visc_x[i] = vx;
-  N.f_visc_y[i] = vy;
-  N.f_buoy_y[i] = fb;
-  N.drag_k[i] = k;
-  N.f_x[i] = fx - k * N.vx[i];
-  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass[i] * g;
-  N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
+  const ExternalParams& x = M.ext_;
+  M.gather_node(i, M.any_damping_, x.water(), x.buoyancy, x.drag, x.gravity ? x.g : 0.0);
 }
 
 void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& gx,

@@ -419,6 +419,43 @@ void Model::evaluate() {
   apply_boundary_conditions();
 }
 
+// The per-node sums of the corner forces (elastic, viscous, buoyancy) and the
+// drag coefficient, in the fixed gather order, plus gravity and drag: the
+// node's total of everything but contact, bonds and friction. Also used for a
+// node that has just been split off (FreezeBonds::split_points).
+void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g) {
+  const int32_t* start = gather_.start.data();
+  const int32_t* slot = gather_.slot.data();
+  const double* fc = tris_.f_corner.data();
+  const double* fvc = tris_.f_visc_corner.data();
+  const double* fbc = tris_.f_buoy_corner.data();
+  const double* kdt = tris_.drag_k_tri.data();
+  Nodes& N = nodes_;
+  double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
+  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+    const int32_t s = slot[j];
+    fx += fc[2 * s];
+    fy += fc[2 * s + 1];
+    if (damping) {
+      vx += fvc[2 * s];
+      vy += fvc[2 * s + 1];
+    }
+    if (water) {
+      if (buoy) fb += fbc[s];
+      if (drag) k += kdt[s / 3];
+    }
+  }
+  N.f_int_x[i] = fx;
+  N.f_int_y[i] = fy;
+  N.f_visc_x[i] = vx;
+  N.f_visc_y[i] = vy;
+  N.f_buoy_y[i] = fb;
+  N.drag_k[i] = k;
+  N.f_x[i] = fx - k * N.vx[i];
+  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass[i] * g;
+  N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
+}
+
 void Model::compute_body_forces() {
   Stopwatch sw(timings_.elements);
   const int nt = int(partial_.size() / kPartialStride);
@@ -443,40 +480,12 @@ void Model::compute_body_forces() {
     #pragma omp barrier
     // Gather corner forces onto nodes in the fixed gather order, add gravity
     // and drag: the total of everything but contact, bonds and friction.
-    const int32_t* start = gather_.start.data();
-    const int32_t* slot = gather_.slot.data();
-    const double* fc = tris_.f_corner.data();
-    const double* fvc = tris_.f_visc_corner.data();
-    const double* fbc = tris_.f_buoy_corner.data();
-    const double* kdt = tris_.drag_k_tri.data();
     Nodes& N = nodes_;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
-      for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-        const int32_t s = slot[j];
-        fx += fc[2 * s];
-        fy += fc[2 * s + 1];
-        if (damping) {
-          vx += fvc[2 * s];
-          vy += fvc[2 * s + 1];
-        }
-        if (water) {
-          if (buoy) fb += fbc[s];
-          if (drag) k += kdt[s / 3];
-        }
-      }
-      N.f_int_x[i] = fx;
-      N.f_int_y[i] = fy;
-      N.f_visc_x[i] = vx;
-      N.f_visc_y[i] = vy;
-      N.f_buoy_y[i] = fb;
-      N.drag_k[i] = k;
-      N.f_x[i] = fx - k * N.vx[i];
-      N.f_y[i] = fy + fb - k * N.vy[i] - N.mass[i] * g;
+      gather_node(i, damping, water, buoy, drag, g);
       // Contact and cohesive passes add into these.
       N.f_con_x[i] = N.f_con_y[i] = 0.0;
-      N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
     }
   }
   double u = 0.0;

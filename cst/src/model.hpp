@@ -114,6 +114,8 @@ class Model {
 
   // The time step, MODEL.md 3.
   void advance();
+  // one node's sums of corner forces + gravity and drag (also after a split)
+  void gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g);
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
