@@ -106,13 +106,18 @@ def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol, k_lines
 
 
 def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_length=0.05,
-                     eps_sep=2e-3, min_feature=0.01):
+                     eps_sep=2e-3, min_feature=0.01, indenter_width=None, info=None):
     """Apply the contact rule (module docstring) to the block corners (n, k, 2).
 
     Returns (polys, contacts): the resolved blocks (list of CCW convex polygons,
     subsets of the inputs up to face snaps of at most gap_tol) and a list of
     (i, j, chord, bonded), j = -1 for the consolidated layer (with the indenter).
+    min_feature: shortest block edge and shortest distance between two face ends
+    on a bonded line (the shortest geometry curve). indenter_width: the indenter
+    cuts at x = +-indenter_width/2 are face ends on the layer line too. info: a
+    dict that receives counts of the clean-up.
     """
+    info = {} if info is None else info
     polys = [np.array(_pile.ccw(p), float) for p in corners]
     n = len(polys)
     on_tol = 1e-9 * max(1.0, x_max - x_min)
@@ -159,9 +164,16 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
                 lines[ti].append((nrm, c))
                 lines[ki].append((nrm, c))
             found[(int(i), int(j))] = (chord, bonded, (ti, ki, nrm, c) if bonded else None)
-    pairs = [v[2] for v in found.values() if v[1]]
-    for ti, ki, nrm, c in pairs:
-        _weld_ends(polys, lines, ti, ki, nrm, c, min_feature, on_tol)
+    bonds = [v[2] for v in found.values() if v[1]]
+    bonds += [(i, -1, up, layer_y) for i, j, _, bonded in contacts if bonded]
+    xi = 0.5 * indenter_width if indenter_width else None
+    cut_x = [x_min, x_max] if xi is None else [x_min, -xi, xi, x_max]
+    plates = [(np.array([a, layer_y]), np.array([b, layer_y]), a in (-xi, xi) if xi else False,
+               b in (-xi, xi) if xi else False, np.array([0.5 * (a + b), layer_y + 1.0]))
+              for a, b in zip(cut_x[:-1], cut_x[1:])]
+    polys = [_dedupe(p, on_tol) for p in polys]
+    info["end_moves"] = _space_line_ends(polys, lines, bonds, plates, min_feature,
+                                         min_bond_length, on_tol, eps_sep)
     for i in range(n):
         polys[i] = _collapse_short_edges(_dedupe(polys[i], on_tol), lines[i], min_feature, on_tol)
     # report the common face as it is in the final geometry (later cuts can shorten it)
@@ -179,6 +191,172 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
                 max(0.0, min(sk[1], st[1]) - max(sk[0], st[0]))
         final.append((i, j, chord, bonded))
     return polys, final
+
+
+def _same_line(n1, c1, n2, c2, on_tol):
+    """True if n1.x = c1 and n2.x = c2 are one line (either orientation)."""
+    if abs(n1[0] * n2[1] - n1[1] * n2[0]) > 1e-9:
+        return False
+    return abs(c1 - c2) <= on_tol if n1 @ n2 > 0 else abs(c1 + c2) <= on_tol
+
+
+def _line_groups(bonds, on_tol):
+    """Bonded contacts (a, b, n, c) grouped by their line: [(n, c, [(a, b), ...])]."""
+    groups, buckets = [], {}
+    for a, b, n, c in bonds:
+        if n[1] < -1e-12 or (abs(n[1]) <= 1e-12 and n[0] < 0):
+            n, c = -n, -c  # one orientation per line
+        key = int(np.floor(np.arctan2(n[1], n[0]) * 1e6))
+        hit = None
+        for k in (key - 1, key, key + 1):
+            for g in buckets.get(k, ()):
+                if _same_line(n, c, g[0], g[1], on_tol):
+                    hit = g
+                    break
+            if hit is not None:
+                break
+        if hit is None:
+            hit = (n, c, [])
+            groups.append(hit)
+            buckets.setdefault(key, []).append(hit)
+        hit[2].append((a, b))
+    return groups
+
+
+def _on_other_line(v, own_lines, n, c, on_tol):
+    """True if corner v lies on a bonded line of its block other than n.x = c."""
+    return any(abs(v @ m - cm) <= on_tol for m, cm in own_lines
+               if not _same_line(m, cm, n, c, on_tol))
+
+
+def _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol):
+    """True if corner k of block b can slide along its line to s_new into empty space.
+
+    The block gains the triangle (old corner, new corner, the corner's neighbour
+    off the line); no other body (except across the line) may come within
+    `clearance` of it.
+    """
+    p = polys[b]
+    m = len(p)
+    nb_k = [j for j in ((k - 1) % m, (k + 1) % m) if abs(p[j] @ n - c) > on_tol]
+    if len(nb_k) != 1:
+        return False
+    v_new = p[k] + (s_new - p[k] @ t) * t
+    grown = p.copy()
+    grown[k] = v_new
+    e = np.roll(grown, -1, axis=0) - grown
+    if np.any(e[:, 0] * np.roll(e, -1, axis=0)[:, 1] - e[:, 1] * np.roll(e, -1, axis=0)[:, 0] < 0):
+        return False  # the block would stop being convex
+    tri = np.array([p[k], v_new, p[nb_k[0]]])
+    if np.linalg.norm(np.roll(tri, -1, axis=0) - tri, axis=1).min() <= 10 * on_tol:
+        return False  # the corner would land on its neighbour
+    if _pile.polygon_area(tri) < 0:
+        tri = tri[::-1]
+    lo, hi = tri.min(axis=0) - clearance, tri.max(axis=0) + clearance
+    side = np.sign(p.mean(axis=0) @ n - c)
+    for j, q in enumerate(polys):
+        if j == b or np.any(q.max(axis=0) < lo) or np.any(q.min(axis=0) > hi):
+            continue
+        if np.all(side * (q @ n - c) <= on_tol):
+            continue  # across the line: touches the gained triangle on the line at most
+        if contact_line(tri, _dedupe(q, on_tol))[3] > -clearance:
+            return False
+    return True
+
+
+def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_tol, clearance):
+    """Ends of faces on a bonded line are either one point or at least `feature` apart.
+
+    Every face end on a bonded line splits the faces across it into separate
+    curves, so two ends a little apart (two blocks resting on one face with a
+    small gap between them, a face ending just short of its partner's end, a
+    block end next to the indenter cut) leave a curve shorter than `feature` and
+    tiny elements (the explicit time step follows the smallest element). The end
+    moves along the line, so its block only shrinks: onto the other end when
+    that belongs to the body across the line (the faces then end together),
+    else away from it to a gap of `feature`. The smaller move wins. Corners on a
+    second bonded line stay (bonds stay exact), and no bonded chord on the line
+    drops below min(min_bond_length, its length before). Plates (layer,
+    indenter) never move; no block end goes onto an indenter cut point, which
+    would join indenter and layer through the block. Returns the number of moves.
+    """
+    moves = 0
+    for n, c, pairs in _line_groups(bonds, on_tol):
+        t = np.array([-n[1], n[0]])
+        bodies = sorted({b for ab in pairs for b in ab})
+        partners = {}
+        for a, b in pairs:
+            partners.setdefault(a, set()).add(b)
+            partners.setdefault(b, set()).add(a)
+        for _ in range(4 * len(bodies) + 4):
+            seg, ends = {}, []
+            for b in bodies:
+                if b < 0:  # the layer: plates with fixed ends (cut: an indenter cut point)
+                    lo_all, hi_all = np.inf, -np.inf
+                    for pid, (p0, p1, cut0, cut1, centre) in enumerate(plates):
+                        side = 1 if centre @ n > c else -1
+                        (s0, c0), (s1, c1) = sorted(((p0 @ t, cut0), (p1 @ t, cut1)))
+                        ends.append((s0, ("plate", pid), None, +1, side, c0))
+                        ends.append((s1, ("plate", pid), None, -1, side, c1))
+                        lo_all, hi_all = min(lo_all, s0), max(hi_all, s1)
+                    seg[b] = (lo_all, hi_all)
+                    continue
+                p = polys[b]
+                on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
+                if len(on) < 2:
+                    continue
+                s = p[on] @ t
+                side = 1 if p.mean(axis=0) @ n > c else -1
+                k0, k1 = on[np.argmin(s)], on[np.argmax(s)]
+                seg[b] = (s.min(), s.max())
+                ends.append((s.min(), b, k0, +1, side, False))
+                ends.append((s.max(), b, k1, -1, side, False))
+            ends.sort(key=lambda e: e[0])
+            fix = None
+            for e1, e2 in zip(ends[:-1], ends[1:]):
+                gap = e2[0] - e1[0]
+                if not on_tol < gap < feature or e1[1] == e2[1]:
+                    continue
+                if not any(lo <= e1[0] + on_tol and hi >= e2[0] - on_tol for lo, hi in seg.values()):
+                    continue  # no face spans the gap: it is no curve
+                options = []
+                for e, o in ((e1, e2), (e2, e1)):
+                    b, k, inward = e[1], e[2], e[3]
+                    if not isinstance(b, (int, np.integer)) or b < 0:
+                        continue
+                    if _on_other_line(polys[b][k], lines[b], n, c, on_tol):
+                        continue
+                    if o[4] != e[4] and not o[5]:  # onto the end across the line
+                        options.append((abs(o[0] - e[0]), b, k, o[0]))
+                    target = o[0] + inward * feature
+                    if (target - e[0]) * inward > 0:
+                        options.append((abs(target - e[0]), b, k, target))
+                for _, b, k, s_new in sorted(options, key=lambda o: o[0]):
+                    s_old = polys[b][k] @ t
+                    low_end = abs(s_old - seg[b][0]) <= on_tol
+                    lo, hi = (s_new, seg[b][1]) if low_end else (seg[b][0], s_new)
+                    shrinks = (s_new - s_old) * (1 if low_end else -1) > 0
+                    ok = hi - lo > on_tol and (
+                        shrinks or _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol))
+                    for q in partners.get(b, ()):
+                        if q not in seg:
+                            continue
+                        old = min(seg[b][1], seg[q][1]) - max(seg[b][0], seg[q][0])
+                        new = min(hi, seg[q][1]) - max(lo, seg[q][0])
+                        ok &= new >= min(min_bond_length, old) - on_tol
+                    if ok:
+                        fix = (b, k, s_new)
+                        break
+                if fix is not None:
+                    break
+            if fix is None:
+                break
+            b, k, s_new = fix
+            polys[b] = polys[b].copy()
+            polys[b][k] += (s_new - polys[b][k] @ t) * t
+            polys[b] = _dedupe(polys[b], on_tol)
+            moves += 1
+    return moves
 
 
 def _dedupe(p, tol):
@@ -296,7 +474,7 @@ def _surface(occ, poly):
 
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
                min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
-               algorithm=6, verbose=False):
+               algorithm=6, feature_fraction=0.35, verbose=False):
     """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
     import gmsh
     meta = pile_data["meta"]
@@ -309,8 +487,10 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     times = {}
     t0 = time.perf_counter()
     x0, x1 = -0.5 * W, 0.5 * W
+    feature = max(min_feature, feature_fraction * element_size)
+    info = {}
     polys, contacts = resolve_contacts(pile_data["corners"], y_b, x0, x1, gap_tol,
-                                       min_bond_length, eps_sep, min_feature)
+                                       min_bond_length, eps_sep, feature, indenter_width, info)
     times["resolve"] = time.perf_counter() - t0
     nb = len(polys)
     xi = 0.5 * indenter_width
