@@ -75,7 +75,7 @@ def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
     """A face of p lying within gap_tol of the line n.x = c (a near face-face contact) moves onto it.
 
     p lies in n.x <= c (the target beyond). Corners already on a bonded line of p
-    stay, so earlier bonds stay exact.
+    stay unless the move is along that line, so earlier bonds stay exact.
     """
     d = c - p @ n  # > 0: a gap to the line; < 0: past it (the cut that follows puts it on)
     near = d <= gap_tol  # corners past the line are cut onto it anyway
@@ -83,7 +83,9 @@ def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
         return p
     move = near & (d > on_tol)
     for k in np.flatnonzero(move):
-        if any(abs(p[k] @ m - cm) <= on_tol for m, cm in own_lines):
+        # a corner on a bonded line may only slide along it (the bond stays exact)
+        if any(abs(p[k] @ m - cm) <= on_tol and abs(d[k] * (n @ m)) > on_tol
+               for m, cm in own_lines):
             move[k] = False
     if move.any():
         p = p.copy()
@@ -365,41 +367,6 @@ def _dedupe(p, tol):
     return p[keep] if keep.sum() >= 3 else p
 
 
-def _free(v, own_lines, skip, on_tol):
-    """True if corner v lies on no bonded line of its block other than `skip`."""
-    return all(abs(v @ n - c) > on_tol for n, c in own_lines if not (n is skip[0] and c == skip[1]))
-
-
-def _weld_ends(polys, lines, ti, ki, n, c, min_feature, on_tol):
-    """Make near-coincident ends of a bonded face pair coincide.
-
-    Where one face ends less than `min_feature` beyond the other, its end corner
-    slides along the line onto the other's end (the block only shrinks), unless
-    that corner also lies on another bonded line of its block.
-    """
-    t = np.array([-n[1], n[0]])
-    for _ in range(2):
-        ends = []
-        for b in (ti, ki):
-            p = polys[b]
-            on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
-            if len(on) < 2:
-                return
-            s = p[on] @ t
-            ends.append((on[np.argmin(s)], s.min(), on[np.argmax(s)], s.max()))
-        (ta0, ts0, ta1, ts1), (ka0, ks0, ka1, ks1) = ends
-        for lo_end in (True, False):
-            if lo_end:
-                (bl, il, sl), (bs, is_, ss) = ((ti, ta0, ts0), (ki, ka0, ks0)) if ts0 < ks0 else \
-                                              ((ki, ka0, ks0), (ti, ta0, ts0))
-            else:
-                (bl, il, sl), (bs, is_, ss) = ((ti, ta1, ts1), (ki, ka1, ks1)) if ts1 > ks1 else \
-                                              ((ki, ka1, ks1), (ti, ta1, ts1))
-            gap = abs(sl - ss)
-            if 0.0 < gap < min_feature and _free(polys[bl][il], lines[bl], (n, c), on_tol):
-                polys[bl][il] = polys[bs][is_]
-
-
 def _collapse_short_edges(p, own_lines, min_feature, on_tol):
     """Edges shorter than min_feature disappear (the block only shrinks).
 
@@ -474,7 +441,7 @@ def _surface(occ, poly):
 
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
                min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
-               algorithm=6, feature_fraction=0.35, verbose=False):
+               algorithm=6, feature_fraction=0.4, verbose=False):
     """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
     import gmsh
     meta = pile_data["meta"]
@@ -484,6 +451,7 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
               indenter_thickness, W, t_c)
     _pile.require_range("fuzzy (m)", fuzzy, 0.0, 0.5 * eps_sep)
+    _pile.require_range("feature_fraction (of element_size)", feature_fraction, 0.0, 0.5)
     times = {}
     t0 = time.perf_counter()
     x0, x1 = -0.5 * W, 0.5 * W
@@ -533,12 +501,19 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
         gmsh.option.setNumber("Mesh.Algorithm", algorithm)
         # near a short curve the size follows its length, so small features get
-        # small, well-shaped triangles instead of slivers
+        # small, well-shaped triangles instead of slivers; 1.6 x the length: the
+        # short curve stays one element edge and the triangles next to it are not
+        # smaller than it (at 1.0 x, gmsh puts ~0.6 L altitudes around a curve L)
         curve_len = {c: occ.getMass(1, c) for _, c in gmsh.model.getEntities(1)}
+        # curves the clean-up could not lengthen (both ends held by other bonds)
+        # still force elements of their size: count them
+        lens = np.array(list(curve_len.values()))
+        info["n_short_curves"] = int((lens < (1.0 - 1e-6) * feature).sum())
+        info["shortest_curve"] = float(lens.min())
         for _, pt in gmsh.model.getEntities(0):
             up, _ = gmsh.model.getAdjacencies(0, pt)
             lmin = min((curve_len[c] for c in up), default=element_size)
-            gmsh.model.mesh.setSize([(0, pt)], min(element_size, lmin))
+            gmsh.model.mesh.setSize([(0, pt)], min(element_size, 1.6 * lmin))
         gmsh.model.mesh.generate(2)
         times["mesh"] = time.perf_counter() - t0
         node_tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -575,7 +550,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     return dict(nodes=nodes, triangles=tris.astype(np.int32), body=body, body_kind=body_kind,
                 bond_edges=bond_edges, bond_edge_bodies=bond_bodies,
                 layer_top=layer_top.astype(np.int32), indenter_top=ind_top.astype(np.int32),
-                keel_bounds=bounds, porosity=eta, quality=quality(nodes, tris),
+                keel_bounds=bounds, porosity=eta,
+                quality=dict(quality(nodes, tris), feature=feature),
                 contacts=contact_table(contacts, nodes, bond_edges, bond_bodies, nb),
                 resolved_blocks=blocks_final,
                 element_size=float(element_size), times=times,
@@ -583,8 +559,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                               min_feature=min_feature, fuzzy=fuzzy,
                               indenter_width=indenter_width, indenter_thickness=indenter_thickness,
                               layer_thickness=t_c, layer_bottom_y=y_b, domain_width=W,
-                              algorithm=algorithm),
-                resolve_info=dict(n_slivers=n_slivers, sliver_area=sliver_area))
+                              algorithm=algorithm, feature_fraction=feature_fraction),
+                resolve_info=dict(info, n_slivers=n_slivers, sliver_area=sliver_area))
 
 
 def contact_table(contacts, nodes, bond_edges, bond_bodies, nb):
@@ -672,7 +648,11 @@ def porosity_of_mesh(nodes, tris, is_ice, bounds):
 
 
 def quality(nodes, tris):
-    """Angles, edge lengths and areas of the triangles."""
+    """Angles, edge lengths, areas and the smallest altitude of the triangles.
+
+    The smallest altitude (2 area / longest edge) sets the explicit engine's
+    element time step (wave crossing time).
+    """
     p = nodes[tris]
     e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
     ln = np.linalg.norm(e, axis=2)
@@ -687,7 +667,8 @@ def quality(nodes, tris):
     return dict(min_angle_deg=float(mn.min()), mean_min_angle_deg=float(mn.mean()),
                 max_angle_deg=float(ang.max()), frac_min_angle_below_20=float((mn < 20).mean()),
                 min_edge=float(ln.min()), max_edge=float(ln.max()), mean_edge=float(ln.mean()),
-                min_area=float(area.min()), max_area=float(area.max()))
+                min_area=float(area.min()), max_area=float(area.max()),
+                min_altitude=float((2.0 * np.abs(area) / ln.max(axis=1)).min()))
 
 
 # ---------------------------------------------------------------- HDF5
