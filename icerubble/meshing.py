@@ -16,7 +16,11 @@ face within `gap_tol` of it snaps onto it; the contactor is cut along it, so the
 overlap sliver goes to the target and both meet on an exactly shared line. A common
 face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is cut
 back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
-except by the snaps. The fragment then runs with the fuzzy tolerance `fuzzy`.
+except by the snaps. A clean-up then keeps every curve of the geometry at least
+the feature size f = max(min_feature, feature_fraction * element_size) long (face
+ends on a bonded line coincide or lie f apart, shorter edges are removed), since
+the explicit step follows the smallest element. The fragment then runs with the
+fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
 """
 from __future__ import annotations
