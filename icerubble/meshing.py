@@ -16,7 +16,11 @@ face within `gap_tol` of it snaps onto it; the contactor is cut along it, so the
 overlap sliver goes to the target and both meet on an exactly shared line. A common
 face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is cut
 back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
-except by the snaps. The fragment then runs with the fuzzy tolerance `fuzzy`.
+except by the snaps. A clean-up then keeps every curve of the geometry at least
+the feature size f = max(min_feature, feature_fraction * element_size) long (face
+ends on a bonded line coincide or lie f apart, shorter edges are removed), since
+the explicit step follows the smallest element. The fragment then runs with the
+fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
 """
 from __future__ import annotations
@@ -75,7 +79,7 @@ def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
     """A face of p lying within gap_tol of the line n.x = c (a near face-face contact) moves onto it.
 
     p lies in n.x <= c (the target beyond). Corners already on a bonded line of p
-    stay, so earlier bonds stay exact.
+    stay unless the move is along that line, so earlier bonds stay exact.
     """
     d = c - p @ n  # > 0: a gap to the line; < 0: past it (the cut that follows puts it on)
     near = d <= gap_tol  # corners past the line are cut onto it anyway
@@ -83,7 +87,9 @@ def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
         return p
     move = near & (d > on_tol)
     for k in np.flatnonzero(move):
-        if any(abs(p[k] @ m - cm) <= on_tol for m, cm in own_lines):
+        # a corner on a bonded line may only slide along it (the bond stays exact)
+        if any(abs(p[k] @ m - cm) <= on_tol and abs(d[k] * (n @ m)) > on_tol
+               for m, cm in own_lines):
             move[k] = False
     if move.any():
         p = p.copy()
@@ -106,13 +112,18 @@ def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol, k_lines
 
 
 def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_length=0.05,
-                     eps_sep=2e-3, min_feature=0.01):
+                     eps_sep=2e-3, min_feature=0.01, indenter_width=None, info=None):
     """Apply the contact rule (module docstring) to the block corners (n, k, 2).
 
     Returns (polys, contacts): the resolved blocks (list of CCW convex polygons,
     subsets of the inputs up to face snaps of at most gap_tol) and a list of
     (i, j, chord, bonded), j = -1 for the consolidated layer (with the indenter).
+    min_feature: shortest block edge and shortest distance between two face ends
+    on a bonded line (the shortest geometry curve). indenter_width: the indenter
+    cuts at x = +-indenter_width/2 are face ends on the layer line too. info: a
+    dict that receives counts of the clean-up.
     """
+    info = {} if info is None else info
     polys = [np.array(_pile.ccw(p), float) for p in corners]
     n = len(polys)
     on_tol = 1e-9 * max(1.0, x_max - x_min)
@@ -159,9 +170,16 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
                 lines[ti].append((nrm, c))
                 lines[ki].append((nrm, c))
             found[(int(i), int(j))] = (chord, bonded, (ti, ki, nrm, c) if bonded else None)
-    pairs = [v[2] for v in found.values() if v[1]]
-    for ti, ki, nrm, c in pairs:
-        _weld_ends(polys, lines, ti, ki, nrm, c, min_feature, on_tol)
+    bonds = [v[2] for v in found.values() if v[1]]
+    bonds += [(i, -1, up, layer_y) for i, j, _, bonded in contacts if bonded]
+    xi = 0.5 * indenter_width if indenter_width else None
+    cut_x = [x_min, x_max] if xi is None else [x_min, -xi, xi, x_max]
+    plates = [(np.array([a, layer_y]), np.array([b, layer_y]), a in (-xi, xi) if xi else False,
+               b in (-xi, xi) if xi else False, np.array([0.5 * (a + b), layer_y + 1.0]))
+              for a, b in zip(cut_x[:-1], cut_x[1:])]
+    polys = [_dedupe(p, on_tol) for p in polys]
+    info["end_moves"] = _space_line_ends(polys, lines, bonds, plates, min_feature,
+                                         min_bond_length, on_tol, eps_sep)
     for i in range(n):
         polys[i] = _collapse_short_edges(_dedupe(polys[i], on_tol), lines[i], min_feature, on_tol)
     # report the common face as it is in the final geometry (later cuts can shorten it)
@@ -181,45 +199,176 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
     return polys, final
 
 
+def _same_line(n1, c1, n2, c2, on_tol):
+    """True if n1.x = c1 and n2.x = c2 are one line (either orientation)."""
+    if abs(n1[0] * n2[1] - n1[1] * n2[0]) > 1e-9:
+        return False
+    return abs(c1 - c2) <= on_tol if n1 @ n2 > 0 else abs(c1 + c2) <= on_tol
+
+
+def _line_groups(bonds, on_tol):
+    """Bonded contacts (a, b, n, c) grouped by their line: [(n, c, [(a, b), ...])]."""
+    groups, buckets = [], {}
+    for a, b, n, c in bonds:
+        if n[1] < -1e-12 or (abs(n[1]) <= 1e-12 and n[0] < 0):
+            n, c = -n, -c  # one orientation per line
+        key = int(np.floor(np.arctan2(n[1], n[0]) * 1e6))
+        hit = None
+        for k in (key - 1, key, key + 1):
+            for g in buckets.get(k, ()):
+                if _same_line(n, c, g[0], g[1], on_tol):
+                    hit = g
+                    break
+            if hit is not None:
+                break
+        if hit is None:
+            hit = (n, c, [])
+            groups.append(hit)
+            buckets.setdefault(key, []).append(hit)
+        hit[2].append((a, b))
+    return groups
+
+
+def _on_other_line(v, own_lines, n, c, on_tol):
+    """True if corner v lies on a bonded line of its block other than n.x = c."""
+    return any(abs(v @ m - cm) <= on_tol for m, cm in own_lines
+               if not _same_line(m, cm, n, c, on_tol))
+
+
+def _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol):
+    """True if corner k of block b can slide along its line to s_new into empty space.
+
+    The block gains the triangle (old corner, new corner, the corner's neighbour
+    off the line); no other body (except across the line) may come within
+    `clearance` of it.
+    """
+    p = polys[b]
+    m = len(p)
+    nb_k = [j for j in ((k - 1) % m, (k + 1) % m) if abs(p[j] @ n - c) > on_tol]
+    if len(nb_k) != 1:
+        return False
+    v_new = p[k] + (s_new - p[k] @ t) * t
+    grown = p.copy()
+    grown[k] = v_new
+    e = np.roll(grown, -1, axis=0) - grown
+    if np.any(e[:, 0] * np.roll(e, -1, axis=0)[:, 1] - e[:, 1] * np.roll(e, -1, axis=0)[:, 0] < 0):
+        return False  # the block would stop being convex
+    tri = np.array([p[k], v_new, p[nb_k[0]]])
+    if np.linalg.norm(np.roll(tri, -1, axis=0) - tri, axis=1).min() <= 10 * on_tol:
+        return False  # the corner would land on its neighbour
+    if _pile.polygon_area(tri) < 0:
+        tri = tri[::-1]
+    lo, hi = tri.min(axis=0) - clearance, tri.max(axis=0) + clearance
+    side = np.sign(p.mean(axis=0) @ n - c)
+    for j, q in enumerate(polys):
+        if j == b or np.any(q.max(axis=0) < lo) or np.any(q.min(axis=0) > hi):
+            continue
+        if np.all(side * (q @ n - c) <= on_tol):
+            continue  # across the line: touches the gained triangle on the line at most
+        if contact_line(tri, _dedupe(q, on_tol))[3] > -clearance:
+            return False
+    return True
+
+
+def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_tol, clearance):
+    """Ends of faces on a bonded line are either one point or at least `feature` apart.
+
+    Every face end on a bonded line splits the faces across it into separate
+    curves, so two ends a little apart (two blocks resting on one face with a
+    small gap between them, a face ending just short of its partner's end, a
+    block end next to the indenter cut) leave a curve shorter than `feature` and
+    tiny elements (the explicit time step follows the smallest element). The end
+    moves along the line, so its block only shrinks: onto the other end when
+    that belongs to the body across the line (the faces then end together),
+    else away from it to a gap of `feature`. The smaller move wins. Corners on a
+    second bonded line stay (bonds stay exact), and no bonded chord on the line
+    drops below min(min_bond_length, its length before). Plates (layer,
+    indenter) never move; no block end goes onto an indenter cut point, which
+    would join indenter and layer through the block. Returns the number of moves.
+    """
+    moves = 0
+    for n, c, pairs in _line_groups(bonds, on_tol):
+        t = np.array([-n[1], n[0]])
+        bodies = sorted({b for ab in pairs for b in ab})
+        partners = {}
+        for a, b in pairs:
+            partners.setdefault(a, set()).add(b)
+            partners.setdefault(b, set()).add(a)
+        for _ in range(4 * len(bodies) + 4):
+            seg, ends = {}, []
+            for b in bodies:
+                if b < 0:  # the layer: plates with fixed ends (cut: an indenter cut point)
+                    lo_all, hi_all = np.inf, -np.inf
+                    for pid, (p0, p1, cut0, cut1, centre) in enumerate(plates):
+                        side = 1 if centre @ n > c else -1
+                        (s0, c0), (s1, c1) = sorted(((p0 @ t, cut0), (p1 @ t, cut1)))
+                        ends.append((s0, ("plate", pid), None, +1, side, c0))
+                        ends.append((s1, ("plate", pid), None, -1, side, c1))
+                        lo_all, hi_all = min(lo_all, s0), max(hi_all, s1)
+                    seg[b] = (lo_all, hi_all)
+                    continue
+                p = polys[b]
+                on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
+                if len(on) < 2:
+                    continue
+                s = p[on] @ t
+                side = 1 if p.mean(axis=0) @ n > c else -1
+                k0, k1 = on[np.argmin(s)], on[np.argmax(s)]
+                seg[b] = (s.min(), s.max())
+                ends.append((s.min(), b, k0, +1, side, False))
+                ends.append((s.max(), b, k1, -1, side, False))
+            ends.sort(key=lambda e: e[0])
+            fix = None
+            for e1, e2 in zip(ends[:-1], ends[1:]):
+                gap = e2[0] - e1[0]
+                if not on_tol < gap < feature or e1[1] == e2[1]:
+                    continue
+                if not any(lo <= e1[0] + on_tol and hi >= e2[0] - on_tol for lo, hi in seg.values()):
+                    continue  # no face spans the gap: it is no curve
+                options = []
+                for e, o in ((e1, e2), (e2, e1)):
+                    b, k, inward = e[1], e[2], e[3]
+                    if not isinstance(b, (int, np.integer)) or b < 0:
+                        continue
+                    if _on_other_line(polys[b][k], lines[b], n, c, on_tol):
+                        continue
+                    if o[4] != e[4] and not o[5]:  # onto the end across the line
+                        options.append((abs(o[0] - e[0]), b, k, o[0]))
+                    target = o[0] + inward * feature
+                    if (target - e[0]) * inward > 0:
+                        options.append((abs(target - e[0]), b, k, target))
+                for _, b, k, s_new in sorted(options, key=lambda o: o[0]):
+                    s_old = polys[b][k] @ t
+                    low_end = abs(s_old - seg[b][0]) <= on_tol
+                    lo, hi = (s_new, seg[b][1]) if low_end else (seg[b][0], s_new)
+                    shrinks = (s_new - s_old) * (1 if low_end else -1) > 0
+                    ok = hi - lo > on_tol and (
+                        shrinks or _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol))
+                    for q in partners.get(b, ()):
+                        if q not in seg:
+                            continue
+                        old = min(seg[b][1], seg[q][1]) - max(seg[b][0], seg[q][0])
+                        new = min(hi, seg[q][1]) - max(lo, seg[q][0])
+                        ok &= new >= min(min_bond_length, old) - on_tol
+                    if ok:
+                        fix = (b, k, s_new)
+                        break
+                if fix is not None:
+                    break
+            if fix is None:
+                break
+            b, k, s_new = fix
+            polys[b] = polys[b].copy()
+            polys[b][k] += (s_new - polys[b][k] @ t) * t
+            polys[b] = _dedupe(polys[b], on_tol)
+            moves += 1
+    return moves
+
+
 def _dedupe(p, tol):
     """Drop corners that coincide with the previous one (cuts through a corner repeat it)."""
     keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > tol
     return p[keep] if keep.sum() >= 3 else p
-
-
-def _free(v, own_lines, skip, on_tol):
-    """True if corner v lies on no bonded line of its block other than `skip`."""
-    return all(abs(v @ n - c) > on_tol for n, c in own_lines if not (n is skip[0] and c == skip[1]))
-
-
-def _weld_ends(polys, lines, ti, ki, n, c, min_feature, on_tol):
-    """Make near-coincident ends of a bonded face pair coincide.
-
-    Where one face ends less than `min_feature` beyond the other, its end corner
-    slides along the line onto the other's end (the block only shrinks), unless
-    that corner also lies on another bonded line of its block.
-    """
-    t = np.array([-n[1], n[0]])
-    for _ in range(2):
-        ends = []
-        for b in (ti, ki):
-            p = polys[b]
-            on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
-            if len(on) < 2:
-                return
-            s = p[on] @ t
-            ends.append((on[np.argmin(s)], s.min(), on[np.argmax(s)], s.max()))
-        (ta0, ts0, ta1, ts1), (ka0, ks0, ka1, ks1) = ends
-        for lo_end in (True, False):
-            if lo_end:
-                (bl, il, sl), (bs, is_, ss) = ((ti, ta0, ts0), (ki, ka0, ks0)) if ts0 < ks0 else \
-                                              ((ki, ka0, ks0), (ti, ta0, ts0))
-            else:
-                (bl, il, sl), (bs, is_, ss) = ((ti, ta1, ts1), (ki, ka1, ks1)) if ts1 > ks1 else \
-                                              ((ki, ka1, ks1), (ti, ta1, ts1))
-            gap = abs(sl - ss)
-            if 0.0 < gap < min_feature and _free(polys[bl][il], lines[bl], (n, c), on_tol):
-                polys[bl][il] = polys[bs][is_]
 
 
 def _collapse_short_edges(p, own_lines, min_feature, on_tol):
@@ -296,7 +445,7 @@ def _surface(occ, poly):
 
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
                min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
-               algorithm=6, verbose=False):
+               algorithm=6, feature_fraction=0.4, verbose=False):
     """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
     import gmsh
     meta = pile_data["meta"]
@@ -306,11 +455,14 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
               indenter_thickness, W, t_c)
     _pile.require_range("fuzzy (m)", fuzzy, 0.0, 0.5 * eps_sep)
+    _pile.require_range("feature_fraction (of element_size)", feature_fraction, 0.0, 0.5)
     times = {}
     t0 = time.perf_counter()
     x0, x1 = -0.5 * W, 0.5 * W
+    feature = max(min_feature, feature_fraction * element_size)
+    info = {}
     polys, contacts = resolve_contacts(pile_data["corners"], y_b, x0, x1, gap_tol,
-                                       min_bond_length, eps_sep, min_feature)
+                                       min_bond_length, eps_sep, feature, indenter_width, info)
     times["resolve"] = time.perf_counter() - t0
     nb = len(polys)
     xi = 0.5 * indenter_width
@@ -353,12 +505,19 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
         gmsh.option.setNumber("Mesh.Algorithm", algorithm)
         # near a short curve the size follows its length, so small features get
-        # small, well-shaped triangles instead of slivers
+        # small, well-shaped triangles instead of slivers; 1.6 x the length: the
+        # short curve stays one element edge and the triangles next to it are not
+        # smaller than it (at 1.0 x, gmsh puts ~0.6 L altitudes around a curve L)
         curve_len = {c: occ.getMass(1, c) for _, c in gmsh.model.getEntities(1)}
+        # curves the clean-up could not lengthen (both ends held by other bonds)
+        # still force elements of their size: count them
+        lens = np.array(list(curve_len.values()))
+        info["n_short_curves"] = int((lens < (1.0 - 1e-6) * feature).sum())
+        info["shortest_curve"] = float(lens.min())
         for _, pt in gmsh.model.getEntities(0):
             up, _ = gmsh.model.getAdjacencies(0, pt)
             lmin = min((curve_len[c] for c in up), default=element_size)
-            gmsh.model.mesh.setSize([(0, pt)], min(element_size, lmin))
+            gmsh.model.mesh.setSize([(0, pt)], min(element_size, 1.6 * lmin))
         gmsh.model.mesh.generate(2)
         times["mesh"] = time.perf_counter() - t0
         node_tags, coords, _ = gmsh.model.mesh.getNodes()
@@ -395,7 +554,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     return dict(nodes=nodes, triangles=tris.astype(np.int32), body=body, body_kind=body_kind,
                 bond_edges=bond_edges, bond_edge_bodies=bond_bodies,
                 layer_top=layer_top.astype(np.int32), indenter_top=ind_top.astype(np.int32),
-                keel_bounds=bounds, porosity=eta, quality=quality(nodes, tris),
+                keel_bounds=bounds, porosity=eta,
+                quality=dict(quality(nodes, tris), feature=feature),
                 contacts=contact_table(contacts, nodes, bond_edges, bond_bodies, nb),
                 resolved_blocks=blocks_final,
                 element_size=float(element_size), times=times,
@@ -403,8 +563,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                               min_feature=min_feature, fuzzy=fuzzy,
                               indenter_width=indenter_width, indenter_thickness=indenter_thickness,
                               layer_thickness=t_c, layer_bottom_y=y_b, domain_width=W,
-                              algorithm=algorithm),
-                resolve_info=dict(n_slivers=n_slivers, sliver_area=sliver_area))
+                              algorithm=algorithm, feature_fraction=feature_fraction),
+                resolve_info=dict(info, n_slivers=n_slivers, sliver_area=sliver_area))
 
 
 def contact_table(contacts, nodes, bond_edges, bond_bodies, nb):
@@ -492,7 +652,11 @@ def porosity_of_mesh(nodes, tris, is_ice, bounds):
 
 
 def quality(nodes, tris):
-    """Angles, edge lengths and areas of the triangles."""
+    """Angles, edge lengths, areas and the smallest altitude of the triangles.
+
+    The smallest altitude (2 area / longest edge) sets the explicit engine's
+    element time step (wave crossing time).
+    """
     p = nodes[tris]
     e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
     ln = np.linalg.norm(e, axis=2)
@@ -507,7 +671,8 @@ def quality(nodes, tris):
     return dict(min_angle_deg=float(mn.min()), mean_min_angle_deg=float(mn.mean()),
                 max_angle_deg=float(ang.max()), frac_min_angle_below_20=float((mn < 20).mean()),
                 min_edge=float(ln.min()), max_edge=float(ln.max()), mean_edge=float(ln.mean()),
-                min_area=float(area.min()), max_area=float(area.max()))
+                min_area=float(area.min()), max_area=float(area.max()),
+                min_altitude=float((2.0 * np.abs(area) / ln.max(axis=1)).min()))
 
 
 # ---------------------------------------------------------------- HDF5
