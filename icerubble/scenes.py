@@ -16,7 +16,7 @@ file's /parameters.
 SCENES = {
     "paper": dict(
         pile=dict(domain_width=50.0, keel_depth=4.0),
-        element_size=0.11,
+        element_size=0.085,
         params=dict(penalty=2e11, target_travel=0.3),
         dt_fraction=0.8,
     ),
