@@ -94,6 +94,13 @@ class PunchThrough:
         self.meta = dict(ridge="", seed=-1, model="fem-dem")
         self.meta.update(meta or {})
         self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
+        # The geometry is the mesh's: record what was simulated, not the
+        # Table 1 defaults (the analyses read keel_depth, indenter_width ...).
+        sc = self.scene
+        self.params.update(keel_depth=sc.keel_depth, indenter_width=sc.indenter_width,
+                           indenter_thickness=sc.indenter_thickness,
+                           layer_thickness=sc.layer_thickness,
+                           domain_width=float(self.mesh["attrs"]["domain_width"]))
         if self.options.dt_fraction is not None:
             # the stable step of this mesh (it already carries a 0.9 safety factor)
             self.params["dt"] = self.options.dt_fraction * self.scene.model.stable_time_step()["dt"]

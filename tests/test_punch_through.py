@@ -134,3 +134,14 @@ def test_a_file_that_is_not_a_mesh_is_refused(tmp_path):
     junk.write_text("not a mesh")
     with pytest.raises(ValueError, match="mesh"):
         PunchThrough(junk, tmp_path / "x.h5", params=PARAMS)
+
+
+def test_recorded_geometry_is_the_meshs(finished):
+    """The analyses read keel depth and indenter width from /parameters: they
+    must be the simulated scene's (two 0.3 m rows: 0.6 m), not Table 1's 4 m."""
+    run, out = finished
+    with open_complete(out) as f:
+        p = f["parameters"].attrs
+        assert p["keel_depth"] == pytest.approx(0.6, abs=1e-9)
+        assert p["indenter_width"] == pytest.approx(4.0, abs=1e-9)
+        assert p["domain_width"] == pytest.approx(8.0)
