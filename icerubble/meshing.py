@@ -183,7 +183,8 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
     for i in range(n):
         polys[i] = _collapse_short_edges(_dedupe(polys[i], on_tol), lines[i], min_feature, on_tol)
     info["chamfers"] = _chamfer_held_corners(polys, lines, bonds, min_feature, min_bond_length,
-                                             on_tol, fuzzy)
+                                             on_tol, fuzzy,
+                                             [np.array([x, layer_y]) for x in cut_x])
     # report the common face as it is in the final geometry (later cuts can shorten it)
     final = []
     for i, j, chord, bonded in contacts:  # the layer
@@ -396,7 +397,8 @@ def _bond_chords(polys, bonds, b, on_tol):
     return out
 
 
-def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol, near_tol):
+def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol, near_tol,
+                          fixed_ends=()):
     """Cut off a held corner that another block's face end sits next to.
 
     A corner C of block B on two of its bonded lines cannot slide (bonds stay
@@ -406,12 +408,17 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
     from C: the corner becomes E (both blocks' ends coincide there) and P, B
     stays convex and only shrinks. Done only if no bond of B drops below
     min(min_bond_length, its length before) and no other corner lies within
-    `feature` of P on that face. Returns the number of corners cut.
+    `feature` of P on that face (fixed_ends: the plates' ends and indenter cut
+    points count too). Returns the number of corners cut.
     """
     from scipy.spatial import cKDTree
-    owner = np.concatenate([np.full(len(p), b) for b, p in enumerate(polys)])
-    tree = cKDTree(np.vstack(polys))
-    allpts = np.vstack(polys)
+    def corner_index():
+        own = np.concatenate([np.full(len(p), b) for b, p in enumerate(polys)] +
+                             [np.full(len(fixed_ends), -1)])
+        pts = np.vstack(list(polys) + [np.reshape(fixed_ends, (-1, 2))])
+        return own, pts, cKDTree(pts)
+
+    owner, allpts, tree = corner_index()
     cuts = 0
     for b in range(len(polys)):
         if len(lines[b]) < 2:
@@ -435,7 +442,7 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
                     continue
                 best = None
                 for v in tree.query_ball_point(C, feature):
-                    if owner[v] == b:
+                    if owner[v] == b or owner[v] < 0:
                         continue
                     E = allpts[v]
                     s = (E - C) @ ua
@@ -447,7 +454,7 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
                 P = C + feature * ud
                 # no other corner on the other face within feature of P (a new short curve)
                 if any(owner[v] != b and abs((allpts[v] - C) @ np.array([-ud[1], ud[0]])) <= near_tol
-                       and on_tol < abs((allpts[v] - P) @ ud) < feature
+                       and on_tol < abs((allpts[v] - P) @ ud) < feature - on_tol
                        for v in tree.query_ball_point(P, feature)):
                     continue
                 # P is exactly on its partner's face or clear of every block by 2 fuzzy:
@@ -462,6 +469,7 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
                 after = _bond_chords(polys, bonds, b, on_tol)
                 if all(after[m] >= min(min_bond_length, before[m]) - on_tol for m in before):
                     cuts += 1
+                    owner, allpts, tree = corner_index()  # later cuts see this one
                     done = True
                     break
                 polys[b] = p
