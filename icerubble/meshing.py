@@ -18,7 +18,8 @@ face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is 
 back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
 except by the snaps. A clean-up then keeps every curve of the geometry at least
 the feature size f = max(min_feature, feature_fraction * element_size) long (face
-ends on a bonded line coincide or lie f apart, shorter edges are removed), since
+ends on a bonded line coincide or lie f apart, shorter edges are removed, a corner
+held by two bonds loses a triangle where a face end rests within f of it), since
 the explicit step follows the smallest element. The fragment then runs with the
 fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
