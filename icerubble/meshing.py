@@ -18,7 +18,8 @@ face of at least `min_bond_length` is bonded; a shorter one (a corner touch) is 
 back to a gap `eps_sep` and left to the phase-2 contact law. Blocks only shrink,
 except by the snaps. A clean-up then keeps every curve of the geometry at least
 the feature size f = max(min_feature, feature_fraction * element_size) long (face
-ends on a bonded line coincide or lie f apart, shorter edges are removed), since
+ends on a bonded line coincide or lie f apart, shorter edges are removed, a corner
+held by two bonds loses a triangle where a face end rests within f of it), since
 the explicit step follows the smallest element. The fragment then runs with the
 fuzzy tolerance `fuzzy`.
 Layout of the mesh file: docs/pile_and_mesh.md.
@@ -112,7 +113,7 @@ def _resolve_pair(t, k, n, c, gap_tol, min_bond_length, eps_sep, on_tol, k_lines
 
 
 def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_length=0.05,
-                     eps_sep=2e-3, min_feature=0.01, indenter_width=None, info=None):
+                     eps_sep=2e-3, min_feature=0.01, indenter_width=None, info=None, fuzzy=0.0):
     """Apply the contact rule (module docstring) to the block corners (n, k, 2).
 
     Returns (polys, contacts): the resolved blocks (list of CCW convex polygons,
@@ -182,6 +183,9 @@ def resolve_contacts(corners, layer_y, x_min, x_max, gap_tol=0.01, min_bond_leng
                                          min_bond_length, on_tol, eps_sep)
     for i in range(n):
         polys[i] = _collapse_short_edges(_dedupe(polys[i], on_tol), lines[i], min_feature, on_tol)
+    info["chamfers"] = _chamfer_held_corners(polys, lines, bonds, min_feature, min_bond_length,
+                                             on_tol, fuzzy,
+                                             [np.array([x, layer_y]) for x in cut_x])
     # report the common face as it is in the final geometry (later cuts can shorten it)
     final = []
     for i, j, chord, bonded in contacts:  # the layer
@@ -365,6 +369,115 @@ def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_t
     return moves
 
 
+def _clear_point(polys, b, x, on_tol, clearance):
+    """True if x is on no block but b nearer than `clearance`, except exactly on its boundary."""
+    for j, q in enumerate(polys):
+        if j == b or np.any(q.min(axis=0) > x + clearance) or np.any(q.max(axis=0) < x - clearance):
+            continue
+        e = np.roll(q, -1, axis=0) - q
+        t = np.clip(np.einsum("ij,ij->i", x - q, e) / np.einsum("ij,ij->i", e, e), 0.0, 1.0)
+        d = np.linalg.norm(q + t[:, None] * e - x, axis=1).min()
+        if on_tol < d < clearance:
+            return False
+    return True
+
+
+def _bond_chords(polys, bonds, b, on_tol):
+    """{(a, q, line index): chord} of every bond of block b (q = -1: the layer)."""
+    out = {}
+    for m, (a, q, n, c) in enumerate(bonds):
+        if b not in (a, q):
+            continue
+        sa = _segment_on(polys[a], n, c, on_tol)
+        if q < 0:
+            out[m] = 0.0 if sa is None else sa[1] - sa[0]
+            continue
+        sq = _segment_on(polys[q], n, c, on_tol)
+        out[m] = 0.0 if sa is None or sq is None else \
+            max(0.0, min(sa[1], sq[1]) - max(sa[0], sq[0]))
+    return out
+
+
+def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol, near_tol,
+                          fixed_ends=()):
+    """Cut off a held corner that another block's face end sits next to.
+
+    A corner C of block B on two of its bonded lines cannot slide (bonds stay
+    exact). Where another block's corner E rests on one of those faces within
+    `feature` of C (a junction held by two bonds), the face piece C-E is a short
+    free curve. B loses the triangle C, E, P with P on the other face `feature`
+    from C: the corner becomes E (both blocks' ends coincide there) and P, B
+    stays convex and only shrinks. Done only if no bond of B drops below
+    min(min_bond_length, its length before) and no other corner lies within
+    `feature` of P on that face (fixed_ends: the plates' ends and indenter cut
+    points count too). Returns the number of corners cut.
+    """
+    from scipy.spatial import cKDTree
+    def corner_index():
+        own = np.concatenate([np.full(len(p), b) for b, p in enumerate(polys)] +
+                             [np.full(len(fixed_ends), -1)])
+        pts = np.vstack(list(polys) + [np.reshape(fixed_ends, (-1, 2))])
+        return own, pts, cKDTree(pts)
+
+    owner, allpts, tree = corner_index()
+    cuts = 0
+    for b in range(len(polys)):
+        if len(lines[b]) < 2:
+            continue
+        k = 0
+        while k < len(polys[b]):
+            p = polys[b]
+            C = p[k]
+            held = [(n, c) for n, c in lines[b] if abs(C @ n - c) <= on_tol]
+            if len(held) < 2:
+                k += 1
+                continue
+            done = False
+            for nb_k, other_k in (((k + 1) % len(p), (k - 1) % len(p)),
+                                  ((k - 1) % len(p), (k + 1) % len(p))):
+                A, D = p[nb_k], p[other_k]  # A: along the face with E; D: along the other face
+                la, ld = np.linalg.norm(A - C), np.linalg.norm(D - C)
+                ua, ud = (A - C) / la, (D - C) / ld
+                on_bonded = any(abs(A @ n - c) <= on_tol for n, c in held)
+                if not on_bonded or ld < 2 * feature or la < 2 * feature:
+                    continue
+                best = None
+                for v in tree.query_ball_point(C, feature):
+                    if owner[v] == b or owner[v] < 0:
+                        continue
+                    E = allpts[v]
+                    s = (E - C) @ ua
+                    if on_tol < s < feature and abs((E - C) @ np.array([-ua[1], ua[0]])) <= near_tol:
+                        best = s if best is None else min(best, s)
+                if best is None:
+                    continue
+                E = C + best * ua
+                P = C + feature * ud
+                # no other corner on the other face within feature of P (a new short curve)
+                if any(owner[v] != b and abs((allpts[v] - C) @ np.array([-ud[1], ud[0]])) <= near_tol
+                       and on_tol < abs((allpts[v] - P) @ ud) < feature - on_tol
+                       for v in tree.query_ball_point(P, feature)):
+                    continue
+                # P is exactly on its partner's face or clear of every block by 2 fuzzy:
+                # nearer, the fuzzy fragment would join faces that are not bonded
+                if not _clear_point(polys, b, P, on_tol, 2.0 * near_tol):
+                    continue
+                q = p.copy()
+                new = [E, P] if nb_k == (k + 1) % len(p) else [P, E]
+                q = np.insert(np.delete(q, k, axis=0), k, np.array(new[::-1]), axis=0)
+                before = _bond_chords(polys, bonds, b, on_tol)
+                polys[b] = q
+                after = _bond_chords(polys, bonds, b, on_tol)
+                if all(after[m] >= min(min_bond_length, before[m]) - on_tol for m in before):
+                    cuts += 1
+                    owner, allpts, tree = corner_index()  # later cuts see this one
+                    done = True
+                    break
+                polys[b] = p
+            k += 1 if not done else 2
+    return cuts
+
+
 def _dedupe(p, tol):
     """Drop corners that coincide with the previous one (cuts through a corner repeat it)."""
     keep = np.linalg.norm(p - np.roll(p, 1, axis=0), axis=1) > tol
@@ -462,7 +575,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     feature = max(min_feature, feature_fraction * element_size)
     info = {}
     polys, contacts = resolve_contacts(pile_data["corners"], y_b, x0, x1, gap_tol,
-                                       min_bond_length, eps_sep, feature, indenter_width, info)
+                                       min_bond_length, eps_sep, feature, indenter_width, info,
+                                       fuzzy)
     times["resolve"] = time.perf_counter() - t0
     nb = len(polys)
     xi = 0.5 * indenter_width

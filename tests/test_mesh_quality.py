@@ -127,6 +127,41 @@ def test_block_end_10mm_from_the_indenter_cut(x_end):
     assert altitudes(m).min() >= MIN_ALT
 
 
+def test_held_corner_next_to_a_held_face_end_is_cut_off():
+    # B's corner C = (0, YB-0.3) lies on two bonded lines (D below, R right); D's
+    # end E rests on B's face 20 mm from C and D is bonded sideways to Q, so
+    # neither end may slide and the free 20 mm piece C-E would force 20 mm
+    # elements. B loses the triangle C, E, P with P feature = 0.4 h up its right
+    # face: its corner becomes E, so the short curve is gone.
+    B = box(-1.5, 0.0, YB - 0.3, YB)
+    R = box(0.0, 1.5, YB - 0.3, YB)
+    xq = -0.02 - 0.035 * 0.035 / 0.3  # Q's top corner on the line of D's right face
+    D = np.array([(-1.0, YB - 0.6), (-0.055, YB - 0.6), (-0.02, YB - 0.3), (-1.0, YB - 0.3)])
+    Q = np.array([(-0.055, YB - 0.6), (1.0, YB - 0.6), (1.0, YB - 0.335), (xq, YB - 0.335)])
+    m = mesh_of([B, R, D, Q])
+    m0 = mesh_of([B, R, D, Q], feature_fraction=0.0)  # no clean-up at the element size
+    feature = 0.4 * H
+    c, c0 = m["contacts"], m0["contacts"]
+    np.testing.assert_array_equal(c["bodies"], c0["bodies"])
+    np.testing.assert_array_equal(c["bonded"], c0["bonded"])
+    assert c["bonded"].all()
+    assert m["resolve_info"]["chamfers"] == 1
+    b = bonds(m)
+    # the B-R bond loses exactly the cut piece, the others keep their length
+    assert b[(0, 1)] == pytest.approx(0.3 - feature, abs=1e-9)
+    assert b[(0, 2)] == pytest.approx(0.98, abs=1e-9)
+    b0 = bonds(m0)
+    assert b[(2, 3)] == pytest.approx(b0[(2, 3)], abs=feature)
+    rb = m["resolved_blocks"]
+    assert face_end(rb[0], YB - 0.3) == pytest.approx(-0.02, abs=1e-9)
+    # B only shrinks, by the triangle 20 mm x feature
+    assert pile.polygon_area(rb[0]) == pytest.approx(0.45 - 0.5 * 0.02 * feature, abs=1e-12)
+    assert meshing.max_overlap_depth(rb) <= 1e-9
+    assert m["resolve_info"]["n_short_curves"] == 0
+    assert m0["resolve_info"]["shortest_curve"] == pytest.approx(0.02, abs=1e-9)
+    assert altitudes(m).min() >= MIN_ALT
+
+
 @pytest.fixture(scope="module")
 def demo():
     p = pile.read_pile(os.path.join(HERE, "data", "demo_pile.h5"))
