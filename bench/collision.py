@@ -76,7 +76,7 @@ def main():
         return
     steps = args.steps or (500 if args.quick else 10000)
     records = []
-    print(f"collision benchmark, {steps} steps (machine shared and loaded: figures are pessimistic)")
+    print(f"collision benchmark, {steps} steps (load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores: a busy machine gives pessimistic figures)")
     print(f"{'n':>4} {'triangles':>9} {'thr':>3} {'wall s':>8} {'tri-steps/s':>12} "
           f"{'elements':>9} {'detect':>8} {'contact':>8} {'integr':>8} {'B/tri':>6} {'RSS B/tri':>9}")
     for n in args.n:
