@@ -11,7 +11,7 @@ import numpy as np
 from .h5io import AtomicH5, open_complete, read_tree, write_tree
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
-DRIVER_FIELDS = ("phase", "t_load", "y_top0", "F_at_rest", "ke_prev")
+DRIVER_FIELDS = ("phase", "t_load", "y_top0", "F_at_rest")
 
 
 def save(run, path):

@@ -54,6 +54,8 @@ PARAMETERS = {
     "energy_tolerance": (0.1, "stop when the energy balance residual exceeds this "
                               "fraction of the energy terms, > 0"),
     "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores"),
+    "local_damping": (0.0, "local non-viscous (Cundall) damping in [0, 1), for reaching rest; "
+                           "its work is booked as damping"),
 }
 
 
@@ -189,6 +191,8 @@ class Model:
             self._m.set_energy_tolerance(p["energy_tolerance"])
         if "threads" in params:
             self._m.set_threads(p["threads"])
+        if "local_damping" in params:
+            self._m.set_local_damping(p["local_damping"])
         self._params = p
         return self
 

@@ -225,6 +225,12 @@ void Model::set_contact(double penalty, double mu) {
   stable_current_ = false;
 }
 
+void Model::set_local_damping(double alpha) {
+  if (!(alpha >= 0.0 && alpha < 1.0))
+    throw std::invalid_argument("local_damping = " + std::to_string(alpha) + " is out of range: valid range [0, 1)");
+  local_damping_ = alpha;
+}
+
 void Model::set_energy_tolerance(double tol) { require_finite_positive("energy_tolerance", tol, ""); energy_tolerance_ = tol; }
 
 void Model::set_threads(int n) {
@@ -588,18 +594,26 @@ void Model::update_positions() {
   const int32_t n = nodes_.size();
   const double dt = dt_;
   const double g = ext_.gravity ? ext_.g : 0.0;
+  const double alpha = local_damping_;
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     Nodes& N = nodes_;
     double ke = 0.0, ke_old = 0.0, p_visc = 0.0, p_con = 0.0, p_fric = 0.0, p_coh = 0.0;
+    double p_local = 0.0;
     double p_grav = 0.0, p_buoy = 0.0, p_drag = 0.0, p_bc = 0.0, p_el_new = 0.0, p_el_old = 0.0;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       const double m = N.mass[i];
       const double vox = N.vx[i], voy = N.vy[i];
       const uint8_t c = N.constrained[i];
-      const double vnx = (c & 1) ? N.v_bc_x[i] : vox + dt * N.f_x[i] / m;
-      const double vny = (c & 2) ? N.v_bc_y[i] : voy + dt * N.f_y[i] / m;
+      double dfx = 0.0, dfy = 0.0;  // local damping force
+      if (alpha > 0.0) {
+        const double fx = N.f_x[i], fy = N.f_y[i];
+        if (!(c & 1) && fx * vox != 0.0) dfx = -alpha * std::fabs(fx) * (vox > 0.0 ? 1.0 : -1.0);
+        if (!(c & 2) && fy * voy != 0.0) dfy = -alpha * std::fabs(fy) * (voy > 0.0 ? 1.0 : -1.0);
+      }
+      const double vnx = (c & 1) ? N.v_bc_x[i] : vox + dt * (N.f_x[i] + dfx) / m;
+      const double vny = (c & 2) ? N.v_bc_y[i] : voy + dt * (N.f_y[i] + dfy) / m;
       N.vx[i] = vnx;
       N.vy[i] = vny;
       N.x[i] += dt * vnx;
@@ -610,6 +624,7 @@ void Model::update_positions() {
       ke += m * (vnx * vnx + vny * vny);
       ke_old += m * (vox * vox + voy * voy);
       p_visc += N.f_visc_x[i] * bx + N.f_visc_y[i] * by;
+      p_local += dfx * bx + dfy * by;
       p_con += N.f_con_x[i] * bx + N.f_con_y[i] * by;
       p_fric += (N.f_x[i] - N.f_pre_x[i]) * bx + (N.f_y[i] - N.f_pre_y[i]) * by;
       p_coh += N.f_coh_x[i] * bx + N.f_coh_y[i] * by;
@@ -623,10 +638,11 @@ void Model::update_positions() {
     double* p = &partial_[omp_get_thread_num() * kPartialStride];
     p[0] = ke; p[1] = ke_old; p[2] = p_visc; p[3] = p_con; p[4] = p_fric; p[5] = p_coh;
     p[6] = p_grav; p[7] = p_buoy; p[8] = p_drag; p[9] = p_bc; p[10] = p_el_new; p[11] = p_el_old;
+    p[12] = p_local;
   }
-  double s[12] = {0};
+  double s[13] = {0};
   for (int t = 0; t < nt; ++t)
-    for (int k = 0; k < 12; ++k) {
+    for (int k = 0; k < 13; ++k) {
       s[k] += partial_[t * kPartialStride + k];
       partial_[t * kPartialStride + k] = 0.0;
     }
@@ -638,7 +654,7 @@ void Model::update_positions() {
     E.started = true;
   }
   E.kinetic = 0.5 * s[0];
-  E.damping -= dt * s[2];
+  E.damping -= dt * (s[2] + s[12]);
   E.contact -= dt * s[3];
   E.friction -= dt * s[4];
   E.cohesive -= dt * s[5];

@@ -52,6 +52,11 @@ class Model {
   void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
   void set_check_energy(bool on) { check_energy_ = on; }
   void set_energy_tolerance(double tol);
+  // Local non-viscous damping (Cundall): each free force component is reduced
+  // by alpha |f| when it pushes along the velocity and raised when against it.
+  // For reaching rest (settling), not for physics; its work is booked as
+  // damping. 0 switches it off. Throws std::invalid_argument outside [0, 1).
+  void set_local_damping(double alpha);
   void set_threads(int n);
 
   // --- boundary conditions ---
@@ -153,6 +158,7 @@ class Model {
   bool check_stable_dt_ = true;
   bool check_energy_ = true;
   double energy_tolerance_ = 0.1;
+  double local_damping_ = 0.0;
   int threads_ = 0;  // 0: OpenMP default
 
   bool prepared_ = false;  // masses, stable step and constraints are current

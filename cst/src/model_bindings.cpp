@@ -129,6 +129,7 @@ void bind_model(py::module_& m) {
       .def("set_check_stable_dt", &Model::set_check_stable_dt)
       .def("set_check_energy", &Model::set_check_energy)
       .def("set_energy_tolerance", &Model::set_energy_tolerance)
+      .def("set_local_damping", &Model::set_local_damping)
       .def("set_threads", &Model::set_threads)
       .def("add_boundary_condition",
            [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
