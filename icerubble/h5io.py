@@ -78,22 +78,25 @@ class AtomicH5:
         return False
 
 
-def open_complete(path, fmt=None):
-    """Open an HDF5 file for reading, refusing partial or foreign files."""
+def open_complete(path, fmt=None, what="file"):
+    """Open an HDF5 file for reading, refusing missing, partial or foreign
+    files with a ValueError that starts with `what` (e.g. "mesh file")."""
     path = os.fspath(path)
     if path.endswith(".part"):
-        raise ValueError(f"{path} is a partially written file (.part): the run that wrote it did not finish")
+        raise ValueError(f"{what} {path!r} is partially written (.part): what wrote it did not finish")
+    if not os.path.isfile(path):
+        raise ValueError(f"{what} {path!r} does not exist")
     try:
         f = h5py.File(path, "r")
     except OSError as e:
-        raise ValueError(f"{path} is not an HDF5 file ({e})") from None
+        raise ValueError(f"{what} {path!r} is not an HDF5 file ({e})") from None
     if fmt is not None and f.attrs.get("format") != fmt:
         found = f.attrs.get("format")
         f.close()
-        raise ValueError(f"{path} has format {found!r}, expected {fmt!r}")
+        raise ValueError(f"{what} {path!r} has format {found!r}, expected {fmt!r}")
     if int(f.attrs.get("complete", 0)) != 1:
         f.close()
-        raise ValueError(f"{path} is incomplete (root attribute complete != 1)")
+        raise ValueError(f"{what} {path!r} is incomplete (root attribute complete != 1)")
     return f
 
 

@@ -839,16 +839,8 @@ def write_mesh(path, m, source=""):
 
 def read_mesh(path):
     """Read a mesh file into a dict; ValueError if it is not a complete icerubble mesh."""
-    import h5py
-    if not os.path.isfile(path):
-        raise ValueError(f"mesh file {path!r} does not exist")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        raise ValueError(f"mesh file {path!r} is not an HDF5 file ({e})") from None
-    with f:
-        if f.attrs.get("format") != MESH_FORMAT or int(f.attrs.get("complete", 0)) != 1:
-            raise ValueError(f"{path!r} is not a complete {MESH_FORMAT} file")
+    from .h5io import open_complete
+    with open_complete(path, MESH_FORMAT, what="mesh file") as f:
         out = {k: f[k][...] for k in ("nodes", "triangles", "body", "body_kind", "bond_edges",
                                       "bond_edge_bodies")}
         v, o = f["resolved_blocks/vertices"][...], f["resolved_blocks/offsets"][...]

@@ -261,19 +261,8 @@ def write_pile(path, corners, thickness, length, params, meta):
 
 def read_pile(path):
     """Read a pile file; ValueError if it is not a complete icerubble pile."""
-    import h5py
-    if not os.path.isfile(path):
-        raise ValueError(f"pile file {path!r} does not exist")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        raise ValueError(f"pile file {path!r} is not an HDF5 file ({e})") from None
-    with f:
-        if f.attrs.get("format") != PILE_FORMAT:
-            raise ValueError(f"{path!r} is not an {PILE_FORMAT} file (format attribute "
-                             f"{f.attrs.get('format')!r})")
-        if int(f.attrs.get("complete", 0)) != 1:
-            raise ValueError(f"pile file {path!r} is incomplete (complete != 1)")
+    from .h5io import open_complete
+    with open_complete(path, PILE_FORMAT, what="pile file") as f:
         corners = f["blocks/corners"][...]
         if corners.ndim != 3 or corners.shape[1:] != (4, 2) or not np.isfinite(corners).all():
             raise ValueError(f"{path!r}: blocks/corners must be finite (n,4,2), got {corners.shape}")

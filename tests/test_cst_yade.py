@@ -9,7 +9,6 @@ import pytest
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-@pytest.mark.skipif(shutil.which("yade") is None, reason="yade is not installed (make deps installs it)")
 def test_engine_runs_inside_yade(tmp_path):
     script = tmp_path / "fdem_in_yade.py"
     script.write_text(textwrap.dedent(f"""

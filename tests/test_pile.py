@@ -78,15 +78,15 @@ def test_pile_in_vertical_equilibrium(tiny):
     yb, half = m["layer_bottom_y"], 0.5 * m["domain_width"]
     up = np.array([0.0, 1.0])
     F_layer = k_n * sum(_area(pile.clip_halfplane(c, -up, -yb)) for c in C if c[:, 1].max() > yb)
-    V_wall = sum(_area(pile.clip_halfplane(c, np.array([1.0, 0.0]), -half)) for c in C
+    V_side = sum(_area(pile.clip_halfplane(c, np.array([1.0, 0.0]), -half)) for c in C
                  if c[:, 0].min() < -half)
-    V_wall += sum(_area(pile.clip_halfplane(c, np.array([-1.0, 0.0]), -half)) for c in C
+    V_side += sum(_area(pile.clip_halfplane(c, np.array([-1.0, 0.0]), -half)) for c in C
                   if c[:, 0].max() > half)
     omega = np.sqrt(4 * k_n / (P["rho_i"] * P["t_min"]))
     M = P["rho_i"] * sum(_area(c) for c in C)
     residual = omega * np.sqrt(2 * m["final_kinetic_energy"] * M)
     assert F_layer > 0.5 * F_b  # the pile really rests against the layer
-    assert abs(F_layer - F_b) <= P["mu_settle"] * k_n * V_wall + residual
+    assert abs(F_layer - F_b) <= P["mu_settle"] * k_n * V_side + residual
 
 
 def test_yade_pile_meshes_with_bonds(tiny):
@@ -150,7 +150,7 @@ def test_read_pile_rejects_other_files(tmp_path):
     other = tmp_path / "other.h5"
     with h5py.File(other, "w") as f:
         f.attrs["format"] = "icerubble-run"
-    with pytest.raises(ValueError, match="not an icerubble-pile"):
+    with pytest.raises(ValueError, match="expected 'icerubble-pile'"):
         pile.read_pile(str(other))
     with pytest.raises(ValueError, match="does not exist"):
         pile.read_pile(str(tmp_path / "missing.h5"))
