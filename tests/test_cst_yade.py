@@ -1,10 +1,8 @@
 """The engine imports and runs inside YADE (BRIEF.md: YADE hosts the workflow)."""
 import os
-import shutil
 import subprocess
 import textwrap
 
-import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
