@@ -56,6 +56,8 @@ PARAMETERS = {
     "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores"),
     "local_damping": (0.0, "local non-viscous (Cundall) damping in [0, 1), for reaching rest; "
                            "its work is booked as damping"),
+    "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
+                             "that limit the stable step so that it is >= this [s]; 0 = off, >= 0"),
 }
 
 
@@ -173,6 +175,10 @@ class Model:
                 if not isinstance(v, numbers.Integral) or v < 0:
                     raise ValueError(f"threads must be an integer >= 0 (got {v!r})")
                 p[k] = int(v)
+            elif k == "mass_scaling_dt":
+                p[k] = _number(k, v)
+                if not (p[k] >= 0.0 and np.isfinite(p[k])):
+                    raise ValueError(f"mass_scaling_dt must be >= 0 s and finite, 0 = off (got {v!r})")
             else:
                 p[k] = _number(k, v)
         if "dt" in params:
@@ -193,6 +199,8 @@ class Model:
             self._m.set_threads(p["threads"])
         if "local_damping" in params:
             self._m.set_local_damping(p["local_damping"])
+        if "mass_scaling_dt" in params:
+            self._m.set_mass_scaling(p["mass_scaling_dt"])
         self._params = p
         return self
 
@@ -347,7 +355,9 @@ class Model:
 
     @property
     def mass(self):
-        """Lumped node masses [kg per m width] (view)."""
+        """Inertial node masses [kg per m width] (view): the lumped masses, raised at
+        the nodes that limit the stable step when mass_scaling_dt > 0 (the weight
+        always uses the physical lumped mass)."""
         self._m.prepare()
         return self._nodes("mass")
 

@@ -99,7 +99,12 @@ struct ContactStableStep {
 // i.e. a freeze-bond point, counts per body with that body's mass share), so
 // the limit also holds after every bond point has split.
 // Throws std::invalid_argument on bad p.
-ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in);
+// node_stiffness (optional, resized to n_nodes): per node, the largest over its
+// bodies of k_i scaled to the node's whole mass (k_i x node area / that body's
+// area around it), so that node n's limit is sqrt(2 mass[n] / node_stiffness[n]);
+// 0 for an interior node. For mass scaling (Model::set_mass_scaling).
+ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
+                                      std::vector<double>* node_stiffness = nullptr);
 
 class ContactSolver {
  public:

@@ -8,8 +8,10 @@
 
 namespace cst {
 
-ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in) {
+ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
+                                      std::vector<double>* node_stiffness) {
   check_contact_params(p);
+  if (node_stiffness) node_stiffness->assign(in.n_nodes, 0.0);
   ContactStableStep out;
   out.dt = INFINITY;
   // Each body on its own: an edge is a boundary edge of a body if no other
@@ -98,6 +100,8 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
     const int32_t n = shares[i].node;
     const double m = node_area[n] > 0.0 ? in.mass[n] * area / node_area[n] : 0.0;
     i = j;
+    if (node_stiffness && k > 0.0 && area > 0.0)
+      (*node_stiffness)[n] = std::max((*node_stiffness)[n], k * node_area[n] / area);
     if (!(k > 0.0) || !(m > 0.0) || !std::isfinite(m)) continue;
     const double dt = std::sqrt(2.0 * m / k);
     if (dt < out.dt) {

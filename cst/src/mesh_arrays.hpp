@@ -16,7 +16,16 @@ struct Nodes {
   std::vector<double> x0, y0;  // reference (initial) position [m]
   // Between steps: velocity at t - dt/2 of the next step (central difference).
   std::vector<double> vx, vy;
-  std::vector<double> mass;    // lumped mass [kg per m width]
+  // Inertial mass [kg per m width]: the lumped mass, raised at the few nodes
+  // that limit the stable step when mass scaling is on (Model::set_mass_scaling).
+  // Everything dynamic uses it: the update, kinetic energy, boundary
+  // reactions, the friction predictor, contact and bond-split masses, the
+  // stable step.
+  std::vector<double> mass;
+  // Physical lumped mass [kg per m width] (a third of each triangle's mass per
+  // corner): the weight m g, so that gravity (and with it the draft and the
+  // load on the keel) stays physical under mass scaling.
+  std::vector<double> mass_phys;
 
   // Forces of the current step by origin [N/m]; kept apart so that the work
   // of each can be integrated (energy bookkeeping, MODEL.md 4).

@@ -223,6 +223,8 @@ void Model::set_contact(double penalty, double mu) {
   contact_params_.penalty = penalty;
   contact_params_.mu = mu;
   stable_current_ = false;
+  // The contact part of mass scaling depends on the penalty.
+  if (mass_scaling_dt_ > 0.0) prepared_ = false;
 }
 
 void Model::set_local_damping(double alpha) {
@@ -232,6 +234,13 @@ void Model::set_local_damping(double alpha) {
 }
 
 void Model::set_energy_tolerance(double tol) { require_finite_positive("energy_tolerance", tol, ""); energy_tolerance_ = tol; }
+
+void Model::set_mass_scaling(double dt_target) {
+  require_finite_nonnegative("mass_scaling_dt", dt_target, "s (0: off)");
+  mass_scaling_dt_ = dt_target;
+  prepared_ = false;  // masses change
+  stable_current_ = false;
+}
 
 void Model::set_threads(int n) {
   if (n < 0) bad("threads must be >= 0 (0: OpenMP default)");
@@ -349,11 +358,52 @@ void Model::compute_masses() {
     }
     nodes_.mass[i] = m;
   }
+  nodes_.mass_phys = nodes_.mass;
+  scale_masses();
   if (!any_damping_) {
     std::fill(tris_.f_visc_corner.begin(), tris_.f_visc_corner.end(), 0.0);
     std::fill(nodes_.f_visc_x.begin(), nodes_.f_visc_x.end(), 0.0);
     std::fill(nodes_.f_visc_y.begin(), nodes_.f_visc_y.end(), 0.0);
   }
+}
+
+// Selective mass scaling. Element limit: a triangle's limit grows as
+// sqrt(min m/m_phys) of its corners (time_step.hpp), so each corner of a
+// triangle with limit dt_e < dt_target/safety needs m >= m_phys (dt_target/
+// (safety dt_e))². Contact limit sqrt(2 m / k): m >= k (dt_target/safety)²/2,
+// with k the node's stiffness from the contact module (node splitting keeps
+// it: k is per body). The margin 1e-12 absorbs the round-off of squaring and
+// taking the root again, so the stable step is not below the target.
+void Model::scale_masses() {
+  added_mass_ = 0.0;
+  scaled_nodes_ = 0;
+  total_mass_phys_ = 0.0;
+  for (double m : nodes_.mass_phys) total_mass_phys_ += m;
+  if (!(mass_scaling_dt_ > 0.0)) return;
+  const double need = mass_scaling_dt_ / kTimeStepSafety;
+  const double margin = 1.0 + 1e-12;
+  std::vector<double>& M = nodes_.mass;
+  const std::vector<double>& Mp = nodes_.mass_phys;
+  for (int32_t t = 0; t < tris_.size(); ++t) {
+    const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
+    if (dt_e >= need) continue;
+    const double r = (need / dt_e) * (need / dt_e) * margin;
+    for (int c = 0; c < 3; ++c) {
+      const int32_t i = tris_.node[3 * t + c];
+      M[i] = std::max(M[i], Mp[i] * r);
+    }
+  }
+  if (contact_possible_) {
+    std::vector<double> k;
+    contact_critical_dt(contact_params_, contact_input(), &k);
+    for (int32_t i = 0; i < nodes_.size(); ++i)
+      if (k[i] > 0.0) M[i] = std::max(M[i], 0.5 * k[i] * need * need * margin);
+  }
+  for (int32_t i = 0; i < nodes_.size(); ++i)
+    if (M[i] > Mp[i]) {
+      added_mass_ += M[i] - Mp[i];
+      ++scaled_nodes_;
+    }
 }
 
 void Model::prepare_topology() {
@@ -371,6 +421,10 @@ StableStep Model::stable_step() {
     const ContactStableStep contact =
         contact_possible_ ? contact_critical_dt(contact_params_, contact_input()) : ContactStableStep{};
     stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
+    stable_.mass_scaling_dt = mass_scaling_dt_;
+    stable_.added_mass = added_mass_;
+    stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
+    stable_.scaled_nodes = scaled_nodes_;
     stable_current_ = true;
   }
   return stable_;
@@ -458,7 +512,8 @@ void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool dra
   N.f_buoy_y[i] = fb;
   N.drag_k[i] = k;
   N.f_x[i] = fx - k * N.vx[i];
-  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass[i] * g;
+  // Weight from the physical mass: mass scaling adds inertia, not weight.
+  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass_phys[i] * g;
   N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
 }
 
@@ -628,7 +683,7 @@ void Model::update_positions() {
       p_con += N.f_con_x[i] * bx + N.f_con_y[i] * by;
       p_fric += (N.f_x[i] - N.f_pre_x[i]) * bx + (N.f_y[i] - N.f_pre_y[i]) * by;
       p_coh += N.f_coh_x[i] * bx + N.f_coh_y[i] * by;
-      p_grav -= m * g * by;
+      p_grav -= N.mass_phys[i] * g * by;  // the weight's power (physical mass)
       p_buoy += N.f_buoy_y[i] * by;
       p_drag -= N.drag_k[i] * (vox * bx + voy * by);
       p_bc += N.r_x[i] * bx + N.r_y[i] * by;

@@ -58,6 +58,12 @@ class Model {
   // damping. 0 switches it off. Throws std::invalid_argument outside [0, 1).
   void set_local_damping(double alpha);
   void set_threads(int n);
+  // Selective mass scaling: raise the inertial mass of the nodes that limit the
+  // stable step (element or contact limit) until it is at least dt_target;
+  // weight stays physical (Nodes::mass_phys). 0 switches it off (default).
+  // Throws std::invalid_argument unless dt_target >= 0 and finite.
+  void set_mass_scaling(double dt_target);
+  double mass_scaling() const { return mass_scaling_dt_; }
 
   // --- boundary conditions ---
   void add_boundary_condition(const BoundaryCondition& bc);
@@ -134,6 +140,7 @@ class Model {
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
   void compute_masses();
+  void scale_masses();  // the mass scaling part of compute_masses
   void build_constraints();
   ContactInput contact_input() const;
   [[noreturn]] void fail(const std::string& what, int32_t node, int32_t tri) const;
@@ -159,6 +166,10 @@ class Model {
   bool check_energy_ = true;
   double energy_tolerance_ = 0.1;
   double local_damping_ = 0.0;
+  double mass_scaling_dt_ = 0.0;  // 0: off
+  double added_mass_ = 0.0;       // sum of mass - mass_phys [kg/m]
+  double total_mass_phys_ = 0.0;
+  int32_t scaled_nodes_ = 0;
   int threads_ = 0;  // 0: OpenMP default
 
   bool prepared_ = false;  // masses, stable step and constraints are current

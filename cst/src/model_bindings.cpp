@@ -31,11 +31,11 @@ py::array view(std::vector<T>& v, py::object owner, ssize_t cols = 1) {
 
 py::array node_view(py::object self, const std::string& name) {
   Nodes& N = self.cast<Model&>().nodes();
-  std::vector<double>* arrays[] = {&N.x, &N.y, &N.x0, &N.y0, &N.vx, &N.vy, &N.mass,
+  std::vector<double>* arrays[] = {&N.x, &N.y, &N.x0, &N.y0, &N.vx, &N.vy, &N.mass, &N.mass_phys,
                                    &N.f_int_x, &N.f_int_y, &N.f_visc_x, &N.f_visc_y,
                                    &N.f_con_x, &N.f_con_y, &N.f_coh_x, &N.f_coh_y,
                                    &N.f_buoy_y, &N.drag_k, &N.f_x, &N.f_y, &N.r_x, &N.r_y};
-  const char* names[] = {"x", "y", "x0", "y0", "vx", "vy", "mass", "f_int_x", "f_int_y",
+  const char* names[] = {"x", "y", "x0", "y0", "vx", "vy", "mass", "mass_phys", "f_int_x", "f_int_y",
                          "f_visc_x", "f_visc_y", "f_con_x", "f_con_y", "f_coh_x", "f_coh_y",
                          "f_buoy_y", "drag_k", "f_x", "f_y", "r_x", "r_y"};
   for (size_t k = 0; k < sizeof(names) / sizeof(names[0]); ++k)
@@ -92,6 +92,10 @@ py::dict stable_dict(const StableStep& s, const Model& m) {
   d["contact_mass"] = s.contact_mass;
   d["dt_drag"] = s.dt_drag;
   d["drag_body"] = s.drag_body;
+  d["mass_scaling_dt"] = s.mass_scaling_dt;
+  d["added_mass"] = s.added_mass;
+  d["added_mass_fraction"] = s.added_mass_fraction;
+  d["scaled_nodes"] = s.scaled_nodes;
   d["message"] = s.describe(const_cast<Model&>(m).triangles().body);
   return d;
 }
@@ -131,6 +135,7 @@ void bind_model(py::module_& m) {
       .def("set_energy_tolerance", &Model::set_energy_tolerance)
       .def("set_local_damping", &Model::set_local_damping)
       .def("set_threads", &Model::set_threads)
+      .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
       .def("add_boundary_condition",
            [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
               double dir_y, const std::string& kind, double value, double ramp_time, DArray t, DArray v) {

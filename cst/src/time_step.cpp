@@ -61,6 +61,16 @@ double element_critical_dt(double ax, double ay, double bx, double by, double cx
   return 2.0 / std::sqrt(w2);
 }
 
+double element_damped_dt(const Nodes& nodes, const Triangles& tris,
+                         const std::vector<ElementMaterial>& mat, int32_t t) {
+  const int32_t a = tris.node[3 * t], b = tris.node[3 * t + 1], c = tris.node[3 * t + 2];
+  const ElementMaterial& m = mat[tris.body[t]];
+  const double dt0 = element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b],
+                                         nodes.x0[c], nodes.y0[c], m);
+  const double xi = 0.5 * (2.0 / dt0) * m.tau;
+  return dt0 * (std::sqrt(1.0 + xi * xi) - xi);
+}
+
 std::string StableStep::governing() const {
   if (dt_element <= dt_contact && dt_element <= dt_drag) return "element";
   return dt_contact <= dt_drag ? "contact" : "drag";
@@ -83,6 +93,10 @@ std::string StableStep::describe(const std::vector<int32_t>& tri_body) const {
   else
     o << "none (fewer than two bodies)";
   if (std::isfinite(dt_drag)) o << "; drag limit " << dt_drag << " s (body " << drag_body << ")";
+  if (mass_scaling_dt > 0.0)
+    o << "; mass scaling to " << mass_scaling_dt << " s: " << scaled_nodes << " nodes carry "
+      << added_mass << " kg/m of added inertial mass (" << 100.0 * added_mass_fraction
+      << " % of the physical mass)";
   return o.str();
 }
 
@@ -100,7 +114,12 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                                            nodes.x0[c], nodes.y0[c], m);
     const double w = 2.0 / dt0;
     const double xi = 0.5 * w * m.tau;
-    const double dt = dt0 * (std::sqrt(1.0 + xi * xi) - xi);
+    // Without mass scaling mass == mass_phys and the factor is exactly 1.
+    const double ratio = std::fmin(nodes.mass[a] / nodes.mass_phys[a],
+                                   std::fmin(nodes.mass[b] / nodes.mass_phys[b],
+                                             nodes.mass[c] / nodes.mass_phys[c]));
+    double dt = dt0 * (std::sqrt(1.0 + xi * xi) - xi);
+    if (ratio != 1.0) dt *= std::sqrt(ratio);
     if (dt < s.dt_element) {
       s.dt_element = dt;
       s.element = t;

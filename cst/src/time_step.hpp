@@ -37,6 +37,13 @@ struct StableStep {
   double contact_mass = 0.0;
   double dt_drag = 0.0;
   int32_t drag_body = -1;
+  // Mass scaling (Model::set_mass_scaling): the target step (0: off), the
+  // inertial mass added over the physical mass [kg/m], its fraction of the
+  // total physical mass, and how many nodes carry added mass.
+  double mass_scaling_dt = 0.0;
+  double added_mass = 0.0;
+  double added_mass_fraction = 0.0;
+  int32_t scaled_nodes = 0;
   std::string governing() const;  // "element", "contact" or "drag"
   std::string describe(const std::vector<int32_t>& tri_body) const;
 };
@@ -45,6 +52,14 @@ struct StableStep {
 double element_critical_dt(double ax, double ay, double bx, double by, double cx, double cy,
                            const ElementMaterial& m);
 
+// Critical step of triangle t with its physical lumped masses, strain-rate
+// damping included (the element limit before any mass scaling).
+double element_damped_dt(const Nodes& nodes, const Triangles& tris,
+                         const std::vector<ElementMaterial>& mat, int32_t t);
+
+// Element limits use the inertial masses: a triangle's limit is its physical
+// one times sqrt(min over its corners of mass/mass_phys) (conservative: the
+// damped limit grows faster than that with the mass).
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                             const std::vector<ElementMaterial>& mat,
                             bool contact_possible, const ContactStableStep& contact,
