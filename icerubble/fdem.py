@@ -362,6 +362,12 @@ class Model:
         return self._nodes("mass")
 
     @property
+    def mass_phys(self):
+        """Physical lumped node masses [kg per m width] (view): what weighs."""
+        self._m.prepare()
+        return self._nodes("mass_phys")
+
+    @property
     def triangles(self):
         return self._tris("triangles")
 

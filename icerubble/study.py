@@ -28,7 +28,7 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         return out
     t0 = time.perf_counter()
     if options is None:
-        options = RunOptions(dt_fraction=sc.get("dt_fraction"))
+        options = RunOptions(dt_fraction=sc.get("dt_fraction"), mass_scaling_dt=sc.get("mass_scaling_dt"))
     run = PunchThrough(mesh_path, out, params=params, options=options,
                        meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
                                  scene=scene_name))
