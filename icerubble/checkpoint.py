@@ -9,9 +9,10 @@ import json
 import numpy as np
 
 from .h5io import AtomicH5, open_complete, read_tree, write_tree
+from .recorder import ENERGY_TERMS
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
-DRIVER_FIELDS = ("phase", "t_load", "y_top0", "F_at_rest")
+DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest")
 
 
 def save(run, path):
@@ -26,7 +27,7 @@ def save(run, path):
         r = f.create_group("recorder")
         s = run.recorder.state()
         r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 3))
-        r.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(len(s["energy_rows"]), -1))
+        r.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(-1, 1 + len(ENERGY_TERMS)))
         r.create_dataset("pending_snaps", data=np.array(s["pending_snaps"], float))
         r.create_dataset("reference_nodes", data=s["reference_nodes"])
         r.create_dataset("centroid0", data=s["centroid0"])

@@ -131,6 +131,7 @@ class PunchThrough:
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
         self.F_at_rest = math.nan
+        self.t_settle = None        # model time when settling started
         self.vtu_entries = []
         self.model = m
 
@@ -198,7 +199,9 @@ class PunchThrough:
         m, o, dt = self.model, self.options, self.params["dt"]
         self.apply_boundary_conditions()
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
-        t_start = m.time
+        if self.t_settle is None or not math.isfinite(self.t_settle):
+            self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
+        t_start = self.t_settle
         prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
         while True:
             m.step(chunk)

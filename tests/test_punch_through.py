@@ -168,3 +168,20 @@ def test_mass_scaling_raises_the_step_and_keeps_the_balance(mesh_path, tmp_path)
     assert abs(e["residual"]) < 1e-3 * e["scale"]
     with open_complete(tmp_path / "b.h5") as f:
         assert f.attrs["mass_scaling_dt"] == pytest.approx(target)
+
+
+def test_run_interrupted_while_settling_resumes(mesh_path, tmp_path, finished):
+    """A checkpoint written before loading starts (nothing recorded yet)
+    resumes into the same run."""
+    run0, out0 = finished
+    out = tmp_path / "run.h5"
+    run = PunchThrough(mesh_path, out, params=PARAMS,
+                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=False, stop_after_steps=1))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    assert run.phase == "settle" and not out.exists()
+    again = PunchThrough(mesh_path, out, params=PARAMS,
+                         options=RunOptions(threads=1, progress_every_s=1e9, vtu=False))
+    again.run(resume=True)
+    with h5py.File(out0) as a, h5py.File(out) as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
