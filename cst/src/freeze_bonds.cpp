@@ -1,3 +1,4 @@
+#include "input_errors.hpp"
 #include "freeze_bonds.hpp"
 
 #include <omp.h>
@@ -36,15 +37,6 @@ constexpr int32_t kMinParallelItems = 1024;
 // limit, (w dt)² <= 3.24, the sum stays below 4).
 // delta_m, |f_c| and the dissipation follow eq 10 throughout.
 constexpr double kRigidOpening = 1e-6;
-
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
-
-[[noreturn]] void bad(const std::string& msg) { throw std::invalid_argument(msg); }
 
 struct Timer {
   explicit Timer(double& acc) : acc_(acc), t0_(omp_get_wtime()) {}

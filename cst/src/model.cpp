@@ -1,3 +1,4 @@
+#include "input_errors.hpp"
 #include "model.hpp"
 
 #include <omp.h>
@@ -17,15 +18,6 @@ constexpr double kGrowthFactor = 10.0;
 // Below this many triangles a step is a few tens of microseconds of work and
 // waking a second thread (twice per step) costs more than it saves.
 constexpr int32_t kMinParallelTriangles = 2048;
-
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
-
-[[noreturn]] void bad(const std::string& msg) { throw std::invalid_argument(msg); }
 
 void require_finite_positive(const char* name, double v, const char* unit) {
   if (!(v > 0.0) || !std::isfinite(v))

@@ -1,0 +1,19 @@
+// Clear errors for bad input: std::invalid_argument (Python ValueError) with
+// numbers printed the same way everywhere in the engine.
+#pragma once
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace cst {
+
+inline std::string num(double v) {
+  std::ostringstream o;
+  o.precision(6);
+  o << v;
+  return o.str();
+}
+
+[[noreturn]] inline void bad(const std::string& msg) { throw std::invalid_argument(msg); }
+
+}  // namespace cst
