@@ -34,8 +34,9 @@ from icerubble import _cst  # noqa: E402
 
 InstabilityError = _cst.InstabilityError
 
-MATERIAL_KEYS = ("E", "nu", "rho", "damping")
-MATERIAL_DEFAULTS = {"nu": 0.3, "damping": 0.0}
+MATERIAL_KEYS = ("E", "nu", "rho", "damping", "viscosity")
+MATERIAL_DEFAULTS = {"nu": 0.3, "damping": 0.0, "viscosity": 0.0}
+DRAG_MODELS = ("linear", "quadratic", "none")
 
 # Parameter name -> (default, description) for Model.set().
 PARAMETERS = {
@@ -43,10 +44,13 @@ PARAMETERS = {
     "gravity": (True, "gravity on/off"),
     "g": (9.81, "gravitational acceleration [m/s²], >= 0"),
     "buoyancy": (False, "buoyancy on/off"),
-    "drag": (False, "linear water drag on/off"),
+    "drag": (False, "water drag on/off (the law is drag_model)"),
+    "drag_model": ("linear", "water drag law: 'linear' (-c_w v per body), 'quadratic' "
+                             "(-1/2 rho_w C_d |V| V L per body, L its width across V) or 'none'"),
+    "C_d": (1.0, "form drag coefficient of the quadratic drag law [-], >= 0"),
     "rho_w": (1010.0, "water density [kg/m³], >= 0"),
     "y_w": (0.0, "water line [m]"),
-    "c_w": (2.5e4, "water drag constant [Pa s], >= 0"),
+    "c_w": (2.5e4, "linear water drag constant [Pa s], >= 0"),
     "penalty": (2e11, "contact penalty s [Pa], > 0"),
     "mu": (0.3, "Coulomb friction coefficient, >= 0"),
     "check_stable_dt": (True, "refuse dt above the stable step"),
@@ -97,7 +101,9 @@ class Model:
     body id -> dict, or a sequence of dicts indexed by body id. ``damping`` is
     the strain-rate damping time [s] (viscous stress = damping x elastic
     tensor : rate of Green strain; a mode of angular frequency w is damped at
-    ratio w*damping/2), default 0. nu defaults to 0.3 (not given in the paper).
+    ratio w*damping/2), default 0. ``viscosity`` [Pa s] adds a viscous stress
+    viscosity x rate of Green strain (~ eta D), default 0. nu defaults to 0.3
+    (not given in the paper).
     node_sets: optional mapping name -> node ids.
     """
 
@@ -171,6 +177,11 @@ class Model:
         for k, v in params.items():
             if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy"):
                 p[k] = _flag(k, v)
+            elif k == "drag_model":
+                if v not in DRAG_MODELS:
+                    raise ValueError(f"drag_model={v!r} is invalid: valid values are "
+                                     + ", ".join(repr(d) for d in DRAG_MODELS))
+                p[k] = v
             elif k == "threads":
                 if not isinstance(v, numbers.Integral) or v < 0:
                     raise ValueError(f"threads must be an integer >= 0 (got {v!r})")
@@ -189,6 +200,8 @@ class Model:
             self._m.set_water(p["buoyancy"], p["drag"], p["rho_w"], p["y_w"], p["c_w"])
         if params.keys() & {"penalty", "mu"}:
             self._m.set_contact(p["penalty"], p["mu"])
+        if params.keys() & {"drag_model", "C_d"}:
+            self._m.set_drag_model(p["drag_model"], p["C_d"])
         if "check_stable_dt" in params:
             self._m.set_check_stable_dt(p["check_stable_dt"])
         if "check_energy" in params:

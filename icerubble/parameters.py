@@ -50,9 +50,16 @@ TABLE_1 = {
     "nu": Parameter(0.3, "-", lo=0.0, hi=0.5, hi_open=True, doc="Poisson's ratio (not given in the paper)"),
     "rho_i": Parameter(920.0, "kg/m^3", **POS, doc="ice density"),
     "damping": Parameter(0.0, "-", **NONNEG, doc="element strain-rate damping, fraction of critical at the element scale"),
+    "viscosity": Parameter(0.0, "Pa s", **NONNEG,
+                           doc="viscosity of the block material: viscous stress eta x strain rate "
+                               "(one reading of Table 1's 2.5e4 Pa s, docs/model.md)"),
     # water
     "rho_w": Parameter(1010.0, "kg/m^3", **POS, doc="water density"),
-    "c_w": Parameter(2.5e4, "Pa s", **NONNEG, doc="linear water drag constant"),
+    "drag_model": Parameter("linear", "-", choices=("linear", "quadratic", "none"),
+                            doc="water drag law: linear -c_w v per block, quadratic form drag "
+                                "-1/2 rho_w C_d |v| v L per block, or none (docs/model.md)"),
+    "c_w": Parameter(2.5e4, "Pa s", **NONNEG, doc="linear water drag constant (drag_model='linear')"),
+    "C_d": Parameter(1.0, "-", lo=0.0, hi=10.0, doc="form drag coefficient (drag_model='quadratic')"),
     "g": Parameter(9.81, "m/s^2", **POS, doc="gravitational acceleration"),
     # geometry
     "domain_width": Parameter(50.0, "m", **POS, doc="width of the consolidated layer and keel"),
@@ -106,6 +113,11 @@ def validate(params):
     out = defaults()
     for name, value in params.items():
         out[name] = check_value(name, value)
+    # a drag constant the chosen law does not use is a mistake in the table
+    for name, law in (("c_w", "linear"), ("C_d", "quadratic")):
+        if name in params and out["drag_model"] != law:
+            raise ValueError(f"parameter {name}={params[name]!r} is used only with drag_model='{law}' "
+                             f"(got drag_model={out['drag_model']!r}); drop {name} or set drag_model")
     if out["indenter_width"] >= out["domain_width"]:
         raise ValueError(f"parameter indenter_width={out['indenter_width']} must be smaller than "
                          f"domain_width={out['domain_width']} m")

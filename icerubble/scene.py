@@ -58,7 +58,8 @@ class Scene:
         self.indenter_thickness = float(ys.max() - ys.min())
 
         self.material = dict(E=params["E"], nu=params["nu"], rho=params["rho_i"],
-                             damping=element_damping_time(params, self.element_size))
+                             damping=element_damping_time(params, self.element_size),
+                             viscosity=params["viscosity"])
         self.threads = threads
         self.bond_points = find_bond_points(
             nodes, tri, body, keel_top_y=self.keel_top_y, keel_depth=self.keel_depth,
@@ -77,6 +78,7 @@ class Scene:
     def _configure(self, m):
         p = self.params
         m.set(dt=p["dt"], gravity=True, g=p["g"], buoyancy=True, drag=True,
+              drag_model=p["drag_model"], C_d=p["C_d"],
               rho_w=p["rho_w"], y_w=self.y_w, c_w=p["c_w"], penalty=p["penalty"], mu=p["mu"],
               threads=self.threads)
 

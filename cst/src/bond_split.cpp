@@ -21,7 +21,7 @@ namespace cl = cohesive_law;
 
 void FreezeBonds::regather(Model& M, int32_t i) const {
   const ExternalParams& x = M.ext_;
-  M.gather_node(i, M.any_damping_, x.water(), x.buoyancy, x.drag, x.gravity ? x.g : 0.0);
+  M.gather_node(i, M.any_damping_, x.water(), x.buoyancy, x.drag_on(), x.gravity ? x.g : 0.0);
 }
 
 void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& gx,

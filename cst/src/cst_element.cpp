@@ -91,9 +91,9 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
       const double D22 = k.F12 * r.F12 + k.F22 * r.F22;
       const double D12 = 0.5 * (k.F11 * r.F12 + k.F21 * r.F22 + k.F12 * r.F11 + k.F22 * r.F21);
       const double trD = D11 + D22;
-      const double V11 = m.tau * (m.lambda * trD + 2.0 * m.mu * D11);
-      const double V22 = m.tau * (m.lambda * trD + 2.0 * m.mu * D22);
-      const double V12 = m.tau * 2.0 * m.mu * D12;
+      const double V11 = m.tau * (m.lambda * trD + 2.0 * m.mu * D11) + m.eta * D11;
+      const double V22 = m.tau * (m.lambda * trD + 2.0 * m.mu * D22) + m.eta * D22;
+      const double V12 = m.tau * 2.0 * m.mu * D12 + m.eta * D12;
       const double W11 = k.F11 * V11 + k.F12 * V12, W12 = k.F11 * V12 + k.F12 * V22;
       const double W21 = k.F21 * V11 + k.F22 * V12, W22 = k.F21 * V12 + k.F22 * V22;
       const double v1x = -a0 * (W11 * b00 + W12 * b01), v1y = -a0 * (W21 * b00 + W22 * b01);

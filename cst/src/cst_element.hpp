@@ -2,7 +2,8 @@
 //
 // F = Ds Dm^-1 from current and reference edge vectors, Green-Lagrange strain
 // E = (F^T F - I)/2, St Venant-Kirchhoff S = lambda tr(E) I + 2 mu E (plane
-// strain), strain-rate damping S_v = tau (lambda tr(dE/dt) I + 2 mu dE/dt),
+// strain), strain-rate damping S_v = tau (lambda tr(dE/dt) I + 2 mu dE/dt)
+// + eta dE/dt (eta the block viscosity),
 // nodal forces from the first Piola-Kirchhoff stress P = F (S + S_v):
 // f_corner = -A0 P Dm^-T. A rigid rotation gives F^T F = I, hence zero stress,
 // at any angle.

@@ -1,5 +1,8 @@
 #include "external_forces.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace cst {
 
 Submerged submerged_part(double ax, double ay, double bx, double by, double cx, double cy,
@@ -39,7 +42,8 @@ Submerged submerged_part(double ax, double ay, double bx, double by, double cx, 
 }
 
 double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
-                                 const std::vector<double>& body_area0, int32_t begin, int32_t end) {
+                                 const std::vector<double>& body_area0,
+                                 const std::vector<double>& body_drag, int32_t begin, int32_t end) {
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
   const int32_t* tn = tris.node.data();
@@ -70,10 +74,67 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
       fb[3 * t + 1] = fy * l1;
       fb[3 * t + 2] = fy * l2;
     }
-    if (p.drag && area > 0.0)
-      kd[t] = p.c_w * (tris.area0[t] / body_area0[tris.body[t]]) * (a_sub / area) / 3.0;
+    if (p.drag_on() && area > 0.0) {
+      const int32_t b = tris.body[t];
+      kd[t] = body_drag[b] * (tris.area0[t] / body_area0[b]) * (a_sub / area) / 3.0;
+    }
   }
   return submerged;
+}
+
+void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
+                         const std::vector<double>& body_area0, std::vector<double>& body_drag) {
+  const size_t nb = body_area0.size();
+  body_drag.assign(nb, 0.0);
+  if (!p.drag_on()) return;
+  if (p.drag_model == DragModel::Linear) {
+    std::fill(body_drag.begin(), body_drag.end(), p.c_w);
+    return;
+  }
+  // Quadratic: mean velocity of each body (triangle centroids, area weighted).
+  const int32_t m = tris.size();
+  const int32_t* tn = tris.node.data();
+  const double* vx = nodes.vx.data();
+  const double* vy = nodes.vy.data();
+  std::vector<double> Vx(nb, 0.0), Vy(nb, 0.0);
+  for (int32_t t = 0; t < m; ++t) {
+    const int32_t b = tris.body[t];
+    const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
+    const double w = tris.area0[t] / 3.0;
+    Vx[b] += w * (vx[i0] + vx[i1] + vx[i2]);
+    Vy[b] += w * (vy[i0] + vy[i1] + vy[i2]);
+  }
+  // Width across the velocity: extent of the body's corners along n = V-perp.
+  std::vector<double> lo(nb, 0.0), hi(nb, 0.0);
+  std::vector<uint8_t> seen(nb, 0);
+  for (size_t b = 0; b < nb; ++b) {
+    if (body_area0[b] > 0.0) {
+      Vx[b] /= body_area0[b];
+      Vy[b] /= body_area0[b];
+    }
+  }
+  const double* x = nodes.x.data();
+  const double* y = nodes.y.data();
+  for (int32_t t = 0; t < m; ++t) {
+    const int32_t b = tris.body[t];
+    const double speed = std::hypot(Vx[b], Vy[b]);
+    if (!(speed > 0.0)) continue;
+    const double nx = -Vy[b] / speed, ny = Vx[b] / speed;
+    for (int k = 0; k < 3; ++k) {
+      const int32_t i = tn[3 * t + k];
+      const double s = x[i] * nx + y[i] * ny;
+      if (!seen[b]) {
+        lo[b] = hi[b] = s;
+        seen[b] = 1;
+      } else {
+        lo[b] = std::fmin(lo[b], s);
+        hi[b] = std::fmax(hi[b], s);
+      }
+    }
+  }
+  const double half_rho_cd = 0.5 * p.rho_w * p.C_d;
+  for (size_t b = 0; b < nb; ++b)
+    if (seen[b]) body_drag[b] = half_rho_cd * std::hypot(Vx[b], Vy[b]) * (hi[b] - lo[b]);
 }
 
 }  // namespace cst

@@ -180,6 +180,7 @@ void Model::set_material(int32_t b, const Material& mat) {
   if (!(mat.nu >= 0.0 && mat.nu < 0.5)) bad("nu must be in [0, 0.5) (got " + num(mat.nu) + ")");
   require_finite_positive("rho", mat.rho, "kg/m³");
   require_finite_nonnegative("damping", mat.damping, "s");
+  require_finite_nonnegative("viscosity", mat.viscosity, "Pa s");
   materials_[b] = mat;
   materials_[b].set = true;
   prepared_ = false;
@@ -206,6 +207,13 @@ void Model::set_water(bool buoyancy, bool drag, double rho_w, double y_w, double
   ext_.rho_w = rho_w;
   ext_.y_w = y_w;
   ext_.c_w = c_w;
+  stable_current_ = false;
+}
+
+void Model::set_drag_model(DragModel model, double C_d) {
+  require_finite_nonnegative("C_d", C_d, "");
+  ext_.drag_model = model;
+  ext_.C_d = C_d;
   stable_current_ = false;
 }
 
@@ -330,13 +338,13 @@ void Model::compute_masses() {
     if (!materials_[b].set) {
       for (int32_t body : tris_.body)
         if (body == b)
-          bad("material of body " + std::to_string(b) + " is not set (E, nu, rho, damping)");
+          bad("material of body " + std::to_string(b) + " is not set (E, nu, rho, damping, viscosity)");
     }
   elem_mat_.resize(materials_.size());
   any_damping_ = false;
   for (size_t b = 0; b < materials_.size(); ++b) {
     elem_mat_[b] = ElementMaterial::from(materials_[b]);
-    any_damping_ = any_damping_ || materials_[b].damping > 0.0;
+    any_damping_ = any_damping_ || materials_[b].damping > 0.0 || materials_[b].viscosity > 0.0;
   }
   body_area0_.assign(materials_.size(), 0.0);
   std::fill(nodes_.mass.begin(), nodes_.mass.end(), 0.0);
@@ -517,8 +525,9 @@ void Model::compute_body_forces() {
   std::fill(inverted, inverted + kMaxThreads, -1);
   const bool damping = any_damping_;
   const bool water = ext_.water();
-  const bool buoy = ext_.buoyancy, drag = ext_.drag;
+  const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
   const double g = ext_.gravity ? ext_.g : 0.0;
+  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_);
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
@@ -527,7 +536,7 @@ void Model::compute_body_forces() {
     // (1) element forces and (6) water forces, per triangle.
     ElementSweep sweep;
     element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep);
-    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, b, e);
+    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e);
     partial_[tid * kPartialStride] = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
     #pragma omp barrier

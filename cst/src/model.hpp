@@ -48,6 +48,9 @@ class Model {
   void set_dt(double dt);
   void set_gravity(bool on, double g);
   void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
+  // Which drag law acts when drag is on (external_forces.hpp); C_d >= 0 is
+  // the form drag coefficient of the quadratic law.
+  void set_drag_model(DragModel model, double C_d);
   void set_contact(double penalty, double mu);
   void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
   void set_check_energy(bool on) { check_energy_ = on; }
@@ -152,6 +155,7 @@ class Model {
   std::vector<Material> materials_;
   std::vector<ElementMaterial> elem_mat_;
   std::vector<double> body_area0_;
+  std::vector<double> body_drag_;  // each body's drag constant this step [N s/m per m]
   std::vector<uint8_t> on_surface_;  // node lies on its body's boundary
   std::vector<int32_t> surface_tris_;
   bool contact_possible_ = false;

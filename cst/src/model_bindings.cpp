@@ -116,19 +116,32 @@ void bind_model(py::module_& m) {
            }),
            py::arg("nodes"), py::arg("triangles"), py::arg("body"))
       .def("set_material",
-           [](Model& M, int32_t b, double E, double nu, double rho, double damping) {
+           [](Model& M, int32_t b, double E, double nu, double rho, double damping, double viscosity) {
              Material mat;
              mat.E = E;
              mat.nu = nu;
              mat.rho = rho;
              mat.damping = damping;
+             mat.viscosity = viscosity;
              M.set_material(b, mat);
            },
-           py::arg("body"), py::arg("E"), py::arg("nu"), py::arg("rho"), py::arg("damping"))
+           py::arg("body"), py::arg("E"), py::arg("nu"), py::arg("rho"), py::arg("damping"),
+           py::arg("viscosity") = 0.0)
       .def("set_dt", &Model::set_dt)
       .def("set_gravity", &Model::set_gravity, py::arg("on"), py::arg("g"))
       .def("set_water", &Model::set_water, py::arg("buoyancy"), py::arg("drag"), py::arg("rho_w"),
            py::arg("y_w"), py::arg("c_w"))
+      .def("set_drag_model",
+           [](Model& M, const std::string& model, double C_d) {
+             DragModel d;
+             if (model == "none") d = DragModel::None;
+             else if (model == "linear") d = DragModel::Linear;
+             else if (model == "quadratic") d = DragModel::Quadratic;
+             else throw std::invalid_argument("drag_model = '" + model +
+                                              "' is invalid: valid values are 'linear', 'quadratic', 'none'");
+             M.set_drag_model(d, C_d);
+           },
+           py::arg("model"), py::arg("C_d"))
       .def("set_contact", &Model::set_contact, py::arg("penalty"), py::arg("mu"))
       .def("set_check_stable_dt", &Model::set_check_stable_dt)
       .def("set_check_energy", &Model::set_check_energy)

@@ -67,7 +67,7 @@ double element_damped_dt(const Nodes& nodes, const Triangles& tris,
   const ElementMaterial& m = mat[tris.body[t]];
   const double dt0 = element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b],
                                          nodes.x0[c], nodes.y0[c], m);
-  const double xi = 0.5 * (2.0 / dt0) * m.tau;
+  const double xi = 0.5 * (2.0 / dt0) * m.tau_eff();
   return dt0 * (std::sqrt(1.0 + xi * xi) - xi);
 }
 
@@ -113,7 +113,7 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     const double dt0 = element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b],
                                            nodes.x0[c], nodes.y0[c], m);
     const double w = 2.0 / dt0;
-    const double xi = 0.5 * w * m.tau;
+    const double xi = 0.5 * w * m.tau_eff();
     // Without mass scaling mass == mass_phys and the factor is exactly 1.
     const double ratio = std::fmin(nodes.mass[a] / nodes.mass_phys[a],
                                    std::fmin(nodes.mass[b] / nodes.mass_phys[b],
@@ -144,7 +144,7 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     s.contact_node = contact.node;
     s.contact_mass = contact.mass;
   }
-  if (ext.drag && ext.c_w > 0.0) {
+  if (ext.drag_on() && ext.drag_model == DragModel::Linear && ext.c_w > 0.0) {
     for (size_t b = 0; b < body_area0.size(); ++b) {
       if (!(body_area0[b] > 0.0)) continue;
       const double dt = 2.0 * mat[b].rho * body_area0[b] / ext.c_w;
