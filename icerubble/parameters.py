@@ -113,9 +113,10 @@ def validate(params):
     out = defaults()
     for name, value in params.items():
         out[name] = check_value(name, value)
-    # a drag constant the chosen law does not use is a mistake in the table
+    # a drag constant set away from its default for a law that does not use
+    # it is a mistake in the table (validate also sees full dicts: defaults pass)
     for name, law in (("c_w", "linear"), ("C_d", "quadratic")):
-        if name in params and out["drag_model"] != law:
+        if out[name] != TABLE_1[name].default and out["drag_model"] != law:
             raise ValueError(f"parameter {name}={params[name]!r} is used only with drag_model='{law}' "
                              f"(got drag_model={out['drag_model']!r}); drop {name} or set drag_model")
     if out["indenter_width"] >= out["domain_width"]:

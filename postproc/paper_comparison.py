@@ -1,0 +1,171 @@
+"""A study's statistics side by side with the paper's (docs/model.md §5).
+
+Our random ridges are not the paper's four, so the comparison is between
+statistics over ridges: where the peak sits, how far F drops by 20 mm, the spread
+of F^m between ridges, the effect of μ, the failure-plane angle α, the shear
+strengths of Table 2, the failure-mode ratio of Table 3, the buoyant share
+F_b(A_p)/F^m and the correlation of post-peak F with F_d(K = 0.45).
+
+    /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [-o comparison.md]
+
+The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
+(1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
+"""
+import argparse
+import sys
+
+import numpy as np
+
+from . import displaced_area as dA
+from . import loads, plug, results, summary
+from .failure_plane import mean_sd
+
+# The paper's numbers (section 3, Tables 2 and 3)
+PAPER = {
+    "y_peak": "~1 mm (Fig. 7)",
+    "drop": "steep drop until ~20 mm; F^m 2.0-3.2x the mean load over 150-300 mm (μ 0.05)",
+    "spread": "up to ~50 % between ridges (Fig. 8)",
+    "mu_50": "2-7 % (Fig. 8, 11)",
+    "mu_5": "up to 28 % (Fig. 11)",
+    "alpha_50": {0.05: "43 ± 8°", 0.3: "44 ± 7°"},
+    "tau1": {5: "3.6 ± 0.8", 50: "5.8 ± 0.9", 100: "7.0 ± 1.3"},
+    "tau2": {5: "2.3 ± 0.8", 50: "4.5 ± 0.9", 100: "5.7 ± 1.3"},
+    "tau3": {5: "2.0 ± 0.6", 50: "3.0 ± 0.6", 100: "4.2 ± 1.0"},
+    "ntns": {5: "0.38 ± 0.14", 50: "1.44 ± 0.61", 100: "2.54 ± 0.91"},
+    "Fb_share": "~50 % (Fig. 15)",
+    "R045": "0.88 at τ_cr 50 kPa, 0.82 over all runs (Fig. 20, y_I 20-150 mm)",
+}
+
+
+def _pm(values, digits=2, unit=""):
+    m, s = mean_sd(values)
+    if not np.isfinite(m):
+        return "—"
+    n = np.count_nonzero(np.isfinite(np.asarray(values, dtype=float)))
+    sd = f" ± {s:.{digits}f}" if np.isfinite(s) else ""
+    return f"{m:.{digits}f}{sd}{unit} (n={n})"
+
+
+def cylindrical_plug_force(run):
+    return float(plug.run_buoyant_load(run, run.indenter_width * run.keel_depth))
+
+
+def rows_and_runs(folder):
+    runs, rows = [], []
+    for path in results.find_results(folder)[0]:
+        try:
+            run = results.load(path)
+        except results.ResultFileError as exc:
+            print(f"skipped: {exc}", file=sys.stderr)
+            continue
+        r = summary.summarize(run, plug_force=cylindrical_plug_force(run))
+        r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
+        runs.append(run)
+        rows.append(r)
+    return rows, runs
+
+
+def _sel(rows, tau=None, mu=None):
+    return [r for r in rows if (tau is None or np.isclose(r["tau_cr_kPa"], tau))
+            and (mu is None or np.isclose(r["mu"], mu))]
+
+
+def mu_effect(rows, tau):
+    """F^m(μ 0.3)/F^m(μ 0.05) - 1 per ridge, in %."""
+    low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
+    high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
+    return [100.0 * (high[k]["F_m_kN_per_m"] / low[k]["F_m_kN_per_m"] - 1.0) for k in sorted(set(low) & set(high))]
+
+
+def spread(rows, tau, mu):
+    F = [r["F_m_kN_per_m"] for r in _sel(rows, tau, mu)]
+    return 100.0 * (max(F) / min(F) - 1.0) if len(F) >= 2 else np.nan
+
+
+def r_fd(runs, tau=None, K=0.45, y_min=20e-3):
+    x, y = [], []
+    for run in runs:
+        if tau is not None and not np.isclose(run.tau_cr / 1e3, tau):
+            continue
+        for s in run.snapshots:
+            if s.y_I >= y_min - 0.5e-3:
+                x.append(dA.displaced_load(run, K, s.y_I))
+                y.append(loads.load_at(run.force_y, run.force_F, s.y_I))
+    R = dA.correlation(x, y)[0] if len(x) > 2 else np.nan
+    ratio = np.asarray(y) / np.asarray(x) if x else np.array([np.nan])
+    return R, len(x), ratio
+
+
+def table(rows, runs):
+    taus = sorted({r["tau_cr_kPa"] for r in rows})
+    ridges = sorted({r["ridge"] for r in rows})
+    mus = sorted({r["mu"] for r in rows})
+    L = [f"Runs: {len(rows)} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
+         f"τ_cr {', '.join(f'{t:g}' for t in taus)} kPa); travel up to "
+         f"{max(r['y_I_end_mm'] for r in rows):.0f} mm; keel depth "
+         f"{_pm([r['keel_depth_m'] for r in rows])} m, indenter width "
+         f"{rows[0]['indenter_width_m']:g} m, porosity {_pm([r['porosity'] for r in rows])}.", "",
+         "| statistic | this study | paper |", "|---|---|---|"]
+    L.append(f"| y_I at F^m [mm], all runs | {_pm([r['y_I_peak_mm'] for r in rows])} | {PAPER['y_peak']} |")
+    for tau in (50.0,):
+        if _sel(rows, tau):
+            L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, tau)])} | {PAPER['y_peak']} |")
+    drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
+    L.append(f"| F(20 mm)/F^m, all runs | {_pm(drop)} | {PAPER['drop']} |")
+    for mu in mus:
+        if _sel(rows, 50.0, mu):
+            L.append(f"| F^m spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
+                     f"{spread(rows, 50.0, mu):.0f} | {PAPER['spread']} |")
+    for tau, key in ((50.0, "mu_50"), (5.0, "mu_5"), (100.0, None)):
+        eff = mu_effect(rows, tau)
+        if eff:
+            L.append(f"| F^m(μ 0.3)/F^m(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
+                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[key] if key else '~2.5 % (Fig. 11)'} |")
+    for mu in mus:
+        sel = _sel(rows, 50.0, mu)
+        if sel:
+            a = [r["alpha_mean_1_20mm_deg"] for r in sel]
+            L.append(f"| α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means) | {_pm(a, 0)} | "
+                     f"{PAPER['alpha_50'].get(mu, '—')} |")
+    for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
+        for tau in (5.0, 50.0, 100.0):
+            sel = _sel(rows, tau)
+            if sel:
+                L.append(f"| Table 2 {label} [kPa], τ_cr {tau:g} kPa | {_pm([r[key + '_kPa'] for r in sel])} | "
+                         f"{PAPER[key][int(tau)]} |")
+    for tau in (5.0, 50.0, 100.0):
+        sel = _sel(rows, tau)
+        if sel:
+            L.append(f"| Table 3 n_t/n_s, τ_cr {tau:g} kPa | {_pm([r['nt_ns'] for r in sel])} | "
+                     f"{PAPER['ntns'][int(tau)]} |")
+    sel = _sel(rows, 50.0)
+    if sel:
+        share = [r["F_b_Ap_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in sel]
+        L.append(f"| F_b(A_p, η)/F^m, τ_cr 50 kPa | {_pm(share)} | {PAPER['Fb_share']} |")
+    for tau in (50.0, None):
+        R, n, ratio = r_fd(runs, tau)
+        what = "τ_cr 50 kPa" if tau else "all runs"
+        L.append(f"| R(F, F_d(K 0.45)), y_I ≥ 20 mm, {what} | {R:.2f} ({n} points); F/F_d "
+                 f"{np.nanmedian(ratio):.2f} (median) | {PAPER['R045']} |")
+    return "\n".join(L)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python3 -m postproc.paper_comparison", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("results_dir")
+    ap.add_argument("-o", "--out", help="also write the Markdown table here")
+    a = ap.parse_args(argv)
+    rows, runs = rows_and_runs(a.results_dir)
+    if not rows:
+        sys.exit(f"paper_comparison: no complete run results under {a.results_dir}")
+    text = table(rows, runs)
+    print(text)
+    if a.out:
+        with open(a.out, "w") as f:
+            f.write(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
