@@ -2,9 +2,9 @@
 
 Deformable ice blocks as plane-strain constant-strain triangles (total
 Lagrangian, St Venant-Kirchhoff: objective under any rotation), potential
-contact with Coulomb friction between bodies, gravity, buoyancy and linear
-water drag, explicit central-difference time stepping (Polojärvi & Tuhkuri
-2013, section 3; MODEL.md 3). Units SI, forces and energies per m width.
+contact with Coulomb friction between bodies, gravity, buoyancy and water
+drag (linear or quadratic), explicit central-difference time stepping
+(Polojärvi & Tuhkuri 2013, section 3; docs/model.md §3). Units SI, forces and energies per m width.
 
 Example::
 
