@@ -26,7 +26,7 @@ def save(run, path):
         write_tree(f.create_group("engine"), run.model.checkpoint())
         r = f.create_group("recorder")
         s = run.recorder.state()
-        r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 3))
+        r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 4))
         r.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(-1, 1 + len(ENERGY_TERMS)))
         r.create_dataset("pending_snaps", data=np.array(s["pending_snaps"], float))
         r.create_dataset("reference_nodes", data=s["reference_nodes"])

@@ -43,7 +43,7 @@ class RunRecorder:
         self.area0 = 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
                             - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
         self.centroid0 = p.mean(axis=1)
-        self.force_rows = []       # (t, y_I, F)
+        self.force_rows = []       # (t, y_I, F, F_instant)
         self.energy_rows = []      # (t, *ENERGY_TERMS)
         self.snapshots = []        # (t, y_I, u_elem, u_node)
         self.pending_snaps = snapshot_travels(self.params["target_travel"])
@@ -56,8 +56,10 @@ class RunRecorder:
         p = self.reference_nodes[self.mesh["triangles"]]
         self.centroid0 = p.mean(axis=1)
 
-    def force(self, t, y_I, F):
-        self.force_rows.append((t, y_I, F))
+    def force(self, t, y_I, F, F_instant=None):
+        """F: the indenter force over the interval since the last sample (its mean
+        with respect to travel); F_instant: its value at this step (default F)."""
+        self.force_rows.append((t, y_I, F, F if F_instant is None else F_instant))
 
     def energy(self, t, terms):
         self.energy_rows.append((t,) + tuple(float(terms.get(k, np.nan)) for k in ENERGY_TERMS))
@@ -112,12 +114,15 @@ class RunRecorder:
                           codes="0 block, 1 consolidated layer, 2 indenter")
             write_dataset(m, "area", self.area0, "m^2")
             write_dataset(m, "centroid", self.centroid0, "m")
-            fr = np.array(self.force_rows, dtype=float).reshape(-1, 3)
+            fr = np.array(self.force_rows, dtype=float).reshape(-1, 4)
             fg = f.create_group("force")
             write_dataset(fg, "t", fr[:, 0], "s")
             write_dataset(fg, "y_I", fr[:, 1], "m", direction="indenter travel, down positive")
             write_dataset(fg, "F", fr[:, 2], "N/m",
-                          meaning="rubble resistance on the indenter, indenter buoyancy subtracted")
+                          meaning="rubble resistance on the indenter, indenter buoyancy subtracted; "
+                                  "mean over the travel since the previous sample (work / travel)")
+            write_dataset(fg, "F_instant", fr[:, 3], "N/m",
+                          meaning="the same force at the sample's time step (no averaging)")
             sg = f.create_group("snapshots")
             for i, (t, y, ue, un) in enumerate(self.snapshots):
                 s = sg.create_group(f"{i:04d}")
