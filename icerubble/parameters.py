@@ -50,16 +50,19 @@ TABLE_1 = {
     "nu": Parameter(0.3, "-", lo=0.0, hi=0.5, hi_open=True, doc="Poisson's ratio (not given in the paper)"),
     "rho_i": Parameter(920.0, "kg/m^3", **POS, doc="ice density"),
     "damping": Parameter(0.0, "-", **NONNEG, doc="element strain-rate damping, fraction of critical at the element scale"),
-    "viscosity": Parameter(0.0, "Pa s", **NONNEG,
-                           doc="viscosity of the block material: viscous stress eta x strain rate "
-                               "(one reading of Table 1's 2.5e4 Pa s, docs/model.md)"),
+    # Table 1's "water: viscous damping constant 2.5e4 Pa s", read as the blocks'
+    # viscosity; the linear-drag reading made F a drag record (docs/model.md 3.4)
+    "viscosity": Parameter(2.5e4, "Pa s", **NONNEG,
+                           doc="viscosity of the block material: viscous stress eta x rate of Green "
+                               "strain (~ eta D); Table 1's 'viscous damping constant' (docs/model.md 3.4)"),
     # water
     "rho_w": Parameter(1010.0, "kg/m^3", **POS, doc="water density"),
-    "drag_model": Parameter("linear", "-", choices=("linear", "quadratic", "none"),
+    "drag_model": Parameter("quadratic", "-", choices=("linear", "quadratic", "none"),
                             doc="water drag law: linear -c_w v per block, quadratic form drag "
                                 "-1/2 rho_w C_d |v| v L per block, or none (docs/model.md)"),
     "c_w": Parameter(2.5e4, "Pa s", **NONNEG, doc="linear water drag constant (drag_model='linear')"),
-    "C_d": Parameter(1.0, "-", lo=0.0, hi=10.0, doc="form drag coefficient (drag_model='quadratic')"),
+    "C_d": Parameter(1.0, "-", lo=0.0, hi=10.0,
+                     doc="form drag coefficient (drag_model='quadratic'; ~1 for a bluff body, not in Table 1)"),
     "g": Parameter(9.81, "m/s^2", **POS, doc="gravitational acceleration"),
     # geometry
     "domain_width": Parameter(50.0, "m", **POS, doc="width of the consolidated layer and keel"),
