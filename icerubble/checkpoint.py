@@ -12,7 +12,8 @@ from .h5io import AtomicH5, open_complete, read_tree, write_tree
 from .recorder import ENERGY_TERMS
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
-DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest")
+DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
+                 "settle_max_speed", "settle_max_block_move")
 
 
 def save(run, path):
@@ -51,6 +52,8 @@ def restore(run, path):
             raise ValueError(f"checkpoint {path} was written with other parameters ({', '.join(diff)}); "
                              "remove it or run with the same parameters")
         for k in DRIVER_FIELDS:
+            if k not in d.attrs:   # checkpoints written before the settle record
+                continue
             v = d.attrs[k]
             if isinstance(v, bytes):
                 v = v.decode()

@@ -672,6 +672,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                 quality=dict(quality(nodes, tris), feature=feature),
                 contacts=contact_table(contacts, nodes, bond_edges, bond_bodies, nb),
                 resolved_blocks=blocks_final,
+                # the friction phase 1 settled the pile at (NaN: not recorded)
+                pile_friction=float(meta.get("friction", np.nan)),
                 element_size=float(element_size), times=times,
                 settings=dict(gap_tol=gap_tol, min_bond_length=min_bond_length, eps_sep=eps_sep,
                               min_feature=min_feature, fuzzy=fuzzy,
@@ -803,6 +805,7 @@ def write_mesh(path, m, source=""):
         f.attrs["source_pile"] = source
         f.attrs["element_size"] = m["element_size"]
         f.attrs["porosity"] = m["porosity"]
+        f.attrs["pile_friction"] = m.get("pile_friction", np.nan)
         for k, v in zip(("keel_x_min", "keel_x_max", "keel_bottom_y", "keel_top_y"), m["keel_bounds"]):
             f.attrs[k] = v
         for k, v in m["settings"].items():

@@ -122,7 +122,15 @@ class PunchThrough:
             self.scene.params = self.params
             self.scene.model.set(dt=self.params["dt"])
         a = self.mesh["attrs"]
-        pile_attrs = dict(porosity=float(a["porosity"]),
+        # The friction phase 1 settled the pile at (the mesh records it; NaN
+        # for piles that were not settled, e.g. constructed ones). Below it the
+        # pile is not known to be at rest: loose blocks may slide a long way.
+        self.pile_friction = float(a.get("pile_friction", math.nan))
+        if self.params["mu"] < self.pile_friction:
+            print(f"[punch-through] warning: mu = {self.params['mu']:g} is below the friction the pile "
+                  f"was settled at ({self.pile_friction:g}); loose blocks may slide for long "
+                  "while settling (make the pile at the lowest mu it will be run at)", flush=True)
+        pile_attrs = dict(porosity=float(a["porosity"]), friction=self.pile_friction,
                           n_blocks=int(np.sum(self.scene.body_kind == 0)),
                           keel_top_y=float(a["keel_top_y"]), keel_bottom_y=float(a["keel_bottom_y"]),
                           keel_x_min=float(a["keel_x_min"]), keel_x_max=float(a["keel_x_max"]),
@@ -131,7 +139,13 @@ class PunchThrough:
         mesh_arrays = dict(nodes=self.mesh["nodes"], triangles=self.mesh["triangles"],
                            body=self.mesh["body"], body_kind=self.scene.body_kind)
         self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
+        # node -> body, for the block moves while settling
+        self._node_body = np.full(m.n_nodes, -1, np.int64)
+        self._node_body[np.asarray(m.triangles).ravel()] = np.repeat(np.asarray(m.body), 3)
         self.phase = "settle"
+        self.settle_time = math.nan         # simulated time the settle took [s]
+        self.settle_max_speed = math.nan    # max node speed when at rest [m/s]
+        self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
         self.F_at_rest = math.nan
@@ -189,6 +203,28 @@ class PunchThrough:
         a[m.node_sets["layer_top"]] = 0.0
         return float(np.hypot(*v.T).max()), float(a.max() / self.params["g"])
 
+    def block_moves(self):
+        """(ids, distances [m]): how far each block's node centroid is from
+        where the mesh put it (before loading: its move while settling)."""
+        m = self.model
+        nb = len(self.scene.body_kind)
+        nb_nodes = self._node_body
+        u = np.asarray(m.positions)[:len(nb_nodes)] - np.asarray(m.reference_positions)[:len(nb_nodes)]
+        ok = nb_nodes >= 0
+        cnt = np.bincount(nb_nodes[ok], minlength=nb)
+        ux = np.bincount(nb_nodes[ok], weights=u[ok, 0], minlength=nb)
+        uy = np.bincount(nb_nodes[ok], weights=u[ok, 1], minlength=nb)
+        ids = np.flatnonzero(self.scene.body_kind == 0)
+        return ids, np.hypot(ux[ids], uy[ids]) / np.maximum(cnt[ids], 1)
+
+    def _fastest_block_text(self):
+        m = self.model
+        v = np.hypot(*m.velocities.T)[:len(self._node_body)]
+        b = int(self._node_body[int(np.argmax(v))])
+        ids, d = self.block_moves()
+        moved = d[ids == b][0] if b in ids else math.nan
+        return f"fastest node on body {b} (moved {moved * 1e3:.1f} mm while settling)"
+
     def settle(self):
         """Damped motion to rest under gravity and buoyancy, indenter free.
 
@@ -217,11 +253,19 @@ class PunchThrough:
             if t_rel >= o.settle_min_time and vmax < o.settle_velocity and amax < o.settle_accel:
                 break
             if t_rel >= o.settle_max_time:
+                hint = ""
+                if self.params["mu"] < self.pile_friction:
+                    hint = (f"; the pile was settled at friction {self.pile_friction:g} > mu = "
+                            f"{self.params['mu']:g}: make it at the lowest mu it is run at (mu_settle)")
                 raise RuntimeError(
                     f"the scene did not come to rest within settle_max_time={o.settle_max_time} s: "
                     f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), max "
-                    f"out-of-balance acceleration {amax:.3g} g (settle_accel={o.settle_accel})")
+                    f"out-of-balance acceleration {amax:.3g} g (settle_accel={o.settle_accel}); "
+                    f"{self._fastest_block_text()}{hint}")
             self._maybe_checkpoint()
+        self.settle_time = m.time - t_start
+        self.settle_max_speed = vmax
+        self.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
         m.set(drag=True, local_damping=0.0)
         # Hold the indenter where it came to rest and measure what holding it
         # takes: ~0 if the system is in balance (paper 2.4). The first steps
@@ -244,8 +288,9 @@ class PunchThrough:
         m.reset_energy()
         self.recorder.set_reference(m.positions)
         self.recorder.force(0.0, 0.0, self.F_at_rest)
-        print(f"[settle] at rest after {m.time - t_start:.3f} s simulated; indenter force at rest "
-              f"{self.F_at_rest:.1f} N/m", flush=True)
+        print(f"[settle] at rest after {self.settle_time:.3f} s simulated (max node speed "
+              f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm); "
+              f"indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
 
     def load(self):
         m, p, o = self.model, self.params, self.options
@@ -325,6 +370,8 @@ class PunchThrough:
             write_pvd(os.path.join(d, base + ".pvd"), self.vtu_entries)
 
     def write(self):
-        self.recorder.meta["F_at_rest"] = self.F_at_rest
+        self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
+                                  settle_max_speed=self.settle_max_speed,
+                                  settle_max_block_move=self.settle_max_block_move)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)

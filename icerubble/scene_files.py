@@ -3,7 +3,11 @@
 Phase 1 (the rigid-block pile) runs in YADE as a separate process
 (yade_scripts/make_pile.py), so this works both from a YADE script and from
 /usr/bin/python3; the mesh is made with gmsh in this process. Files are cached
-under ``root/scenes``: a second run on the same ridge reuses them.
+under ``root/scenes``: a second run on the same ridge reuses them. The cache
+key is the scene, the ridge and the friction the pile was settled at
+(``<scene>_ridge<N>_pilemu<mu_settle>_pile.h5`` and ``..._mesh.h5``): a pile
+made at another friction is never picked up, and a reused pile whose recorded
+friction is not the scene's is refused.
 """
 import os
 import subprocess
@@ -11,7 +15,7 @@ import sys
 import tempfile
 import time
 
-from . import meshing
+from . import meshing, pile
 from .scenes import scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -51,11 +55,17 @@ def scene_files(name, ridge, root="runs", threads=1):
         raise ValueError(f"ridge={ridge} must be an integer >= 0 (it seeds the pile)")
     d = os.path.join(root, "scenes")
     os.makedirs(d, exist_ok=True)
-    pile_path = os.path.join(d, f"{name}_ridge{int(ridge)}_pile.h5")
-    mesh_path = os.path.join(d, f"{name}_ridge{int(ridge)}_mesh.h5")
+    mu = float(sc["pile"]["mu_settle"])
+    base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")
+    pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
     if not os.path.exists(pile_path):
-        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE ...", flush=True)
+        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} ...",
+              flush=True)
         run_phase1(pile_path, ridge, sc["pile"], threads=threads)
+    recorded = float(pile.read_pile(pile_path)["meta"].get("friction", float("nan")))
+    if recorded != mu:
+        raise ValueError(f"{pile_path} was settled at friction {recorded:g}, the {name} scene's piles at "
+                         f"{mu:g}: remove it (and its mesh) to make it again")
     if not os.path.exists(mesh_path):
         t0 = time.perf_counter()
         # block edges shorter than a fifth of the element size are collapsed: they

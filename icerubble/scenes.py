@@ -15,23 +15,33 @@ micrometres at these loads) and a time step of 0.8 x the stable step of their
 mesh (``dt_fraction``); the demo also ramps the indenter up in 0.5 s instead
 of 2 s. Everything else is Table 1. Deviations are recorded in every result
 file's /parameters.
+
+Every scene's pile is settled in phase 1 at PILE_FRICTION = 0.05, the lowest
+friction coefficient of the paper's study (mu = 0.05 and 0.3): a ridge's pile
+is made once and run at every mu, and it must already be at rest with the
+weakest friction (a pile at rest within the 0.05 friction cone is at rest
+within the 0.3 cone too). The pile and mesh file names carry it
+(icerubble/scene_files.py).
 """
+# Friction of phase 1 (yade_scripts/make_pile.py mu_settle): the lowest mu of the study.
+PILE_FRICTION = 0.05
+
 SCENES = {
     "paper": dict(
-        pile=dict(domain_width=50.0, keel_depth=4.0),
+        pile=dict(domain_width=50.0, keel_depth=4.0, mu_settle=PILE_FRICTION),
         element_size=0.085,
         params=dict(penalty=2e11, target_travel=0.3),
         dt_fraction=0.8,
         mass_scaling_dt=2e-7,
     ),
     "small": dict(
-        pile=dict(domain_width=10.0, keel_depth=1.8),
+        pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
         element_size=0.15,
         params=dict(penalty=5e9, target_travel=0.03),
         dt_fraction=0.8,
     ),
     "demo": dict(
-        pile=dict(domain_width=10.0, keel_depth=1.8),
+        pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
         element_size=0.15,
         params=dict(penalty=5e9, target_travel=0.03, ramp_time=0.5),
         dt_fraction=0.8,
