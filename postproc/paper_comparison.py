@@ -12,6 +12,7 @@ The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
 (1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
 """
 import argparse
+import os
 import sys
 
 import numpy as np
@@ -19,6 +20,8 @@ import numpy as np
 from . import displaced_area as dA
 from . import loads, plug, results, summary
 from .failure_plane import mean_sd
+
+FIRST_PEAK_TRAVEL = 5e-3  # m
 
 # The paper's numbers (section 3, Tables 2 and 3)
 PAPER = {
@@ -53,6 +56,8 @@ def cylindrical_plug_force(run):
 def rows_and_runs(folder):
     runs, rows = [], []
     for path in results.find_results(folder)[0]:
+        if os.sep + "scenes" + os.sep in path:   # cached piles and meshes, not runs
+            continue
         try:
             run = results.load(path)
         except results.ResultFileError as exc:
@@ -110,6 +115,18 @@ def table(rows, runs):
     for tau in (50.0,):
         if _sel(rows, tau):
             L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, tau)])} | {PAPER['y_peak']} |")
+    # the record's maximum can be a dynamic event late in the record (a block
+    # that floated free striking the rubble under the indenter); the paper's
+    # F^m is the early cohesive peak: show the first peak (max over 0-5 mm) too
+    first = [loads.peak_load(run.force_y[run.force_y <= FIRST_PEAK_TRAVEL],
+                             run.force_F[run.force_y <= FIRST_PEAK_TRAVEL]) for run in runs]
+    late = sum(r["y_I_peak_mm"] > FIRST_PEAK_TRAVEL * 1e3 for r in rows)
+    L.append(f"| runs whose record maximum lies beyond {FIRST_PEAK_TRAVEL * 1e3:g} mm | {late} of {len(rows)} | "
+             "none (F^m is the cohesive peak and the maximum) |")
+    L.append(f"| first peak (max over 0-{FIRST_PEAK_TRAVEL * 1e3:g} mm) [kN/m] and its y_I [mm] | "
+             f"{_pm([f / 1e3 for f, _ in first], 1)}; at {_pm([y * 1e3 for _, y in first])} | ~1 mm |")
+    L.append(f"| F(20 mm)/first peak | {_pm([r['F_20mm_kN_per_m'] / (f / 1e3) for r, (f, _) in zip(rows, first)])} "
+             f"| steep drop until ~20 mm |")
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
     L.append(f"| F(20 mm)/F^m, all runs | {_pm(drop)} | {PAPER['drop']} |")
     for mu in mus:
