@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 from . import displaced_area as dA
-from . import loads, plug, results, summary
+from . import loads, plug, results, shear_strength, summary
 from .failure_plane import mean_sd
 
 FIRST_PEAK_TRAVEL = 5e-3  # m
@@ -64,6 +64,7 @@ def rows_and_runs(folder):
             print(f"skipped: {exc}", file=sys.stderr)
             continue
         r = summary.summarize(run, plug_force=cylindrical_plug_force(run))
+        r["plug_force_kN_per_m"] = cylindrical_plug_force(run) / 1e3
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
         runs.append(run)
         rows.append(r)
@@ -144,6 +145,27 @@ def table(rows, runs):
             a = [r["alpha_mean_1_20mm_deg"] for r in sel]
             L.append(f"| α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means) | {_pm(a, 0)} | "
                      f"{PAPER['alpha_50'].get(mu, '—')} |")
+    # the same with the first peak in place of the record maximum (the paper's
+    # F^m is both); per run: F_1 -> tau^(1..3) with that run's plug loads
+    firstF = {id(r): f for r, (f, _) in zip(rows, first)}
+    for tau, key in ((50.0, "mu_50"), (5.0, "mu_5")):
+        low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
+        high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
+        eff = [100.0 * (firstF[id(high[k])] / firstF[id(low[k])] - 1.0) for k in sorted(set(low) & set(high))]
+        if eff:
+            L.append(f"| first peak(μ 0.3)/first peak(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
+                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[key]} |")
+    for i, (key, label) in enumerate((("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)"))):
+        for tau in (5.0, 50.0, 100.0):
+            sel = _sel(rows, tau)
+            if sel:
+                v = []
+                for r in sel:
+                    t = shear_strength.three_strengths(firstF[id(r)], r["keel_depth_m"], r["plug_force_kN_per_m"] * 1e3,
+                                                       r["F_b_Ap_20mm_kN_per_m"] * 1e3)
+                    v.append(t[i] / 1e3)
+                L.append(f"| Table 2 {label} [kPa] from the first peak, τ_cr {tau:g} kPa | {_pm(v)} | "
+                         f"{PAPER[key][int(tau)]} |")
     for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
         for tau in (5.0, 50.0, 100.0):
             sel = _sel(rows, tau)

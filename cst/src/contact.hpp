@@ -79,9 +79,12 @@ struct ContactTimings {
 // E = 3/2 s l d^2 (1/a + 1/a') at overlap depth d (each potential grows as
 // 3 depth/altitude). Half of that edge stiffness goes to each end node, so a
 // boundary node i gets
-//   k_i = 3/2 s sum_{boundary edges e at i} l_e (1/a_e + 1/a_min),
-// a_min (the smallest boundary altitude anywhere) standing in for the unknown
-// other body. Two facing nodes vibrate at w^2 = k_i/m_i + k_j/m_j <= 2 max k/m,
+//   k_i = 3/2 s sum_{boundary edges e at i} (l_e/a_e + T(l_e)),
+// T(l) standing in for the unknown other body: the largest integral of 1/a'
+// over any stretch of length l of any body's boundary (contact_time_step.cpp).
+// On a regular mesh T(h) = 1, i.e. l/a'; a sliver counts only over its own
+// edge, not over the whole contactor edge (the smallest altitude anywhere,
+// l_e/a_min, made one 2 mm sliver set the step of every node). Two facing nodes vibrate at w^2 = k_i/m_i + k_j/m_j <= 2 max k/m,
 // so the critical step is dt = 2/w = min_i sqrt(2 m_i / k_i). On a regular
 // mesh (l = a = h) k = 6 s at every boundary node, six times the single-spring
 // estimate k = s. Head-on collisions of two 1 m x 0.5 m blocks (h = 0.1 m,

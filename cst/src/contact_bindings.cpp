@@ -1,6 +1,7 @@
 // Python access to the contact module alone (pair kernel tests, diagnostics):
 //   contact_pair(...)      the force between two triangles;
 //   ContactSolver          the two contact passes on flat node/element arrays.
+#include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -137,12 +138,18 @@ void bind_contact(py::module_& m) {
 
   m.def(
       "contact_critical_dt",
-      [](DArr x, DArr y, DArr mass, IArr tri, double penalty) {
+      [](DArr x, DArr y, DArr mass, IArr tri, double penalty, std::optional<IArr> body_in) {
         const py::ssize_t n = x.size();
         DArr zero(n);
         std::fill(zero.mutable_data(), zero.mutable_data() + n, 0.0);
         IArr body(tri.size() / 3), surface(0);
-        std::fill(body.mutable_data(), body.mutable_data() + body.size(), 0);
+        if (body_in) {
+          if (body_in->size() != body.size())
+            throw std::invalid_argument("body must have one entry per triangle");
+          std::copy(body_in->data(), body_in->data() + body.size(), body.mutable_data());
+        } else {
+          std::fill(body.mutable_data(), body.mutable_data() + body.size(), 0);
+        }
         InputHolder h = make_input(x, y, zero, zero, mass, tri, body, surface, 0.0);
         const ContactStableStep s = contact_critical_dt(ContactParams{penalty, 0.0}, h.in);
         py::dict d;
@@ -153,7 +160,9 @@ void bind_contact(py::module_& m) {
         return d;
       },
       py::arg("x"), py::arg("y"), py::arg("mass"), py::arg("tri"), py::arg("penalty"),
-      "Critical time step of the contact penalty (no safety factor), see contact.hpp.");
+      py::arg("body") = py::none(),
+      "Critical time step of the contact penalty (no safety factor), see contact.hpp.\n"
+      "body: body id per triangle (default: one body; disjoint meshes still have boundaries).");
 
   py::class_<ContactSolver>(m, "ContactSolver",
                             "Broad phase, potential contact and Coulomb friction on flat arrays.")

@@ -367,10 +367,12 @@ void Model::compute_masses() {
   }
 }
 
-// Selective mass scaling. Element limit: a triangle's limit grows as
-// sqrt(min m/m_phys) of its corners (time_step.hpp), so each corner of a
-// triangle with limit dt_e < dt_target/safety needs m >= m_phys (dt_target/
-// (safety dt_e))². Contact limit sqrt(2 m / k): m >= k (dt_target/safety)²/2,
+// Selective mass scaling. Element limit: with corner masses r m_phys a
+// triangle's damped limit is sqrt(r dt0² + tau²) - tau (time_step.hpp; dt0
+// its undamped limit, tau its damping time), so each corner of a triangle with
+// limit dt_e < need = dt_target/safety needs r >= need (need + 2 tau)/dt0².
+// In a tiny element the viscosity dominates (dt_e ~ dt0²/2 tau) and this is
+// far less mass than (need/dt_e)². Contact limit sqrt(2 m / k): m >= k (dt_target/safety)²/2,
 // with k the node's stiffness from the contact module (node splitting keeps
 // it: k is per body). The margin 1e-12 absorbs the round-off of squaring and
 // taking the root again, so the stable step is not below the target.
@@ -387,7 +389,9 @@ void Model::scale_masses() {
   for (int32_t t = 0; t < tris_.size(); ++t) {
     const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
     if (dt_e >= need) continue;
-    const double r = (need / dt_e) * (need / dt_e) * margin;
+    const double dt0 = element_undamped_dt(nodes_, tris_, elem_mat_, t);
+    const double tau = elem_mat_[tris_.body[t]].tau_eff();
+    const double r = need * (need + 2.0 * tau) / (dt0 * dt0) * margin;
     for (int c = 0; c < 3; ++c) {
       const int32_t i = tris_.node[3 * t + c];
       M[i] = std::max(M[i], Mp[i] * r);

@@ -61,12 +61,17 @@ double element_critical_dt(double ax, double ay, double bx, double by, double cx
   return 2.0 / std::sqrt(w2);
 }
 
+double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
+                           const std::vector<ElementMaterial>& mat, int32_t t) {
+  const int32_t a = tris.node[3 * t], b = tris.node[3 * t + 1], c = tris.node[3 * t + 2];
+  return element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b], nodes.x0[c],
+                             nodes.y0[c], mat[tris.body[t]]);
+}
+
 double element_damped_dt(const Nodes& nodes, const Triangles& tris,
                          const std::vector<ElementMaterial>& mat, int32_t t) {
-  const int32_t a = tris.node[3 * t], b = tris.node[3 * t + 1], c = tris.node[3 * t + 2];
   const ElementMaterial& m = mat[tris.body[t]];
-  const double dt0 = element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b],
-                                         nodes.x0[c], nodes.y0[c], m);
+  const double dt0 = element_undamped_dt(nodes, tris, mat, t);
   const double xi = 0.5 * (2.0 / dt0) * m.tau_eff();
   return dt0 * (std::sqrt(1.0 + xi * xi) - xi);
 }
@@ -118,8 +123,13 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     const double ratio = std::fmin(nodes.mass[a] / nodes.mass_phys[a],
                                    std::fmin(nodes.mass[b] / nodes.mass_phys[b],
                                              nodes.mass[c] / nodes.mass_phys[c]));
-    double dt = dt0 * (std::sqrt(1.0 + xi * xi) - xi);
-    if (ratio != 1.0) dt *= std::sqrt(ratio);
+    // Inertial mass r times the physical lowers every eigenfrequency by at
+    // least sqrt(r) (r the smallest ratio of the corners), and the damped limit
+    // (2/w)(sqrt(1+xi²) - xi), xi = w tau/2, falls with w: evaluate it there.
+    // The same form is solved for r in Model::scale_masses.
+    const double sr = std::sqrt(ratio);
+    const double xr = xi / sr;
+    const double dt = dt0 * sr * (std::sqrt(1.0 + xr * xr) - xr);
     if (dt < s.dt_element) {
       s.dt_element = dt;
       s.element = t;

@@ -52,14 +52,20 @@ struct StableStep {
 double element_critical_dt(double ax, double ay, double bx, double by, double cx, double cy,
                            const ElementMaterial& m);
 
+// Undamped critical step of triangle t (reference corners, physical masses).
+double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
+                           const std::vector<ElementMaterial>& mat, int32_t t);
+
 // Critical step of triangle t with its physical lumped masses, strain-rate
 // damping included (the element limit before any mass scaling).
 double element_damped_dt(const Nodes& nodes, const Triangles& tris,
                          const std::vector<ElementMaterial>& mat, int32_t t);
 
-// Element limits use the inertial masses: a triangle's limit is its physical
-// one times sqrt(min over its corners of mass/mass_phys) (conservative: the
-// damped limit grows faster than that with the mass).
+// Element limits use the inertial masses: with r the smallest corner ratio
+// mass/mass_phys of a triangle, its eigenfrequencies are at most w_e/sqrt(r),
+// and the damped limit is evaluated there: sqrt(r dt0² + tau²) - tau, with
+// dt0 = 2/w_e and tau its damping time (strain-rate damping and viscosity).
+// Where damping dominates this grows as r, not sqrt(r).
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                             const std::vector<ElementMaterial>& mat,
                             bool contact_possible, const ContactStableStep& contact,
