@@ -81,7 +81,9 @@ struct ContactTimings {
 // boundary node i gets
 //   k_i = 3/2 s sum_{boundary edges e at i} (l_e/a_e + T(l_e)),
 // T(l) standing in for the unknown other body: the largest integral of 1/a'
-// over any stretch of length l of any body's boundary (contact_time_step.cpp).
+// over any stretch of length l of any body's boundary, or over two stretches
+// whose lengths add up to l (an edge across a junction of blocks, where the
+// tiny elements are; contact_time_step.cpp).
 // On a regular mesh T(h) = 1, i.e. l/a'; a sliver counts only over its own
 // edge, not over the whole contactor edge (the smallest altitude anywhere,
 // l_e/a_min, made one 2 mm sliver set the step of every node). Two facing nodes vibrate at w^2 = k_i/m_i + k_j/m_j <= 2 max k/m,

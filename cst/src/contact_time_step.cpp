@@ -11,19 +11,22 @@ namespace cst {
 namespace {
 
 // The other body's share of a contactor edge's stiffness (contact.hpp): the
-// edge, length l, pressed onto any stretch of boundary of length l, gets
-// 3/2 s times the integral of 1/a' (a' the altitude of the target triangle
-// under it) over that stretch. Its bound is the largest such integral over
+// edge, length l, pressed onto a stretch of boundary of length l, gets 3/2 s
+// times the integral of 1/a' (a' the altitude of the target triangle under
+// it) over that stretch. T(l) bounds it by the largest such integral over
 // every window of length l along every body's boundary, so a sliver (small a')
 // only counts over its own short edge: a regular mesh (l = a' = h) gives 1,
 // as before, but a 3 mm edge of altitude 2 mm next to 0.15 m edges raises it
 // to ~2.3, where the smallest altitude anywhere (l/a_min) gave 65.
 // The integrand is piecewise constant, so the largest window has an end at a
-// vertex: walk from every boundary vertex along each of its boundary edges.
-// Windows are taken at lengths on a geometric grid (factor 1.1) at or above
-// each contactor edge's length; the integral grows with the length, so this
-// only overestimates. Assumed: one contactor edge rests on one body's boundary
-// at a time (at a junction of two, two windows whose lengths add up to l).
+// vertex: walk from every boundary vertex along each of its boundary edges,
+// once, to the longest edge length, reading the integral at every length of a
+// geometric grid (factor 1.1; an edge takes the grid length at or above its
+// own, which only overestimates, the integral growing with the length). Where
+// a body's boundary meets itself at a node every branch is followed.
+// Tiny elements sit at junctions of blocks, so an edge can rest on two bodies
+// (or bridge a notch of one) at once: the returned bound is
+// T2(l) = max over l1 of T(l1) + T(l - l1), which is T(l) on a regular mesh.
 std::vector<double> target_terms(const std::vector<double>& len, const std::vector<double>& alt,
                                  const std::vector<int32_t>& ea, const std::vector<int32_t>& eb,
                                  const std::vector<int32_t>& ebody) {
@@ -42,43 +45,72 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
     return a.body != b.body ? a.body < b.body : a.node != b.node ? a.node < b.node : a.edge < b.edge;
   };
   std::sort(ends.begin(), ends.end(), key_less);
-  // The next boundary edge of the same body at node v after edge `from`; at a
-  // node where the boundary meets itself, the one of smallest altitude.
-  auto next_edge = [&](int32_t body, int32_t v, int32_t from) {
-    auto it = std::lower_bound(ends.begin(), ends.end(), End{body, v, -1}, key_less);
-    int32_t best = -1;
-    for (; it != ends.end() && it->body == body && it->node == v; ++it)
-      if (it->edge != from && (best < 0 || alt[it->edge] < alt[best])) best = it->edge;
-    return best;
-  };
-  auto window = [&](int32_t start_node, int32_t edge, double L) {
-    double sum = 0.0, rest = L;
-    int32_t v = start_node, f = edge;
-    for (size_t steps = 0; f >= 0 && rest > 0.0 && steps <= n; ++steps) {
-      const double take = std::min(rest, len[f]);
-      sum += take / alt[f];
-      rest -= take;
-      const int32_t w = ea[f] == v ? eb[f] : ea[f];
-      v = w;
-      f = next_edge(ebody[f], w, f);
-    }
-    return sum;
-  };
+  // first[k]..first[k+1]: the edges at the k-th distinct (body, node); at_end[2e+c]: the
+  // index k of edge e's end c (0: ea, 1: eb)
+  std::vector<size_t> first;
+  std::vector<size_t> at_end(2 * n);
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (i == 0 || ends[i].body != ends[i - 1].body || ends[i].node != ends[i - 1].node)
+      first.push_back(i);
+    const int32_t e = ends[i].edge;
+    at_end[2 * size_t(e) + (ea[e] == ends[i].node ? 0 : 1)] = first.size() - 1;
+  }
+  first.push_back(ends.size());
+
   const double l_lo = *std::min_element(len.begin(), len.end());
   const double l_hi = *std::max_element(len.begin(), len.end());
-  const double growth = 1.1;
   std::vector<double> grid{l_lo};
-  while (grid.back() < l_hi) grid.push_back(std::min(grid.back() * growth, l_hi));
-  std::vector<double> T(grid.size(), 0.0);
-  for (size_t g = 0; g < grid.size(); ++g)
-    for (size_t e = 0; e < n; ++e) {
-      T[g] = std::max(T[g], window(ea[e], int32_t(e), grid[g]));
-      T[g] = std::max(T[g], window(eb[e], int32_t(e), grid[g]));
+  while (grid.back() < l_hi) grid.push_back(std::min(grid.back() * 1.1, l_hi));
+  const size_t G = grid.size();
+  std::vector<double> T(G, 0.0);
+
+  // Depth-first walk: edge f entered at its end c, c0 the length walked so far,
+  // s0 the integral so far, g the first grid length above c0.
+  struct Frame {
+    int32_t f;
+    int c;
+    double c0, s0;
+    size_t g;
+  };
+  std::vector<Frame> stack;
+  for (size_t e = 0; e < n; ++e)
+    for (int c = 0; c < 2; ++c) {
+      stack.push_back({int32_t(e), c, 0.0, 0.0, 0});
+      while (!stack.empty()) {
+        const Frame fr = stack.back();
+        stack.pop_back();
+        const double d = 1.0 / alt[fr.f], c1 = fr.c0 + len[fr.f];
+        size_t g = fr.g;
+        for (; g < G && grid[g] <= c1; ++g) T[g] = std::max(T[g], fr.s0 + (grid[g] - fr.c0) * d);
+        if (g >= G) continue;  // reached the longest length
+        const double s1 = fr.s0 + len[fr.f] * d;
+        const size_t k = at_end[2 * size_t(fr.f) + (1 - fr.c)];  // leave through the far end
+        const int32_t v = fr.c == 0 ? eb[fr.f] : ea[fr.f];
+        for (size_t i = first[k]; i < first[k + 1]; ++i) {
+          const int32_t h = ends[i].edge;
+          if (h == fr.f) continue;
+          stack.push_back({h, ea[h] == v ? 0 : 1, c1, s1, g});
+        }
+      }
     }
+  // T of any length up to l_hi: the grid value at or above it, and never more
+  // than L times the largest density 1/a' (short lengths below the grid)
+  double d_max = 0.0;
+  for (double a : alt) d_max = std::max(d_max, 1.0 / a);
+  auto T_up = [&](double L) {
+    if (!(L > 0.0)) return 0.0;
+    const size_t g = std::lower_bound(grid.begin(), grid.end(), L) - grid.begin();
+    return std::min(T[std::min(g, G - 1)], L * d_max);
+  };
+  std::vector<double> T2(G);
+  for (size_t g = 0; g < G; ++g) {
+    T2[g] = T[g];
+    for (size_t i = 0; i < g; ++i) T2[g] = std::max(T2[g], T[i] + T_up(grid[g] - grid[i]));
+  }
   std::vector<double> out(n);
   for (size_t e = 0; e < n; ++e) {
     const size_t g = std::lower_bound(grid.begin(), grid.end(), len[e]) - grid.begin();
-    out[e] = T[std::min(g, grid.size() - 1)];
+    out[e] = T2[std::min(g, G - 1)];
   }
   return out;
 }

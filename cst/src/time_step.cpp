@@ -73,7 +73,7 @@ double element_damped_dt(const Nodes& nodes, const Triangles& tris,
   const ElementMaterial& m = mat[tris.body[t]];
   const double dt0 = element_undamped_dt(nodes, tris, mat, t);
   const double xi = 0.5 * (2.0 / dt0) * m.tau_eff();
-  return dt0 * (std::sqrt(1.0 + xi * xi) - xi);
+  return dt0 / (std::sqrt(1.0 + xi * xi) + xi);  // = dt0 (sqrt(1+xi²) - xi), no cancellation
 }
 
 std::string StableStep::governing() const {
@@ -129,7 +129,7 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     // The same form is solved for r in Model::scale_masses.
     const double sr = std::sqrt(ratio);
     const double xr = xi / sr;
-    const double dt = dt0 * sr * (std::sqrt(1.0 + xr * xr) - xr);
+    const double dt = dt0 * sr / (std::sqrt(1.0 + xr * xr) + xr);  // no cancellation at large xr
     if (dt < s.dt_element) {
       s.dt_element = dt;
       s.element = t;
