@@ -148,6 +148,11 @@ def table(rows, runs):
     # the same with the first peak in place of the record maximum (the paper's
     # F^m is both); per run: F_1 -> tau^(1..3) with that run's plug loads
     firstF = {id(r): f for r, (f, _) in zip(rows, first)}
+    for mu in mus:
+        F = [firstF[id(r)] for r in _sel(rows, 50.0, mu)]
+        if len(F) >= 2:
+            L.append(f"| first-peak spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
+                     f"{100.0 * (max(F) / min(F) - 1.0):.0f} | {PAPER['spread']} |")
     for tau, key in ((50.0, "mu_50"), (5.0, "mu_5")):
         low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
         high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
