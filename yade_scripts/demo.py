@@ -30,7 +30,7 @@ def main(argv=None):
     try:
         out = run_one("demo", ridge=a.ridge, overrides=dict(target_travel=a.travel_mm * 1e-3),
                       out_dir=a.out_dir)
-    except ValueError as e:
+    except (ValueError, RuntimeError) as e:   # bad input, another run stored or in progress
         sys.exit(f"demo: error: {e}")
     figs = run_figures.main([out, "-o", os.path.join(a.out_dir, "figures")])
     print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s")

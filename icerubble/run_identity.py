@@ -1,0 +1,146 @@
+"""What makes a run's result: every input that determines it (issue 11).
+
+A result file is named by scene, ridge, mu and tau_cr, which is what a user
+looks for, but many more inputs change it: every other parameter, the mesh
+(pile seed, element size, the pile's friction), the numerical options and the
+engine's physics. The identity collects them; its hash, ``run_id``, is
+recorded in the result, and a stored result is handed back only for a request
+with the same id. A request that differs is refused with the differences
+named, never answered with another run's result.
+"""
+import hashlib
+import json
+import os
+import socket
+
+import numpy as np
+
+# Bumped whenever a change of the engine alters what a run computes (forces,
+# time step, settling, recording), so that results made before are not
+# handed back as if the new code had made them.
+PHYSICS_VERSION = 2
+
+# mesh attributes that describe the file, not the geometry
+_VOLATILE_MESH_ATTRS = {"created", "code_version", "complete", "source"}
+
+
+def mesh_digest(mesh):
+    """sha256 of the mesh's arrays and its geometric attributes."""
+    h = hashlib.sha256()
+    for key in sorted(k for k in mesh if k != "attrs"):
+        v = mesh[key]
+        h.update(key.encode())
+        if isinstance(v, np.ndarray):
+            a = np.ascontiguousarray(v)
+            h.update(str(a.dtype).encode() + str(a.shape).encode())
+            h.update(a.tobytes())
+        else:   # lists of per-block polygons and the like
+            h.update(json.dumps(v, sort_keys=True, default=_listed).encode())
+    for k in sorted(mesh.get("attrs", {})):
+        if k not in _VOLATILE_MESH_ATTRS:
+            h.update(f"{k}={_plain(mesh['attrs'][k])!r}".encode())
+    return h.hexdigest()
+
+
+def _listed(v):
+    if isinstance(v, np.ndarray):
+        return {"dtype": str(v.dtype), "data": v.tolist()}
+    if isinstance(v, np.generic):
+        return v.item()
+    return repr(v)
+
+
+def _plain(v):
+    if isinstance(v, (np.generic,)):
+        return v.item()
+    if isinstance(v, bytes):
+        return v.decode()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    return v
+
+
+def identity(params, mesh, options):
+    """The run's identity: validated request parameters, mesh digest, the
+    numerical options that change the result, and the physics version."""
+    return {
+        "physics_version": PHYSICS_VERSION,
+        "parameters": {k: _plain(v) for k, v in sorted(params.items())},
+        "mesh_sha256": mesh_digest(mesh),
+        "dt_fraction": _plain(getattr(options, "dt_fraction", None)),
+        "mass_scaling_dt": _plain(getattr(options, "mass_scaling_dt", None)),
+    }
+
+
+def run_id(ident):
+    text = json.dumps(ident, sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def differences(stored, asked):
+    """Human-readable list of what differs between two identities."""
+    out = []
+    for key in sorted(set(stored) | set(asked)):
+        a, b = stored.get(key), asked.get(key)
+        if key == "parameters":
+            a, b = a or {}, b or {}
+            for p in sorted(set(a) | set(b)):
+                if a.get(p) != b.get(p):
+                    out.append(f"{p}: stored {a.get(p)!r}, asked {b.get(p)!r}")
+        elif a != b:
+            out.append(f"{key}: stored {a!r}, asked {b!r}")
+    return out
+
+
+class RunLock:
+    """``OUT.lock`` while a run is computed, so that a second request for the
+    same result says so at once instead of computing it again and crashing at
+    the write. A lock left by a process that no longer exists (same host) is
+    taken over."""
+
+    def __init__(self, out_path):
+        self.path = out_path + ".lock"
+        self.held = False
+
+    def __enter__(self):
+        me = f"{socket.gethostname()} {os.getpid()}"
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+            except FileExistsError:
+                try:
+                    host, pid = open(self.path).read().split()
+                except (OSError, ValueError):
+                    host, pid = "", "0"
+                if host == socket.gethostname() and not _alive(int(pid)):
+                    os.remove(self.path)      # stale: its process is gone
+                    continue
+                raise RuntimeError(f"{self.path[:-5]} is being computed by process {pid} on {host or '?'} "
+                                   f"(lock file {self.path}); wait for it, or delete the lock if that "
+                                   f"process is gone") from None
+            with os.fdopen(fd, "w") as f:
+                f.write(me)
+            self.held = True
+            return self
+        raise RuntimeError(f"could not take the lock {self.path}")
+
+    def __exit__(self, *exc):
+        if self.held:
+            try:
+                os.remove(self.path)
+            except FileNotFoundError:
+                pass
+            self.held = False
+        return False
+
+
+def _alive(pid):
+    if pid <= 0:
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
