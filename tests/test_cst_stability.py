@@ -178,3 +178,19 @@ def test_contact_limit_of_a_bonded_mesh_is_that_of_its_split_bodies():
         m.set(penalty=2e11)
     sb, sa = bonded.stable_time_step(), apart.stable_time_step()
     assert sb["dt_contact"] == pytest.approx(sa["dt_contact"], rel=1e-12)
+
+
+def test_a_step_just_above_the_stable_one_is_refused_with_digits_that_show_it():
+    """4 digits printed 3.861e-08 for both steps; the message now shows the
+    overshoot (issue 11)."""
+    nodes, tri = fdem.rectangle_mesh(4, 2, 0.1)
+    m = fdem.Model(nodes, tri, np.zeros(len(tri), dtype=int),
+                   materials=dict(E=2e9, nu=0.3, rho=920.0))
+    m.set(gravity=False, water=False)
+    st = m.stable_time_step()["dt"]
+    m.set(dt=st * (1 + 1e-12))
+    with pytest.raises(ValueError) as e:
+        m.step(1)
+    msg = str(e.value)
+    assert repr(st * (1 + 1e-12))[:14] in msg and repr(st)[:14] in msg
+    assert "by 1.0000" in msg and "e-10 %" in msg

@@ -14,6 +14,14 @@ inline std::string num(double v) {
   return o.str();
 }
 
+// Every digit of a double: for comparisons that differ in the last places.
+inline std::string num17(double v) {
+  std::ostringstream o;
+  o.precision(17);
+  o << v;
+  return o.str();
+}
+
 [[noreturn]] inline void bad(const std::string& msg) { throw std::invalid_argument(msg); }
 
 }  // namespace cst

@@ -449,7 +449,9 @@ void Model::step(int64_t n) {
   prepare();
   if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
   if (check_stable_dt_ && dt_ > stable_.dt)
-    bad("dt = " + num(dt_) + " s exceeds the " + stable_.describe(tris_.body) +
+    bad("dt = " + num17(dt_) + " s exceeds the stable step " + num17(stable_.dt) + " s (by " +
+        num(100.0 * (dt_ / stable_.dt - 1.0)) + " %; the stable step is recomputed when bond points split): " +
+        stable_.describe(tris_.body) +
         ". Reduce dt, or coarsen the governing elements / lower the penalty.");
   for (int64_t k = 0; k < n; ++k) {
     Stopwatch total(timings_.total);
