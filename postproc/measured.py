@@ -100,6 +100,9 @@ def read_csv(path, disp_unit=None, force_unit=None, disp_column=None, force_colu
                              f"{header[i_y]!r}, {header[i_F]!r}: {r}") from None
         if not (np.isfinite(y[k]) and np.isfinite(F[k])):
             raise ValueError(f"CSV {path!r} data row {k + 1}: non-finite value {r}")
+        if y[k] < 0.0:   # travel counts from first contact, downward (docs/conventions.md)
+            raise ValueError(f"CSV {path!r} data row {k + 1}: negative displacement {r[i_y]}; "
+                             "the indenter travel must be >= 0 (measured from the start of loading)")
     back = np.flatnonzero(np.diff(y) < 0)
     if back.size:
         raise ValueError(f"CSV {path!r}: displacement decreases at data row {back[0] + 2} "

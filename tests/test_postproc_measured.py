@@ -49,6 +49,7 @@ def test_units_total_force_and_plug_force_option(tmp_path):
     ("y_I [mm],F [kN/m]\n0,0\n1,1\n", {"disp_unit": "m"}, "contradicts"),
     ("y_I [mm],F [kN]\n0,0\n1,1\n", {}, "out-of-plane-length"),
     ("y_I [mm],F [kN/m]\n0,0\n", {}, "at least 2"),
+    ("y_I [mm],F [kN/m]\n-5,9\n0,0\n1,1\n", {}, "data row 1: negative displacement -5"),
 ])
 def test_bad_csv_clear_errors(tmp_path, text, kwargs, match):
     p = tmp_path / "bad.csv"
