@@ -367,7 +367,8 @@ class PunchThrough:
                                  "u_since_loading": self.recorder.snapshots[-1][2],
                                  "stress": np.asarray(s)})
             self.vtu_entries.append((y_I, name))
-            write_pvd(os.path.join(d, base + ".pvd"), self.vtu_entries)
+            # the collection is written once the result is (write()): a
+            # killed run leaves .vtu pieces but no .pvd that looks complete
 
     def write(self):
         self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
@@ -375,3 +376,6 @@ class PunchThrough:
                                   settle_max_block_move=self.settle_max_block_move)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)
+        if self.options.vtu and self.vtu_entries:
+            base = os.path.basename(self.out_path)[:-3]
+            write_pvd(os.path.join(self.out_path[:-3] + "_fields", base + ".pvd"), self.vtu_entries)

@@ -104,14 +104,18 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
     out = tmp_path / "run.h5"
     stop = run0.model.step_count - 4000
     run = PunchThrough(mesh_path, out, params=PARAMS,
-                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=False,
+                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=True,
                                           stop_after_steps=stop))
     with pytest.raises(KeyboardInterrupt):
         run.run()
     assert not out.exists() and (tmp_path / "run.checkpoint.h5").exists()
+    # field pieces may exist, but no ParaView collection that looks complete
+    pvd = tmp_path / "run_fields" / "run.pvd"
+    assert list((tmp_path / "run_fields").glob("*.vtu")) and not pvd.exists()
     again = PunchThrough(mesh_path, out, params=PARAMS,
-                         options=RunOptions(threads=1, progress_every_s=1e9, vtu=False))
+                         options=RunOptions(threads=1, progress_every_s=1e9, vtu=True))
     again.run(resume=True)
+    assert pvd.read_text().count("<DataSet") == len(again.vtu_entries) == len(run0.vtu_entries)
     with h5py.File(out0) as a, h5py.File(out) as b:
         # bit for bit: same thread count, the checkpoint holds the whole state
         # (split mesh, bonds, energy ledger, friction warm start)
