@@ -63,9 +63,17 @@ def rows_and_runs(folder):
         except results.ResultFileError as exc:
             print(f"skipped: {exc}", file=sys.stderr)
             continue
-        r = summary.summarize(run, plug_force=cylindrical_plug_force(run))
-        r["plug_force_kN_per_m"] = cylindrical_plug_force(run) / 1e3
+        plug_force = cylindrical_plug_force(run)
+        r = summary.summarize(run, plug_force=plug_force)
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
+        # the record's maximum can be a dynamic event late in the record; the
+        # paper's F^m is the early cohesive peak: the first peak (max over
+        # 0-5 mm) and Table 2's strengths from it, beside the record's
+        early = run.force_y <= FIRST_PEAK_TRAVEL
+        F1, y1 = loads.peak_load(run.force_y[early], run.force_F[early])
+        t = shear_strength.three_strengths(F1, r["keel_depth_m"], plug_force, r["F_b_Ap_20mm_kN_per_m"] * 1e3)
+        r.update(F_first_kN_per_m=F1 / 1e3, y_I_first_mm=y1 * 1e3,
+                 tau1_first_kPa=t[0] / 1e3, tau2_first_kPa=t[1] / 1e3, tau3_first_kPa=t[2] / 1e3)
         runs.append(run)
         rows.append(r)
     return rows, runs
@@ -76,15 +84,15 @@ def _sel(rows, tau=None, mu=None):
             and (mu is None or np.isclose(r["mu"], mu))]
 
 
-def mu_effect(rows, tau):
-    """F^m(μ 0.3)/F^m(μ 0.05) - 1 per ridge, in %."""
+def mu_effect(rows, tau, key="F_m_kN_per_m"):
+    """F(μ 0.3)/F(μ 0.05) - 1 per ridge, in %, of the peak in column key."""
     low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
     high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
-    return [100.0 * (high[k]["F_m_kN_per_m"] / low[k]["F_m_kN_per_m"] - 1.0) for k in sorted(set(low) & set(high))]
+    return [100.0 * (high[k][key] / low[k][key] - 1.0) for k in sorted(set(low) & set(high))]
 
 
-def spread(rows, tau, mu):
-    F = [r["F_m_kN_per_m"] for r in _sel(rows, tau, mu)]
+def spread(rows, tau, mu, key="F_m_kN_per_m"):
+    F = [r[key] for r in _sel(rows, tau, mu)]
     return 100.0 * (max(F) / min(F) - 1.0) if len(F) >= 2 else np.nan
 
 
@@ -116,17 +124,13 @@ def table(rows, runs):
     for tau in (50.0,):
         if _sel(rows, tau):
             L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, tau)])} | {PAPER['y_peak']} |")
-    # the record's maximum can be a dynamic event late in the record (a block
-    # that floated free striking the rubble under the indenter); the paper's
-    # F^m is the early cohesive peak: show the first peak (max over 0-5 mm) too
-    first = [loads.peak_load(run.force_y[run.force_y <= FIRST_PEAK_TRAVEL],
-                             run.force_F[run.force_y <= FIRST_PEAK_TRAVEL]) for run in runs]
     late = sum(r["y_I_peak_mm"] > FIRST_PEAK_TRAVEL * 1e3 for r in rows)
     L.append(f"| runs whose record maximum lies beyond {FIRST_PEAK_TRAVEL * 1e3:g} mm | {late} of {len(rows)} | "
              "none (F^m is the cohesive peak and the maximum) |")
     L.append(f"| first peak (max over 0-{FIRST_PEAK_TRAVEL * 1e3:g} mm) [kN/m] and its y_I [mm] | "
-             f"{_pm([f / 1e3 for f, _ in first], 1)}; at {_pm([y * 1e3 for _, y in first])} | ~1 mm |")
-    L.append(f"| F(20 mm)/first peak | {_pm([r['F_20mm_kN_per_m'] / (f / 1e3) for r, (f, _) in zip(rows, first)])} "
+             f"{_pm([r['F_first_kN_per_m'] for r in rows], 1)}; at {_pm([r['y_I_first_mm'] for r in rows])} "
+             f"| ~1 mm |")
+    L.append(f"| F(20 mm)/first peak | {_pm([r['F_20mm_kN_per_m'] / r['F_first_kN_per_m'] for r in rows])} "
              f"| steep drop until ~20 mm |")
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
     L.append(f"| F(20 mm)/F^m, all runs | {_pm(drop)} | {PAPER['drop']} |")
@@ -146,31 +150,22 @@ def table(rows, runs):
             L.append(f"| α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means) | {_pm(a, 0)} | "
                      f"{PAPER['alpha_50'].get(mu, '—')} |")
     # the same with the first peak in place of the record maximum (the paper's
-    # F^m is both); per run: F_1 -> tau^(1..3) with that run's plug loads
-    firstF = {id(r): f for r, (f, _) in zip(rows, first)}
+    # F^m is both)
     for mu in mus:
-        F = [firstF[id(r)] for r in _sel(rows, 50.0, mu)]
-        if len(F) >= 2:
+        if len(_sel(rows, 50.0, mu)) >= 2:
             L.append(f"| first-peak spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
-                     f"{100.0 * (max(F) / min(F) - 1.0):.0f} | {PAPER['spread']} |")
+                     f"{spread(rows, 50.0, mu, 'F_first_kN_per_m'):.0f} | {PAPER['spread']} |")
     for tau, key in ((50.0, "mu_50"), (5.0, "mu_5")):
-        low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
-        high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
-        eff = [100.0 * (firstF[id(high[k])] / firstF[id(low[k])] - 1.0) for k in sorted(set(low) & set(high))]
+        eff = mu_effect(rows, tau, "F_first_kN_per_m")
         if eff:
             L.append(f"| first peak(μ 0.3)/first peak(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
                      f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[key]} |")
-    for i, (key, label) in enumerate((("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)"))):
+    for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
         for tau in (5.0, 50.0, 100.0):
             sel = _sel(rows, tau)
             if sel:
-                v = []
-                for r in sel:
-                    t = shear_strength.three_strengths(firstF[id(r)], r["keel_depth_m"], r["plug_force_kN_per_m"] * 1e3,
-                                                       r["F_b_Ap_20mm_kN_per_m"] * 1e3)
-                    v.append(t[i] / 1e3)
-                L.append(f"| Table 2 {label} [kPa] from the first peak, τ_cr {tau:g} kPa | {_pm(v)} | "
-                         f"{PAPER[key][int(tau)]} |")
+                L.append(f"| Table 2 {label} [kPa] from the first peak, τ_cr {tau:g} kPa | "
+                         f"{_pm([r[key + '_first_kPa'] for r in sel])} | {PAPER[key][int(tau)]} |")
     for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
         for tau in (5.0, 50.0, 100.0):
             sel = _sel(rows, tau)
