@@ -389,9 +389,8 @@ void Model::scale_masses() {
   for (int32_t t = 0; t < tris_.size(); ++t) {
     const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
     if (dt_e >= need) continue;
-    const double dt0 = element_undamped_dt(nodes_, tris_, elem_mat_, t);
-    const double tau = elem_mat_[tris_.body[t]].tau_eff();
-    const double r = need * (need + 2.0 * tau) / (dt0 * dt0) * margin;
+    const double r = mass_ratio_for(element_undamped_dt(nodes_, tris_, elem_mat_, t),
+                                    elem_mat_[tris_.body[t]].tau_eff(), need) * margin;
     for (int c = 0; c < 3; ++c) {
       const int32_t i = tris_.node[3 * t + c];
       M[i] = std::max(M[i], Mp[i] * r);

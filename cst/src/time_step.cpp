@@ -68,12 +68,19 @@ double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
                              nodes.y0[c], mat[tris.body[t]]);
 }
 
+double damped_dt(double dt0, double tau, double mass_ratio) {
+  // sqrt(r dt0² + tau²) - tau, written without the cancellation at large tau
+  const double r_dt0_2 = mass_ratio * dt0 * dt0;
+  return r_dt0_2 / (std::sqrt(r_dt0_2 + tau * tau) + tau);
+}
+
+double mass_ratio_for(double dt0, double tau, double need) {
+  return need * (need + 2.0 * tau) / (dt0 * dt0);
+}
+
 double element_damped_dt(const Nodes& nodes, const Triangles& tris,
                          const std::vector<ElementMaterial>& mat, int32_t t) {
-  const ElementMaterial& m = mat[tris.body[t]];
-  const double dt0 = element_undamped_dt(nodes, tris, mat, t);
-  const double xi = 0.5 * (2.0 / dt0) * m.tau_eff();
-  return dt0 / (std::sqrt(1.0 + xi * xi) + xi);  // = dt0 (sqrt(1+xi²) - xi), no cancellation
+  return damped_dt(element_undamped_dt(nodes, tris, mat, t), mat[tris.body[t]].tau_eff());
 }
 
 std::string StableStep::governing() const {
@@ -114,26 +121,17 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
   s.dt_element = s.dt_contact = s.dt_drag = kInf;
   for (int32_t t = 0; t < tris.size(); ++t) {
     const int32_t a = tris.node[3 * t], b = tris.node[3 * t + 1], c = tris.node[3 * t + 2];
-    const ElementMaterial& m = mat[tris.body[t]];
-    const double dt0 = element_critical_dt(nodes.x0[a], nodes.y0[a], nodes.x0[b], nodes.y0[b],
-                                           nodes.x0[c], nodes.y0[c], m);
-    const double w = 2.0 / dt0;
-    const double xi = 0.5 * w * m.tau_eff();
-    // Without mass scaling mass == mass_phys and the factor is exactly 1.
+    const double dt0 = element_undamped_dt(nodes, tris, mat, t);
+    const double tau = mat[tris.body[t]].tau_eff();
+    // Without mass scaling mass == mass_phys and the ratio is exactly 1.
     const double ratio = std::fmin(nodes.mass[a] / nodes.mass_phys[a],
                                    std::fmin(nodes.mass[b] / nodes.mass_phys[b],
                                              nodes.mass[c] / nodes.mass_phys[c]));
-    // Inertial mass r times the physical lowers every eigenfrequency by at
-    // least sqrt(r) (r the smallest ratio of the corners), and the damped limit
-    // (2/w)(sqrt(1+xi²) - xi), xi = w tau/2, falls with w: evaluate it there.
-    // The same form is solved for r in Model::scale_masses.
-    const double sr = std::sqrt(ratio);
-    const double xr = xi / sr;
-    const double dt = dt0 * sr / (std::sqrt(1.0 + xr * xr) + xr);  // no cancellation at large xr
+    const double dt = damped_dt(dt0, tau, ratio);
     if (dt < s.dt_element) {
       s.dt_element = dt;
       s.element = t;
-      s.damping_ratio = xi;
+      s.damping_ratio = tau / dt0;   // xi = w tau/2 with w = 2/dt0
     }
   }
   if (s.element >= 0) {

@@ -52,6 +52,18 @@ struct StableStep {
 double element_critical_dt(double ax, double ay, double bx, double by, double cx, double cy,
                            const ElementMaterial& m);
 
+// Damped limit of an element with undamped limit dt0 (w = 2/dt0) and damping
+// time tau (strain-rate damping and viscosity, xi = w tau/2), its corner
+// masses mass_ratio times the physical: inertial mass r times the physical
+// lowers every eigenfrequency by at least sqrt(r), and (2/w)(sqrt(1+xi²) - xi)
+// falls with w, so the limit is evaluated there: sqrt(r dt0² + tau²) - tau.
+// Where damping dominates it grows as r, not sqrt(r).
+double damped_dt(double dt0, double tau, double mass_ratio = 1.0);
+
+// Its inverse in the mass: the ratio r with damped_dt(dt0, tau, r) = need,
+// r = need (need + 2 tau)/dt0² (selective mass scaling, Model::scale_masses).
+double mass_ratio_for(double dt0, double tau, double need);
+
 // Undamped critical step of triangle t (reference corners, physical masses).
 double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
                            const std::vector<ElementMaterial>& mat, int32_t t);
@@ -61,11 +73,8 @@ double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
 double element_damped_dt(const Nodes& nodes, const Triangles& tris,
                          const std::vector<ElementMaterial>& mat, int32_t t);
 
-// Element limits use the inertial masses: with r the smallest corner ratio
-// mass/mass_phys of a triangle, its eigenfrequencies are at most w_e/sqrt(r),
-// and the damped limit is evaluated there: sqrt(r dt0² + tau²) - tau, with
-// dt0 = 2/w_e and tau its damping time (strain-rate damping and viscosity).
-// Where damping dominates this grows as r, not sqrt(r).
+// Element limits use the inertial masses: damped_dt with r the smallest
+// corner ratio mass/mass_phys of each triangle.
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
                             const std::vector<ElementMaterial>& mat,
                             bool contact_possible, const ContactStableStep& contact,
