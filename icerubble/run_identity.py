@@ -35,29 +35,27 @@ def mesh_digest(mesh):
             h.update(str(a.dtype).encode() + str(a.shape).encode())
             h.update(a.tobytes())
         else:   # lists of per-block polygons and the like
-            h.update(json.dumps(v, sort_keys=True, default=_listed).encode())
+            h.update(json.dumps(v, sort_keys=True, default=_json_default).encode())
     for k in sorted(mesh.get("attrs", {})):
         if k not in _VOLATILE_MESH_ATTRS:
             h.update(f"{k}={_plain(mesh['attrs'][k])!r}".encode())
     return h.hexdigest()
 
 
-def _listed(v):
-    if isinstance(v, np.ndarray):
-        return {"dtype": str(v.dtype), "data": v.tolist()}
-    if isinstance(v, np.generic):
-        return v.item()
-    return repr(v)
-
-
 def _plain(v):
-    if isinstance(v, (np.generic,)):
+    """numpy scalars, arrays and bytes as plain Python values."""
+    if isinstance(v, np.generic):
         return v.item()
     if isinstance(v, bytes):
         return v.decode()
     if isinstance(v, np.ndarray):
         return v.tolist()
     return v
+
+
+def _json_default(v):
+    p = _plain(v)
+    return repr(v) if p is v else p
 
 
 def identity(params, mesh, options):
@@ -72,9 +70,13 @@ def identity(params, mesh, options):
     }
 
 
+def to_json(ident):
+    """The identity as recorded in a result file (root attribute run_identity)."""
+    return json.dumps(ident, sort_keys=True, default=_json_default)
+
+
 def run_id(ident):
-    text = json.dumps(ident, sort_keys=True, default=repr)
-    return hashlib.sha256(text.encode()).hexdigest()[:20]
+    return hashlib.sha256(to_json(ident).encode()).hexdigest()[:20]
 
 
 def differences(stored, asked):

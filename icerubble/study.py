@@ -49,7 +49,7 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         run = PunchThrough(mesh_path, out, params=params, options=options,
                            meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
                                      scene=scene_name, run_id=rid,
-                                     run_identity=json.dumps(ident, sort_keys=True, default=repr)))
+                                     run_identity=RI.to_json(ident)))
         run.run(resume=resume)
     print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
     return out

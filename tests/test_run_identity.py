@@ -5,7 +5,6 @@ request for G = 1 J/m² (or 30 mm of travel) in a folder holding the default
 run got the default run back. Now the result records a hash of every input,
 and a request that differs in anything is refused with the difference named.
 """
-import json
 import os
 
 import h5py
@@ -74,7 +73,7 @@ def store(folder, identity_attr):
     with h5py.File(path, "w") as f:
         f.attrs["complete"] = 1
         if identity_attr is not None:
-            f.attrs["run_identity"] = json.dumps(identity_attr, sort_keys=True, default=repr)
+            f.attrs["run_identity"] = RI.to_json(identity_attr)
     return str(path)
 
 
