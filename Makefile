@@ -3,10 +3,11 @@ PY      := /usr/bin/python3
 BUILD   := build
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEBS    := yade gmsh python3-gmsh python3-numpy python3-scipy python3-matplotlib \
-           python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make
+           python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make \
+           python3-pip python3-setuptools python3-wheel
 STAMP   := $(BUILD)/.built
 
-.PHONY: setup deps build test bench demo figures clean
+.PHONY: setup deps build install test bench demo figures clean
 
 setup: deps build
 
@@ -19,10 +20,20 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
 	fi
 
+# The C++ engine and cohesive law (CMake), then the Python package installed in
+# editable mode for /usr/bin/python3: `import icerubble` from any folder and
+# inside yade, and the `icerubble` command (pyproject.toml).
 build: deps
 	cmake -S . -B $(BUILD) -DPython3_EXECUTABLE=$(PY) -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build $(BUILD) -j2
 	@touch $(STAMP)
+	@$(MAKE) --no-print-directory install
+
+# Reinstalled only when this checkout is not the one installed.
+install:
+	@cd / && $(PY) -c "import icerubble, os, sys; sys.exit(os.path.dirname(os.path.dirname(icerubble.__file__)) != '$(CURDIR)')" 2>/dev/null \
+	  && command -v icerubble >/dev/null || \
+	  $(SUDO) $(PY) -m pip install --quiet --no-deps --no-build-isolation --break-system-packages --editable .
 
 test: build
 	$(PY) -m pytest -q tests
@@ -31,13 +42,13 @@ bench: build
 	$(PY) bench/run_all.py
 
 demo: build
-	$(PY) yade_scripts/demo.py
+	$(PY) -m icerubble.cli demo
 
 # Figs. 6-20 and Tables 2-3 from a folder of run results (docs/postproc.md)
 RESULTS ?= results
 FIGDIR  ?= figures
-figures:
-	$(PY) -m postproc.make_figures $(RESULTS) -o $(FIGDIR)
+figures: build
+	$(PY) -m icerubble.cli figures $(RESULTS) -o $(FIGDIR)
 
 clean:
 	rm -rf $(BUILD) icerubble/_*.so

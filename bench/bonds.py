@@ -2,7 +2,7 @@
 
 A 4 x 4 grid of ice blocks, each 20 x 10 cells of h = 0.05 m (400 triangles,
 1.0 m x 0.5 m), 6,400 triangles in all, every block interface bonded
-(bond points from icerubble.bond_points, junctions at the block corners);
+(bond points from icerubble.geometry.bond_points, junctions at the block corners);
 E = 2 GPa, nu = 0.3, rho = 920 kg/m³, no gravity, no water, dt = 0.9 x the
 stable step. Left and bottom edges held (x, y), right and top edges pulled out at 1e-4 m/s.
 
@@ -21,25 +21,23 @@ its load (2 shared cores when written).
 import argparse
 import json
 import os
-import sys
 import time
 
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
 RESULTS = os.path.join(ROOT, "bench", "results", "bonds.json")
 
-from icerubble import fdem  # noqa: E402
-from icerubble.bond_points import find_bond_points  # noqa: E402
+from icerubble import engine
+from icerubble.geometry.bond_points import find_bond_points
 
 
 def scene(sigma_cr, G, screen_interval, threads):
     h = 0.05
-    nodes, tri = fdem.rectangle_mesh(80, 40, h)
+    nodes, tri = engine.rectangle_mesh(80, 40, h)
     c = nodes[tri].mean(axis=1)
     body = ((c[:, 0] // 1.0) + 4 * (c[:, 1] // 0.5)).astype(np.int32)
-    m = fdem.Model(nodes, tri, body, dict(E=2e9, nu=0.3, rho=920.0))
+    m = engine.Model(nodes, tri, body, dict(E=2e9, nu=0.3, rho=920.0))
     bp = find_bond_points(nodes, tri, body, keel_top_y=2.0, keel_depth=2.0, sigma_cr=sigma_cr,
                           tau_cr=5 * sigma_cr, G=G, bottom_fraction=1.0)
     m.set(gravity=False, penalty=1e9, threads=threads)

@@ -27,17 +27,16 @@ RESULTS = os.path.join(ROOT, "bench", "results", "collision.json")
 
 
 def worker(n, steps):
-    sys.path.insert(0, ROOT)
     import numpy as np
-    from icerubble import fdem
+    from icerubble import engine
 
     h, gap = 0.1, 0.01
-    a_nodes, a_tri = fdem.rectangle_mesh(n, n, h, origin=(-n * h - gap / 2, 0.0))
-    b_nodes, b_tri = fdem.rectangle_mesh(n, n, h, origin=(gap / 2, 0.0))
+    a_nodes, a_tri = engine.rectangle_mesh(n, n, h, origin=(-n * h - gap / 2, 0.0))
+    b_nodes, b_tri = engine.rectangle_mesh(n, n, h, origin=(gap / 2, 0.0))
     nodes = np.vstack((a_nodes, b_nodes))
     tri = np.vstack((a_tri, b_tri + len(a_nodes)))
     body = np.repeat([0, 1], len(a_tri))
-    m = fdem.Model(nodes, tri, body, dict(E=5e9, nu=0.3, rho=920.0, damping=0.0))
+    m = engine.Model(nodes, tri, body, dict(E=5e9, nu=0.3, rho=920.0, damping=0.0))
     m.set(gravity=False, water=False, dt=1e-6, penalty=2e11, mu=0.3)
     v = np.zeros_like(nodes)
     v[: len(a_nodes), 0] = 1.0

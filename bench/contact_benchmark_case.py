@@ -7,14 +7,11 @@ machine are noisy: run it a few times.
     /usr/bin/python3 bench/contact_benchmark_case.py [--steps N] [--threads T]
 """
 import argparse
-import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from icerubble import fdem  # noqa: E402
+from icerubble import engine
 
 
 def main():
@@ -22,11 +19,11 @@ def main():
     ap.add_argument("--steps", type=int, default=1000)
     ap.add_argument("--threads", type=int, default=0)
     args = ap.parse_args()
-    na_, ta = fdem.rectangle_mesh(80, 80, 0.1, origin=(-8.0, 0.0))
-    nb_, tb = fdem.rectangle_mesh(80, 80, 0.1, origin=(1e-4, 0.0))  # 0.1 mm gap: touch at step 50
+    na_, ta = engine.rectangle_mesh(80, 80, 0.1, origin=(-8.0, 0.0))
+    nb_, tb = engine.rectangle_mesh(80, 80, 0.1, origin=(1e-4, 0.0))  # 0.1 mm gap: touch at step 50
     nodes, tri = np.r_[na_, nb_], np.r_[ta, tb + len(na_)]
     body = np.r_[np.zeros(len(ta)), np.ones(len(tb))].astype(int)
-    m = fdem.Model(nodes, tri, body, materials=dict(E=2e9, nu=0.3, rho=920.0, damping=0.0))
+    m = engine.Model(nodes, tri, body, materials=dict(E=2e9, nu=0.3, rho=920.0, damping=0.0))
     m.set(dt=1e-6, gravity=False, water=False, penalty=2e11, mu=0.3, threads=args.threads)
     v = np.zeros((len(nodes), 2))
     v[: len(na_), 0], v[len(na_):, 0] = 1.0, -1.0

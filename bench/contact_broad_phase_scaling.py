@@ -4,14 +4,11 @@ should stay flat: linear scaling). Rubble-like scene: k x k small blocks
 
     /usr/bin/python3 bench/contact_broad_phase_scaling.py
 """
-import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from icerubble import _cst, fdem  # noqa: E402
+from icerubble import _cst, engine
 
 
 def rubble(k):
@@ -19,7 +16,7 @@ def rubble(k):
     off = 0
     for i in range(k):
         for j in range(k):
-            n, t = fdem.rectangle_mesh(6, 3, 0.1, origin=(0.6 * i + 1e-5 * j, 0.3 * j))
+            n, t = engine.rectangle_mesh(6, 3, 0.1, origin=(0.6 * i + 1e-5 * j, 0.3 * j))
             nodes.append(n)
             tris.append(t + off)
             body.append(np.full(len(t), i * k + j))

@@ -11,13 +11,11 @@ Timings on a shared machine are noisy.
 """
 import argparse
 import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from icerubble import _cst  # noqa: E402
+from icerubble import _cst
 
 
 def block(x0, y0, size, h):

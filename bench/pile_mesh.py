@@ -13,9 +13,9 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
 
-from icerubble import meshing, pile  # noqa: E402
+from icerubble.files import pile_file
+from icerubble.geometry import meshing
 
 DOF_TARGET = 150_000  # paper Table 1 (2 dof per node)
 
@@ -35,7 +35,7 @@ def run_phase1(tmp, name, threads, **params):
     wall = time.perf_counter() - t0
     if proc.returncode != 0:
         sys.exit(f"phase 1 failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
-    p = pile.read_pile(out)
+    p = pile_file.read_pile(out)
     m = p["meta"]
     print(f"phase 1 {name}: {m['n_blocks']} blocks, {threads} thread(s): {wall:.1f} s wall "
           f"(YADE loop {m['wall_time']:.1f} s), {m['steps']} steps of {m['dt']:.3g} s, "
@@ -46,7 +46,7 @@ def run_phase1(tmp, name, threads, **params):
 
 
 def mesh_once(path, h):
-    p = pile.read_pile(path)
+    p = pile_file.read_pile(path)
     t0 = time.perf_counter()
     m = meshing.build_mesh(p, element_size=h)
     wall = time.perf_counter() - t0

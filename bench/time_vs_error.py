@@ -19,19 +19,18 @@ import time
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
-from icerubble import fdem  # noqa: E402
+from icerubble import engine
 
 ICE = dict(E=2e9, nu=0.3, rho=920.0, damping=0.0)
 
 
 def collision(f):
     L, H, h, gap = 1.0, 0.5, 0.1, 1e-3
-    na_, ta = fdem.rectangle_mesh(int(L / h), int(H / h), h, origin=(-L - gap / 2, 0.0))
-    nb_, tb = fdem.rectangle_mesh(int(L / h), int(H / h), h, origin=(gap / 2, 0.0))
+    na_, ta = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(-L - gap / 2, 0.0))
+    nb_, tb = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(gap / 2, 0.0))
     nodes, tri = np.r_[na_, nb_], np.r_[ta, tb + len(na_)]
     body = np.r_[np.zeros(len(ta)), np.ones(len(tb))].astype(int)
-    m = fdem.Model(nodes, tri, body, materials=ICE)
+    m = engine.Model(nodes, tri, body, materials=ICE)
     m.set(gravity=False, water=False, mu=0.0, penalty=2e11, threads=1)
     dt = f * m.stable_time_step()["dt"]
     m.set(dt=dt)
@@ -57,8 +56,8 @@ def pulse(n):
     L, H, X = 10.0, 0.1, 8.0
     h = L / n
     ny = max(1, int(round(H / h)))
-    nodes, tri = fdem.rectangle_mesh(n, ny, h, H / ny)
-    m = fdem.Model(nodes, tri, np.zeros(len(tri), int), materials=ICE,
+    nodes, tri = engine.rectangle_mesh(n, ny, h, H / ny)
+    m = engine.Model(nodes, tri, np.zeros(len(tri), int), materials=ICE,
                    node_sets={"left": np.flatnonzero(nodes[:, 0] == 0.0)})
     m.set(gravity=False, water=False, threads=1)
     dt = 0.5 * m.stable_time_step()["dt"]

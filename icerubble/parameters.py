@@ -1,6 +1,6 @@
 """Run parameters of a punch-through simulation (paper Table 1) and their checks.
 
-Every parameter has a default from Table 1 (or MODEL.md where the paper is
+Every parameter has a default from Table 1 (or docs/model.md where the paper is
 silent), a unit and a valid range. ``validate`` raises ValueError naming the
 parameter and its range before any work starts, so a bad yade-batch line fails
 in its first second rather than after an hour of settling.
@@ -75,8 +75,17 @@ TABLE_1 = {
     "ramp_time": Parameter(2.0, "s", **NONNEG, doc="smooth acceleration time of the indenter"),
     "target_travel": Parameter(0.3, "m", **POS, doc="indenter travel y_I at which the run stops"),
     # numerics
-    "dt": Parameter(1e-6, "s", **POS, doc="time step (checked against the stable step)"),
+    "dt": Parameter(1e-6, "s", **POS, doc="time step, checked against the stable step; in a yade-batch "
+                    "table a dt column replaces the scene's dt_fraction x stable step"),
 }
+
+
+# The physical constants other modules need without a parameter dict (phase 1,
+# analyses, tests): one home, the defaults above.
+RHO_I = TABLE_1["rho_i"].default
+RHO_W = TABLE_1["rho_w"].default
+GRAVITY = TABLE_1["g"].default
+LAYER_THICKNESS = TABLE_1["layer_thickness"].default
 
 
 def defaults():
@@ -104,12 +113,25 @@ def check_value(name, value, spec=None):
     return v
 
 
+def require_range(name, value, lo=None, hi=None, lo_open=False):
+    """check_value for a setting outside Table 1 (mesh sizes, tolerances): a
+    finite number in [lo, hi] (lo excluded with lo_open)."""
+    return check_value(name, value, Parameter(None, "", lo=lo, hi=hi, lo_open=lo_open))
+
+
+class Checked(dict):
+    """A full parameter dict that validate() has checked: passing it through
+    validate() again returns a copy without checking twice."""
+
+
 def validate(params):
     """Return a full, checked parameter dict: defaults overridden by `params`.
 
     Unknown names are an error too (a typo in a yade-batch table would
     otherwise silently run the default).
     """
+    if isinstance(params, Checked):
+        return Checked(params)
     unknown = sorted(set(params) - set(TABLE_1))
     if unknown:
         raise ValueError(f"unknown parameter(s) {', '.join(unknown)}; known: {', '.join(sorted(TABLE_1))}")
@@ -128,7 +150,7 @@ def validate(params):
     if out["rho_i"] >= out["rho_w"]:
         raise ValueError(f"parameter rho_i={out['rho_i']} must be below rho_w={out['rho_w']} kg/m^3: "
                          "the ice must float")
-    return out
+    return Checked(out)
 
 
 def units():
@@ -136,5 +158,5 @@ def units():
 
 
 def water_line_draft(params):
-    """Draft d of the freely floating consolidated layer: (ρ_i/ρ_w) t (MODEL.md 3.4)."""
+    """Draft d of the freely floating consolidated layer: (ρ_i/ρ_w) t (docs/model.md §3.4)."""
     return params["rho_i"] / params["rho_w"] * params["layer_thickness"]

@@ -29,6 +29,8 @@ import sys
 
 import numpy as np
 
+from icerubble.parameters import GRAVITY, RHO_I, RHO_W
+
 from . import loads, plug, shear_strength
 
 DISP_NAMES = ("y_i", "yi", "y", "displacement", "disp", "penetration", "travel")
@@ -135,7 +137,7 @@ def _check_inputs(H, W, eta, rho_i, rho_w, g, alpha, plug_force):
 
 
 def analyse(y, F, keel_depth, indenter_width, porosity, intervals=DEFAULT_INTERVALS_MM, alpha=43.0,
-            plug_force=None, rho_i=920.0, rho_w=1010.0, g=9.81):
+            plug_force=None, rho_i=RHO_I, rho_w=RHO_W, g=GRAVITY):
     """All the numbers of the report as a dict (SI units). ``intervals`` in mm;
     intervals the record does not cover are listed under 'skipped_intervals'."""
     _check_inputs(keel_depth, indenter_width, porosity, rho_i, rho_w, g, alpha, plug_force)
@@ -220,9 +222,9 @@ def main(argv=None):
     ap.add_argument("--alpha", type=float, default=43.0, help="assumed failure-plane angle for tau(3) [deg]")
     ap.add_argument("--plug-force", type=float, help="F_b of tau(2) [N/m] (paper: 11e3 for W = H = 4 m); "
                     "default: the cylindrical plug computed from W, H, eta")
-    ap.add_argument("--rho-i", type=float, default=920.0)
-    ap.add_argument("--rho-w", type=float, default=1010.0)
-    ap.add_argument("--g", type=float, default=9.81)
+    ap.add_argument("--rho-i", type=float, default=RHO_I)
+    ap.add_argument("--rho-w", type=float, default=RHO_W)
+    ap.add_argument("--g", type=float, default=GRAVITY)
     ap.add_argument("-o", "--out-dir", help="write report.md, result.csv and the figure here")
     args = ap.parse_args(argv)
     try:

@@ -18,11 +18,9 @@ themselves. A_p is a bulk area (rubble and voids), hence the (1 - eta) in eq 13.
 """
 import numpy as np
 
-from . import failure_plane
+from icerubble.parameters import GRAVITY as G, RHO_I, RHO_W  # Table 1
 
-G = 9.81       # m/s^2  (Table 1)
-RHO_I = 920.0  # kg/m^3 (Table 1)
-RHO_W = 1010.0 # kg/m^3 (Table 1)
+from . import failure_plane
 
 
 def _cut(p1, p2, fit):

@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
+from icerubble.files.h5io import open_complete
+
 FORMAT_NAME = "icerubble-run"
 FORMAT_VERSION = 1
 OPTIONAL_GROUPS = ("snapshots", "energy", "fields")
@@ -141,24 +143,15 @@ def load(path):
     ``RunResult.missing``.
     """
     path = os.fspath(path)
-    if path.endswith(".part"):
-        raise ResultFileError(f"{path}: still being written (*.part); only complete .h5 files are read")
-    if not os.path.isfile(path):
-        raise ResultFileError(f"{path}: no such file")
     try:
-        f = h5py.File(path, "r")
-    except OSError as exc:
-        raise ResultFileError(f"{path}: not a readable HDF5 file ({exc})") from None
+        f = open_complete(path, FORMAT_NAME, what="result file")
+    except ValueError as exc:
+        raise ResultFileError(str(exc)) from None
     with f:
         root = _attrs(f)
-        if root.get("format") != FORMAT_NAME:
-            raise ResultFileError(f"{path}: root attr format={root.get('format')!r}, expected {FORMAT_NAME!r}")
         if int(root.get("format_version", -1)) != FORMAT_VERSION:
             raise ResultFileError(f"{path}: format_version={root.get('format_version')!r}, "
                                   f"this reader knows version {FORMAT_VERSION}")
-        if int(root.get("complete", 0)) != 1:
-            raise ResultFileError(f"{path}: root attr complete={root.get('complete')!r}, expected 1 "
-                                  "(the run did not finish writing)")
         absent = [g for g in REQUIRED_GROUPS if g not in f]
         if absent:
             raise ResultFileError(f"{path}: required group(s) missing: {', '.join('/' + g for g in absent)}")

@@ -27,7 +27,8 @@ import sys
 import h5py
 import numpy as np
 
-G, RHO_I, RHO_W = 9.81, 920.0, 1010.0
+from icerubble.parameters import GRAVITY as G, RHO_I, RHO_W
+
 H, W_I, T_C, DOMAIN = 4.0, 4.0, 1.0, 20.0
 DRAFT = RHO_I / RHO_W * T_C
 KEEL_TOP = -DRAFT

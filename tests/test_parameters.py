@@ -2,7 +2,7 @@
 import pytest
 
 from icerubble import parameters as P
-from icerubble.h5io import AtomicH5, open_complete
+from icerubble.files.h5io import AtomicH5, open_complete
 
 
 def test_defaults_are_table_1():

@@ -14,7 +14,7 @@ extruded 1 m in z, motion in the x-y plane only):
   (NewtonIntegrator.damping) dissipate the kinetic energy: a settling device, not water drag.
   The pile is re-meshed afterwards, so the soft contact only sets the (mm) overlaps;
 - friction: YADE 2023.02a polyhedra friction is wrong with more than one contact
-  (yade_2023_facts.md), so the law runs frictionless and Coulomb friction mu_settle is
+  (docs/yade_notes.md), so the law runs frictionless and Coulomb friction mu_settle is
   added from Python each step (ContactFriction below: an elastic-plastic tangential
   spring per contact, Cundall-Strack in 2D). Friction jams the pile; a frictionless
   pile creeps for tens of seconds and ends denser (porosity ~0.14 on the demo pile).
@@ -25,13 +25,7 @@ extruded 1 m in z, motion in the x-y plane only):
   FEM-DEM settle and was still going). The pile file records it as `friction`.
 Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
 """
-import os
-import sys
 import time
-
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0])))
-if _ROOT not in sys.path:
-    sys.path.insert(0, _ROOT)
 
 import numpy as np
 import yade
@@ -44,9 +38,11 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
                           PyRunner)
 from yade import Vector3
 
-from icerubble import pile
+from icerubble.files.pile_file import write_pile
+from icerubble.geometry import pile
+from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range
 
-# every touching pair prints a warning each step otherwise (facts file)
+# every touching pair prints a warning each step otherwise (docs/yade_notes.md)
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
 
 utils.readParamsFromTable(
@@ -68,7 +64,7 @@ utils.readParamsFromTable(
     check_interval=0.25,   # s simulated between kinetic-energy checks
     n_quiet=4,             # consecutive quiet checks required
     max_time=300.0,        # s simulated: give up (writes settled=0) after this
-    rho_i=920.0, rho_w=1010.0, g=9.81, layer_thickness=1.0,
+    rho_i=RHO_I, rho_w=RHO_W, g=GRAVITY, layer_thickness=LAYER_THICKNESS,
     out='',                # output file; '' -> pile_<description>.h5 or pile.h5
     noTableOk=True,
 )
@@ -81,7 +77,7 @@ except KeyError:
 
 
 def validate(P):
-    r = pile.require_range
+    r = require_range
     r("seed", P.seed, 0)
     r("domain_width (m)", P.domain_width, 0.0, lo_open=True)
     r("n_blocks", P.n_blocks, 0)
@@ -216,7 +212,7 @@ def main():
     ]
     # Critical step of a chain of blocks pressed face to face: face stiffness k_n A,
     # mass rho t A, omega_max^2 = 4 k_n / (rho_i t_min). PWaveTimeStep is useless for
-    # polyhedra (returns 1.0), GlobalStiffnessTimeStepper mixes units (facts file).
+    # polyhedra (returns 1.0), GlobalStiffnessTimeStepper mixes units (docs/yade_notes.md).
     k_n = 0.5 * P.E_settle
     dt = P.dt_safety * 2.0 / np.sqrt(4.0 * k_n / (P.rho_i * P.t_min))
     O.dt = dt
@@ -273,7 +269,7 @@ def main():
                 keel_bottom_y=bounds[2], keel_top_y=bounds[3], layer_bottom_y=top,
                 layer_thickness=float(P.layer_thickness), domain_width=float(W),
                 friction=float(P.mu_settle))
-    pile.write_pile(out, out_corners, ts, ls, params, meta)
+    write_pile(out, out_corners, ts, ls, params, meta)
     print(f"make_pile: wrote {out}: {n} blocks, settled={settled}, t={O.time:.2f} s simulated, "
           f"wall {meta['wall_time']:.1f} s, porosity {eta:.3f}, keel {bounds[3] - bounds[2]:.2f} m deep",
           flush=True)

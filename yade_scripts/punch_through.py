@@ -6,7 +6,7 @@
 
 Every column of a table is a parameter below: ``ridge`` (the pile's seed),
 ``scene`` (demo | small | paper: pile size, mesh, dt, penalty, travel; see
-icerubble/scenes.py) and any Table 1 parameter (icerubble/parameters.py),
+icerubble/run/presets.py) and any Table 1 parameter (icerubble/parameters.py),
 e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel.
 Piles and meshes are made on first use and cached in OUT_DIR/scenes; the
 result is OUT_DIR/<description>.h5 (docs/results_format.md) with ParaView
@@ -16,22 +16,21 @@ checkpoint when started again.
 import os
 import sys
 
+from yade import utils
+
+from icerubble import parameters as P
+
+# results go beside the scripts' checkout (runs/), whatever the working folder
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
                                                         else __file__)))
-if _ROOT not in sys.path:
-    sys.path.insert(0, _ROOT)
-
-from yade import utils  # noqa: E402
-
-from icerubble import parameters as P  # noqa: E402
 
 # Table 1 parameters default to None: "the scene's value, else Table 1".
 utils.readParamsFromTable(ridge=1, scene="demo", out_dir=os.path.join(_ROOT, "runs"), resume=True,
                           noTableOk=True, **{k: None for k in P.TABLE_1})
-from yade.params import table  # noqa: E402
-from yade.wrapper import O  # noqa: E402
+from yade.params import table
+from yade.wrapper import O
 
-from icerubble.study import run_one  # noqa: E402
+from icerubble.run.study import run_one
 
 overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not None}
 description = O.tags["description"] if "description" in O.tags.keys() else ""

@@ -1,0 +1,73 @@
+"""Checkpoints of a punch-through run: the engine state (including split
+nodes and bond states), what has been recorded, and the driver's phase.
+
+Written atomically (icerubble.files.h5io.AtomicH5), so a checkpoint on disk is
+always a complete one; a run killed while writing keeps the previous one.
+"""
+import json
+
+import numpy as np
+
+from ..files.h5io import AtomicH5, open_complete, read_tree, write_tree
+from .recorder import ENERGY_TERMS
+
+CHECKPOINT_FORMAT = "icerubble-checkpoint"
+DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
+                 "settle_max_speed", "settle_max_block_move")
+
+
+def save(run, path):
+    with AtomicH5(path, CHECKPOINT_FORMAT) as f:
+        d = f.create_group("driver")
+        for k in DRIVER_FIELDS:
+            v = getattr(run, k)
+            d.attrs[k] = np.nan if v is None else v
+        d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
+        d.attrs["params"] = json.dumps(run.params)
+        write_tree(f.create_group("engine"), run.model.checkpoint())
+        r = f.create_group("recorder")
+        s = run.recorder.state()
+        r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 4))
+        r.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(-1, 1 + len(ENERGY_TERMS)))
+        r.create_dataset("pending_snaps", data=np.array(s["pending_snaps"], float))
+        r.create_dataset("reference_nodes", data=s["reference_nodes"])
+        r.create_dataset("centroid0", data=s["centroid0"])
+        b = r.create_group("bonds")
+        for k, v in s["bonds"].items():
+            b.create_dataset(k, data=v)
+        sn = r.create_group("snapshots")
+        for i, (t, y, ue, un) in enumerate(s["snapshots"]):
+            g2 = sn.create_group(f"{i:04d}")
+            g2.attrs["t"], g2.attrs["y_I"] = t, y
+            g2.create_dataset("u_elem", data=ue)
+            g2.create_dataset("u_node", data=un)
+
+
+def restore(run, path):
+    with open_complete(path, CHECKPOINT_FORMAT) as f:
+        d = f["driver"]
+        saved = json.loads(d.attrs["params"])
+        if saved != run.params:
+            diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
+            raise ValueError(f"checkpoint {path} was written with other parameters ({', '.join(diff)}); "
+                             "remove it or run with the same parameters")
+        for k in DRIVER_FIELDS:
+            if k not in d.attrs:   # checkpoints written before the settle record
+                continue
+            v = d.attrs[k]
+            if isinstance(v, bytes):
+                v = v.decode()
+            setattr(run, k, v.item() if hasattr(v, "item") else v)
+        run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
+        run.model = run.scene.restore(read_tree(f["engine"]))
+        run.apply_boundary_conditions()
+        r = f["recorder"]
+        s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],
+                 energy_rows=[tuple(row) for row in r["energy_rows"][...]],
+                 pending_snaps=list(r["pending_snaps"][...]),
+                 reference_nodes=r["reference_nodes"][...], centroid0=r["centroid0"][...],
+                 bonds={k: r["bonds"][k][...] for k in r["bonds"]},
+                 snapshots=[(r["snapshots"][k].attrs["t"], r["snapshots"][k].attrs["y_I"],
+                             r["snapshots"][k]["u_elem"][...], r["snapshots"][k]["u_node"][...])
+                            for k in sorted(r["snapshots"])])
+        run.recorder.restore(s)

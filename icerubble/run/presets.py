@@ -1,0 +1,62 @@
+"""Named scenes: pile, mesh and numerical settings that go together.
+
+``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel, an
+element size giving ~150,000 dof and the paper's penalty. The paper's time
+step (1 µs) is above the stable step of the potential contact at that penalty
+(~0.7 µs for 0.05 m elements, see docs/engine_api.md), and the few tiny
+elements of a real pile's mesh bring the stable step down to ~3e-8 s; so
+the paper scene uses selective mass scaling to a 2e-7 s step (on the
+665-block pile: 0.04 % added inertial mass on ~700 nodes; weight stays
+physical) and runs at 0.8 x the resulting stable step.
+``small`` and ``demo`` are a 10 m wide, ~1.8 m deep keel on a coarser mesh
+that runs in minutes on a workstation. To afford a larger time step they use
+a 40x softer contact penalty (5e9 Pa: contact overlaps stay of the order of
+micrometres at these loads) and a time step of 0.8 x the stable step of their
+mesh (``dt_fraction``); the demo also ramps the indenter up in 0.5 s instead
+of 2 s. Their meshes' stable steps are 3.7e-6 s on a clean mesh (small ridge
+1) but 4e-8 to 1.1e-7 s where the pile leaves a 2-4 mm element at a block
+junction (ridges 2-4; the block viscosity makes such an element's limit fall
+as its size squared), so they also scale the masses of those few nodes to a
+3e-6 s step: 0.1-0.8 % added inertial mass on 40-260 nodes (weight stays
+physical; recorded in the result). Everything else is Table 1. Deviations are recorded in every result
+file's /parameters.
+
+Every scene's pile is settled in phase 1 at PILE_FRICTION = 0.05, the lowest
+friction coefficient of the paper's study (mu = 0.05 and 0.3): a ridge's pile
+is made once and run at every mu, and it must already be at rest with the
+weakest friction (a pile at rest within the 0.05 friction cone is at rest
+within the 0.3 cone too). The pile and mesh file names carry it
+(icerubble/run/scene_cache.py).
+"""
+# Friction of phase 1 (yade_scripts/make_pile.py mu_settle): the lowest mu of the study.
+PILE_FRICTION = 0.05
+
+SCENES = {
+    "paper": dict(
+        pile=dict(domain_width=50.0, keel_depth=4.0, mu_settle=PILE_FRICTION),
+        element_size=0.085,
+        params=dict(penalty=2e11, target_travel=0.3),
+        dt_fraction=0.8,
+        mass_scaling_dt=2e-7,
+    ),
+    "small": dict(
+        pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
+        element_size=0.15,
+        params=dict(penalty=5e9, target_travel=0.03),
+        dt_fraction=0.8,
+        mass_scaling_dt=3e-6,
+    ),
+    "demo": dict(
+        pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
+        element_size=0.15,
+        params=dict(penalty=5e9, target_travel=0.03, ramp_time=0.5),
+        dt_fraction=0.8,
+        mass_scaling_dt=3e-6,
+    ),
+}
+
+
+def scene(name):
+    if name not in SCENES:
+        raise ValueError(f"scene={name!r} is unknown: valid values are {', '.join(sorted(SCENES))}")
+    return SCENES[name]

@@ -1,0 +1,381 @@
+"""The punch-through run (paper section 2.4; docs/model.md §1, 4).
+
+    settle  - gravity and buoyancy on, layer top held, indenter free, bond
+              failure off: damped motion until the system is at rest; then the
+              indenter is held and its force at rest checked (~0);
+    load    - the indenter top is driven down with a smooth ramp to v_final
+              over ramp_time, until the travel y_I reaches target_travel;
+              F(y_I) every <= 0.05 mm, u snapshots at 1, 5, 10, 20, ... mm,
+              energies, bond events;
+    write   - one self-describing HDF5 result (docs/results_format.md) and
+              ParaView snapshots (VTU + PVD) beside it.
+
+A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
+interrupted run resume (``resume=True``); the result file appears only when
+the run is complete.
+"""
+import math
+import os
+import time
+
+import numpy as np
+
+from . import checkpoint as ckpt
+from ..files.mesh_file import read_mesh
+from .. import parameters as P
+from .progress import Progress
+from .recorder import RunRecorder
+from .scene import Scene
+from ..files.vtu import write_pvd, write_vtu
+
+# Indenter travel between two F samples at full speed (docs/model.md §4 asks <= 0.1 mm).
+FORCE_SAMPLE_TRAVEL = 0.05e-3
+ENERGY_EVERY = 10          # F samples per energy sample
+SETTLE_CHECK_INTERVAL = 2e-3  # s simulated between two at-rest checks
+SETTLE_LOCAL_DAMPING = 0.7     # Cundall damping while settling (YADE's default is 0.2)
+RAMP_SAMPLES = 2001        # points of the tabulated indenter ramp
+# Below this travel per sample (the first samples of the smooth ramp move
+# ~1e-15 m, positions' round-off) the mean force work/travel is meaningless:
+# such samples take the instantaneous force; 1 nm keeps the round-off < 1e-6.
+MEAN_FORCE_MIN_TRAVEL = 1e-9
+
+
+def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
+    """The indenter speed history starting at t0: s = v_f (τ/T - sin(2πτ/T)/(2π))
+    for τ = t - t0 < T, then v_f; zero speed and acceleration at the start, so
+    the rubble sees no inertial load (paper 2.4). Tabulated for the engine."""
+    if ramp_time <= 0.0:
+        return np.array([t0, t0 + 1e-12]), np.array([0.0, v_final])
+    tau = np.linspace(0.0, ramp_time, n)
+    s = v_final * (tau / ramp_time - np.sin(2 * np.pi * tau / ramp_time) / (2 * np.pi))
+    return t0 + tau, s
+
+
+class RunOptions:
+    """How to run, as opposed to what to simulate (the parameters)."""
+
+    def __init__(self, settle_max_time=5.0, settle_min_time=0.05, settle_velocity=1e-4,
+                 settle_accel=1e-3, settle_hold_time=0.02,
+                 checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
+                 stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None):
+        if settle_max_time <= 0:
+            raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
+        if not 0 <= settle_min_time <= settle_max_time:
+            raise ValueError(f"settle_min_time={settle_min_time} must be in [0, settle_max_time] s")
+        if settle_velocity <= 0:
+            raise ValueError(f"settle_velocity={settle_velocity} must be > 0 m/s")
+        self.settle_max_time = settle_max_time
+        self.settle_min_time = settle_min_time
+        self.settle_velocity = settle_velocity
+        if settle_accel <= 0:
+            raise ValueError(f"settle_accel={settle_accel} must be > 0 (fraction of g)")
+        self.settle_accel = settle_accel
+        if settle_hold_time <= 0:
+            raise ValueError(f"settle_hold_time={settle_hold_time} must be > 0 s")
+        self.settle_hold_time = settle_hold_time
+        self.checkpoint_every_s = checkpoint_every_s
+        self.progress_every_s = progress_every_s
+        self.threads = threads
+        self.vtu = vtu
+        self.stop_after_steps = stop_after_steps   # for tests of interrupted runs
+        if dt_fraction is not None and not 0.0 < dt_fraction <= 1.0:
+            raise ValueError(f"dt_fraction={dt_fraction} must be in (0, 1]: the time step as a "
+                             "fraction of the mesh's stable step")
+        self.dt_fraction = dt_fraction             # None: use params['dt'] as given
+        if mass_scaling_dt is not None and not mass_scaling_dt > 0.0:
+            raise ValueError(f"mass_scaling_dt={mass_scaling_dt} must be > 0 s (or None: no mass scaling)")
+        self.mass_scaling_dt = mass_scaling_dt     # selective mass scaling target step
+
+
+class PunchThrough:
+    def __init__(self, mesh_path, out_path, params=None, options=None, meta=None):
+        # everything that can be wrong with the input fails here, before any work
+        self.params = P.validate(params or {})
+        self.options = options or RunOptions()
+        self.mesh = read_mesh(mesh_path)
+        self.mesh_path = os.path.abspath(mesh_path)
+        self.out_path = os.fspath(out_path)
+        if not self.out_path.endswith(".h5"):
+            raise ValueError(f"out_path={out_path!r} must end in .h5")
+        self.ckpt_path = self.out_path[:-3] + ".checkpoint.h5"
+        self.meta = dict(ridge="", seed=-1, model="fem-dem")
+        self.meta.update(meta or {})
+        self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
+        # The geometry is the mesh's: record what was simulated, not the
+        # Table 1 defaults (the analyses read keel_depth, indenter_width ...).
+        sc = self.scene
+        self.params.update(keel_depth=sc.keel_depth, indenter_width=sc.indenter_width,
+                           indenter_thickness=sc.indenter_thickness,
+                           layer_thickness=sc.layer_thickness,
+                           domain_width=float(self.mesh["attrs"]["domain_width"]))
+        if self.options.mass_scaling_dt is not None:
+            # the few light nodes of tiny elements get inertial mass (never
+            # weight) so that the stable step reaches this target; recorded
+            self.scene.model.set(mass_scaling_dt=self.options.mass_scaling_dt)
+            st = self.scene.model.stable_time_step()
+            self.meta.update(mass_scaling_dt=self.options.mass_scaling_dt,
+                             added_mass_fraction=st["added_mass_fraction"],
+                             scaled_nodes=st["scaled_nodes"])
+        if self.options.dt_fraction is not None:
+            # the stable step of this mesh (it already carries a 0.9 safety factor)
+            self.params["dt"] = self.options.dt_fraction * self.scene.model.stable_time_step()["dt"]
+            self.scene.params = self.params
+            self.scene.model.set(dt=self.params["dt"])
+        a = self.mesh["attrs"]
+        # The friction phase 1 settled the pile at (the mesh records it; NaN
+        # for piles that were not settled, e.g. constructed ones). Below it the
+        # pile is not known to be at rest: loose blocks may slide a long way.
+        self.pile_friction = float(a.get("pile_friction", math.nan))
+        if self.params["mu"] < self.pile_friction:
+            print(f"[punch-through] warning: mu = {self.params['mu']:g} is below the friction the pile "
+                  f"was settled at ({self.pile_friction:g}); loose blocks may slide for long "
+                  "while settling (make the pile at the lowest mu it will be run at)", flush=True)
+        pile_attrs = dict(porosity=float(a["porosity"]), friction=self.pile_friction,
+                          n_blocks=int(np.sum(self.scene.body_kind == 0)),
+                          keel_top_y=float(a["keel_top_y"]), keel_bottom_y=float(a["keel_bottom_y"]),
+                          keel_x_min=float(a["keel_x_min"]), keel_x_max=float(a["keel_x_max"]),
+                          mesh_file=self.mesh_path)
+        m = self.scene.model
+        mesh_arrays = dict(nodes=self.mesh["nodes"], triangles=self.mesh["triangles"],
+                           body=self.mesh["body"], body_kind=self.scene.body_kind)
+        self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
+        # node -> body, for the block moves while settling
+        self._node_body = np.full(m.n_nodes, -1, np.int64)
+        self._node_body[np.asarray(m.triangles).ravel()] = np.repeat(np.asarray(m.body), 3)
+        self.phase = "settle"
+        self.settle_time = math.nan         # simulated time the settle took [s]
+        self.settle_max_speed = math.nan    # max node speed when at rest [m/s]
+        self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
+        self.t_load = None          # model time when loading started
+        self.y_top0 = None          # indenter top at rest
+        self.F_at_rest = math.nan
+        self.t_settle = None        # model time when settling started
+        self.vtu_entries = []
+        self.model = m
+
+    # ------------------------------------------------------------------
+    def travel(self):
+        return self.y_top0 - self.scene.indenter_top_y()
+
+    def run(self, resume=False):
+        if resume and os.path.exists(self.ckpt_path):
+            ckpt.restore(self, self.ckpt_path)
+            print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
+                  f"phase {self.phase}", flush=True)
+        self._last_ckpt = time.perf_counter()
+        if self.phase == "settle":
+            self.settle()
+        self.load()
+        self.write()
+        if os.path.exists(self.ckpt_path):
+            os.remove(self.ckpt_path)
+        return self.out_path
+
+    def _maybe_checkpoint(self, force=False):
+        now = time.perf_counter()
+        if force or now - self._last_ckpt >= self.options.checkpoint_every_s:
+            ckpt.save(self, self.ckpt_path)
+            self._last_ckpt = now
+        stop = self.options.stop_after_steps
+        if stop is not None and self.model.step_count >= stop:
+            ckpt.save(self, self.ckpt_path)
+            raise KeyboardInterrupt(f"stopped after {self.model.step_count} steps (stop_after_steps)")
+
+    def apply_boundary_conditions(self):
+        """Layer top held; in the load phase the indenter top is driven. Drag
+        is off while settling (see settle)."""
+        m = self.model
+        loading = self.phase == "load"
+        m.set(drag=loading, local_damping=0.0 if loading else SETTLE_LOCAL_DAMPING)
+        m.clear_boundary_conditions()
+        m.fix("layer_top")
+        if self.phase == "load":
+            t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
+            m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
+
+    def _out_of_balance(self):
+        """Largest node speed [m/s] and out-of-balance acceleration [g] of the free nodes."""
+        m = self.model
+        v = m.velocities
+        # out-of-balance force per unit weight: with mass scaling on, the
+        # inertial mass of a few nodes is larger than what weighs
+        a = np.hypot(*m.forces("total").T) / m.mass_phys
+        a[m.node_sets["layer_top"]] = 0.0
+        return float(np.hypot(*v.T).max()), float(a.max() / self.params["g"])
+
+    def block_moves(self):
+        """(ids, distances [m]): how far each block's node centroid is from
+        where the mesh put it (before loading: its move while settling)."""
+        m = self.model
+        nb = len(self.scene.body_kind)
+        nb_nodes = self._node_body
+        u = np.asarray(m.positions)[:len(nb_nodes)] - np.asarray(m.reference_positions)[:len(nb_nodes)]
+        ok = nb_nodes >= 0
+        cnt = np.bincount(nb_nodes[ok], minlength=nb)
+        ux = np.bincount(nb_nodes[ok], weights=u[ok, 0], minlength=nb)
+        uy = np.bincount(nb_nodes[ok], weights=u[ok, 1], minlength=nb)
+        ids = np.flatnonzero(self.scene.body_kind == 0)
+        return ids, np.hypot(ux[ids], uy[ids]) / np.maximum(cnt[ids], 1)
+
+    def _fastest_block_text(self):
+        m = self.model
+        v = np.hypot(*m.velocities.T)[:len(self._node_body)]
+        b = int(self._node_body[int(np.argmax(v))])
+        ids, d = self.block_moves()
+        moved = d[ids == b][0] if b in ids else math.nan
+        return f"fastest node on body {b} (moved {moved * 1e3:.1f} mm while settling)"
+
+    def settle(self):
+        """Damped motion to rest under gravity and buoyancy, indenter free.
+
+        Drag is off and local non-viscous damping (Cundall; each node's force
+        reduced by SETTLE_LOCAL_DAMPING x its size when it pushes along the
+        node's motion) takes the energy out instead: it damps every frequency
+        alike, the light nodes' fast contact vibrations as well as a loose
+        block floating up to its support, which drag would let rise at its
+        ~1 cm/s terminal speed. At rest neither does work, so the equilibrium
+        is the same. Loading starts with drag on and local damping off.
+        """
+        m, o, dt = self.model, self.options, self.params["dt"]
+        self.apply_boundary_conditions()
+        chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
+        if self.t_settle is None or not math.isfinite(self.t_settle):
+            self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
+        t_start = self.t_settle
+        prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
+        while True:
+            m.step(chunk)
+            vmax, amax = self._out_of_balance()
+            t_rel = m.time - t_start
+            prog.update(m.step_count, m.time, 0.0)
+            # at rest = slow AND in balance: a low speed alone is also what the
+            # first steps after switching gravity on look like
+            if t_rel >= o.settle_min_time and vmax < o.settle_velocity and amax < o.settle_accel:
+                break
+            if t_rel >= o.settle_max_time:
+                hint = ""
+                if self.params["mu"] < self.pile_friction:
+                    hint = (f"; the pile was settled at friction {self.pile_friction:g} > mu = "
+                            f"{self.params['mu']:g}: make it at the lowest mu it is run at (mu_settle)")
+                raise RuntimeError(
+                    f"the scene did not come to rest within settle_max_time={o.settle_max_time} s: "
+                    f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), max "
+                    f"out-of-balance acceleration {amax:.3g} g (settle_accel={o.settle_accel}); "
+                    f"{self._fastest_block_text()}{hint}")
+            self._maybe_checkpoint()
+        self.settle_time = m.time - t_start
+        self.settle_max_speed = vmax
+        self.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
+        m.set(drag=True, local_damping=0.0)
+        # Hold the indenter where it came to rest and measure what holding it
+        # takes: ~0 if the system is in balance (paper 2.4). The first steps
+        # of the hold carry the impulse of the residual speed, so average the
+        # force over the second half of the hold.
+        m.prescribe_velocity("indenter_top", direction=(0.0, -1.0),
+                             table=(np.array([0.0, 1.0]), np.zeros(2)))
+        n_hold = max(2, int(round(o.settle_hold_time / dt)))
+        m.step(n_hold // 2)
+        forces = []
+        for _ in range(10):
+            m.step(max(1, n_hold // 20))
+            forces.append(self.scene.indenter_force())
+        self.F_at_rest = float(np.mean(forces))
+        self.y_top0 = self.scene.indenter_top_y()
+        self.t_load = m.time
+        self.phase = "load"
+        self.apply_boundary_conditions()
+        m.set_bond_params(check_failure=True)
+        m.reset_energy()
+        self.recorder.set_reference(m.positions)
+        self.recorder.force(0.0, 0.0, self.F_at_rest)
+        print(f"[settle] at rest after {self.settle_time:.3f} s simulated (max node speed "
+              f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm); "
+              f"indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
+
+    def load(self):
+        m, p, o = self.model, self.params, self.options
+        dt = p["dt"]
+        chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
+        prog = Progress(p["target_travel"], every_s=o.progress_every_s)
+        k = 0
+        # F is sampled as the mean force over each interval, work done on the
+        # indenter / travel: the rubble rattles at its contact frequencies
+        # (~1 kHz on the small scene), far above the sampling rate, and an
+        # instantaneous sample would alias that into the record (a load cell
+        # reads the mean). The instantaneous value is kept beside it.
+        w_prev, y_prev = m.energies()["work_boundary"], self.travel()
+        b_prev = self.scene.indenter_net_buoyancy()
+        while True:
+            m.step(chunk)
+            y_I = self.travel()
+            t_rel = m.time - self.t_load
+            F_now = self.scene.indenter_force()
+            w = m.energies()["work_boundary"]
+            b_now = self.scene.indenter_net_buoyancy()   # linear in travel: mean of the ends
+            F = F_now
+            if y_I - y_prev > MEAN_FORCE_MIN_TRAVEL:
+                F = (w - w_prev) / (y_I - y_prev) - 0.5 * (b_prev + b_now)
+            w_prev, y_prev, b_prev = w, y_I, b_now
+            self.recorder.force(t_rel, y_I, F, F_now)
+            k += 1
+            if k % ENERGY_EVERY == 0:
+                self.recorder.energy(t_rel, m.energies())
+            if self.recorder.wants_snapshot(y_I):
+                self.snapshot(t_rel, y_I)
+            prog.update(m.step_count, t_rel, y_I, F, extra=self._bond_text)
+            if y_I >= p["target_travel"]:
+                break
+            self._maybe_checkpoint()
+        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True, extra=self._bond_text)
+        self.recorder.energy(m.time - self.t_load, m.energies())
+
+    def _bond_text(self):
+        c = self.model.bonds.counts
+        return f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
+
+    def bond_events(self):
+        """The engine's bond event log with times from the start of loading
+        and the indenter travel at each event (interpolated in the F record)."""
+        ev = self.model.bonds.events()
+        fr = np.array(self.recorder.force_rows, dtype=float).reshape(-1, 4)
+        out = {}
+        for kind in ("split", "fail"):
+            t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.t_load
+            y = np.full_like(t, np.nan)
+            ok = np.isfinite(t)
+            if len(fr) >= 2:
+                y[ok] = np.interp(t[ok], fr[:, 0], fr[:, 1])
+            out[f"t_{kind}"], out[f"y_I_{kind}"] = t, y
+        out["delta_n_fail"] = ev["delta_n_fail"]
+        out["delta_t_fail"] = ev["delta_t_fail"]
+        out["mode"] = ev["mode"]
+        return out
+
+    def snapshot(self, t_rel, y_I):
+        m = self.model
+        self.recorder.snapshot(t_rel, y_I, m.positions, m.triangles)
+        if self.options.vtu:
+            base = os.path.basename(self.out_path)[:-3]
+            d = self.out_path[:-3] + "_fields"
+            os.makedirs(d, exist_ok=True)
+            name = f"{base}_{len(self.vtu_entries):04d}.vtu"
+            u = m.positions - m.reference_positions
+            s = m.stress
+            write_vtu(os.path.join(d, name), m.positions, m.triangles,
+                      point_data={"u_total": u},
+                      cell_data={"body": m.body, "body_kind": self.scene.body_kind[m.body].astype(np.int8),
+                                 "u_since_loading": self.recorder.snapshots[-1][2],
+                                 "stress": np.asarray(s)})
+            self.vtu_entries.append((y_I, name))
+            # the collection is written once the result is (write()): a
+            # killed run leaves .vtu pieces but no .pvd that looks complete
+
+    def write(self):
+        self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
+                                  settle_max_speed=self.settle_max_speed,
+                                  settle_max_block_move=self.settle_max_block_move)
+        self.recorder.bond_events(self.bond_events())
+        self.recorder.write(self.out_path)
+        if self.options.vtu and self.vtu_entries:
+            base = os.path.basename(self.out_path)[:-3]
+            write_pvd(os.path.join(self.out_path[:-3] + "_fields", base + ".pvd"), self.vtu_entries)

@@ -1,0 +1,84 @@
+"""Pile and mesh files of a named scene and ridge, made on first use.
+
+Phase 1 (the rigid-block pile) runs in YADE as a separate process
+(yade_scripts/make_pile.py), so this works both from a YADE script and from
+/usr/bin/python3; the mesh is made with gmsh in this process. Files are cached
+under ``root/scenes``: a second run on the same ridge reuses them. The cache
+key is the scene, the ridge and the friction the pile was settled at
+(``<scene>_ridge<N>_pilemu<mu_settle>_pile.h5`` and ``..._mesh.h5``): a pile
+made at another friction is never picked up, and a reused pile whose recorded
+friction is not the scene's is refused.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+from ..files.pile_file import read_pile
+from ..geometry import meshing
+from .presets import scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+MAKE_PILE = os.path.join(ROOT, "yade_scripts", "make_pile.py")
+
+
+def run_phase1(pile_path, seed, pile_params, threads=1):
+    """Run yade_scripts/make_pile.py for one pile; raises if YADE fails.
+
+    One thread by default: YADE's pile is then the same bit for bit for the
+    same seed (with two threads it is not: contact order varies); two threads
+    are ~1.4x faster for large piles."""
+    cols = dict(pile_params, seed=int(seed), out=pile_path)
+    with tempfile.NamedTemporaryFile("w", suffix=".table", delete=False) as f:
+        f.write(" ".join(cols) + "\n")
+        f.write(" ".join(repr(v) for v in cols.values()) + "\n")
+        table = f.name
+    env = dict(os.environ, YADE_BATCH=f"{table}:2")
+    cmd = ["yade", f"-j{threads}", "-n", "-x", MAKE_PILE]
+    t0 = time.perf_counter()
+    try:
+        r = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True)
+    finally:
+        os.remove(table)
+    if r.returncode != 0 or not os.path.exists(pile_path):
+        tail = "\n".join((r.stdout + r.stderr).strip().splitlines()[-15:])
+        raise RuntimeError(f"phase 1 (YADE pile) failed with exit code {r.returncode}:\n{tail}")
+    last = [ln for ln in r.stdout.splitlines() if ln.startswith("make_pile:")]
+    print(last[-1] if last else f"make_pile: wrote {pile_path}", f"({time.perf_counter() - t0:.0f} s)",
+          flush=True)
+
+
+def scene_files(name, ridge, root="runs", threads=1):
+    """(pile_path, mesh_path) of scene `name`, ridge number `ridge` (its seed)."""
+    sc = scene(name)
+    if int(ridge) < 0:
+        raise ValueError(f"ridge={ridge} must be an integer >= 0 (it seeds the pile)")
+    d = os.path.join(root, "scenes")
+    os.makedirs(d, exist_ok=True)
+    mu = float(sc["pile"]["mu_settle"])
+    base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")
+    pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
+    if not os.path.exists(pile_path):
+        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} ...",
+              flush=True)
+        run_phase1(pile_path, ridge, sc["pile"], threads=threads)
+    recorded = float(read_pile(pile_path)["meta"].get("friction", float("nan")))
+    if recorded != mu:
+        raise ValueError(f"{pile_path} was settled at friction {recorded:g}, the {name} scene's piles at "
+                         f"{mu:g}: remove it (and its mesh) to make it again")
+    if not os.path.exists(mesh_path):
+        t0 = time.perf_counter()
+        # block edges shorter than a fifth of the element size are collapsed: they
+        # would only make tiny elements that set a tiny stable step
+        m = meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"],
+                                   min_feature=0.2 * sc["element_size"])
+        q = m["quality"]
+        print(f"[scene] mesh: {len(m['nodes'])} nodes, {len(m['triangles'])} triangles, "
+              f"{len(m['bond_edges'])} bond edges, porosity {m['porosity']:.3f}, min angle "
+              f"{q['min_angle_deg']:.1f} deg ({time.perf_counter() - t0:.1f} s)", flush=True)
+    return pile_path, mesh_path
+
+
+if __name__ == "__main__":
+    print(scene_files(sys.argv[1], int(sys.argv[2])))

@@ -1,0 +1,66 @@
+"""One run of the study: scene files + parameters -> result file."""
+import json
+import os
+import time
+
+import h5py
+
+from ..files.mesh_file import read_mesh
+from .. import parameters as P
+from . import run_identity as RI
+from .punch_through_run import PunchThrough, RunOptions
+from .scene_cache import scene_files
+from .presets import scene
+
+
+def run_name(scene_name, ridge, params):
+    return (f"{scene_name}_ridge{int(ridge)}_mu{params['mu']:g}_tau{params['tau_cr'] / 1e3:g}k"
+            + ("" if params["force_direction"] == "paper" else "_wc"))
+
+
+def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
+            resume=True, options=None):
+    """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path."""
+    sc = scene(scene_name)
+    params = P.validate(dict(sc["params"], **(overrides or {})))   # fail before any work
+    if not description or description == "default":
+        description = run_name(scene_name, ridge, params)
+    os.makedirs(out_dir, exist_ok=True)
+    _, mesh_path = scene_files(scene_name, ridge, root=out_dir)
+    out = os.path.join(out_dir, description + ".h5")
+    if options is None:
+        # a dt column is the step asked for; otherwise the scene's fraction of the stable step
+        fraction = None if "dt" in (overrides or {}) else sc.get("dt_fraction")
+        options = RunOptions(dt_fraction=fraction, mass_scaling_dt=sc.get("mass_scaling_dt"))
+    ident = RI.identity(params, read_mesh(mesh_path), options)
+    rid = RI.run_id(ident)
+    if os.path.exists(out):
+        stored = stored_identity(out)
+        if stored is not None and RI.run_id(stored) == rid:
+            print(f"[study] {out} exists (complete, same run id {rid}): nothing to do", flush=True)
+            return out
+        if stored is None:
+            why = ["it records no run identity (made before they were recorded)"]
+        else:
+            why = RI.differences(stored, ident)
+        raise ValueError(f"{out} exists but is not the run asked for: " + "; ".join(why)
+                         + ". Give this run its own description (yade-batch: the description column), "
+                           "or move the stored file away.")
+    t0 = time.perf_counter()
+    with RI.RunLock(out):
+        run = PunchThrough(mesh_path, out, params=params, options=options,
+                           meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
+                                     scene=scene_name, run_id=rid,
+                                     run_identity=RI.to_json(ident)))
+        run.run(resume=resume)
+    print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
+    return out
+
+
+def stored_identity(path):
+    """The identity recorded in a result file (None if it records none)."""
+    with h5py.File(path, "r") as f:
+        text = f.attrs.get("run_identity")
+    if text is None:
+        return None
+    return json.loads(text.decode() if isinstance(text, bytes) else text)

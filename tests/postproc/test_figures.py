@@ -1,0 +1,77 @@
+"""postproc.make_figures on synthetic result folders: every promised file from a full
+set; a partial set reports what is missing and why."""
+import csv
+import os
+
+import pytest
+
+from postproc import make_figures, synthetic
+
+
+@pytest.fixture(scope="module")
+def full_set(tmp_path_factory):
+    d = tmp_path_factory.mktemp("full")
+    synthetic.write_set(str(d), ridges=("1", "2"), mus=(0.05, 0.3), tau_crs=(5e3, 12.5e3, 25e3, 50e3, 100e3))
+    return str(d)
+
+
+def test_full_set_makes_every_promised_file(full_set, tmp_path, capsys):
+    out = str(tmp_path / "out")
+    assert make_figures.main([full_set, "-o", out]) == 0
+    for path in make_figures.promised_files(out):
+        assert os.path.getsize(path) > 0, path
+    missing = open(os.path.join(out, "MISSING.md")).read()
+    assert "nothing missing" in missing and "ERROR" not in missing
+    with open(os.path.join(out, "summary.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 20
+    # n_t/n_s recovered from the file: the synthetic modes are drawn to a known ratio
+    # up to rounding of the tensile count (one bond point out of ~70: < 0.1 in the ratio)
+    for r in rows:
+        assert abs(float(r["nt_ns"]) - synthetic.nt_ns_target(float(r["tau_cr_kPa"]) * 1e3)) < 0.1
+
+
+def test_partial_set_reports_what_is_missing(tmp_path, capsys):
+    d = tmp_path / "runs"
+    d.mkdir()
+    synthetic.write_run(str(d / "r1_a.h5"), "1", 0.05, 50e3, snapshots=False, travel_end=0.1)
+    synthetic.write_run(str(d / "r1_b.h5"), "1", 0.05, 5e3, travel_end=0.1)
+    synthetic.write_run(str(d / "busy.h5"), "2", 0.05, 50e3, travel_end=0.02, leave_part=True)
+    synthetic.write_run(str(d / "broken.h5"), "3", 0.05, 50e3, travel_end=0.02, complete=False)
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out)]) == 0
+    text = (out / "MISSING.md").read_text()
+    assert "busy.h5.part: still being written" in text
+    assert "broken.h5' is incomplete (root attribute complete != 1)" in text
+    assert "Fig. 11: not made" in text and "mu = 0.3" in text            # one mu only
+    for n in (16, 17, 19):
+        assert f"Fig. {n}: not made" in text and "/snapshots absent" in text
+    assert "Fig. 18: not made" in text
+    # Fig. 20 (b) uses the 5 kPa run's snapshots; only panel (a) (50 kPa) is empty
+    assert "Fig. 20: not made" not in text and "fig20 (a)" in text
+    assert "fig09: tau_cr = 12.5, 25 kPa missing" in text
+    assert "ERROR" not in text
+    # what can be made is made
+    for stem in ("fig06_force_records", "fig08_peak_vs_mu", "fig10_peak_vs_tau", "fig12_failure_planes",
+                 "table2_shear_strength"):
+        assert (out / f"{stem}.png").exists() or (out / f"{stem}.csv").exists()
+    assert not (out / "fig16_uy_5mm.png").exists() and (out / "fig20_F_vs_Ad.png").exists()
+
+
+def test_empty_folder_exit_status(tmp_path):
+    assert make_figures.main([str(tmp_path), "-o", str(tmp_path / "o")]) == 2
+
+
+def test_models_kept_apart_and_duplicates_listed(tmp_path):
+    d = tmp_path / "runs"
+    d.mkdir()
+    synthetic.write_run(str(d / "a.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    synthetic.write_run(str(d / "a_again.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    synthetic.write_run(str(d / "b.h5"), "1", 0.05, 50e3, travel_end=0.03, model="rigid-dem")
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out)]) == 0
+    for sub in ("fem-dem_paper", "rigid-dem_paper"):
+        with open(out / sub / "summary.csv") as fh:
+            assert len(list(csv.DictReader(fh))) == 1
+    text = (out / "MISSING.md").read_text()
+    assert "duplicate run (ridge 1, mu 0.05, tau_cr 50 kPa): using a.h5, ignoring a_again.h5" in text
