@@ -2,6 +2,7 @@
 
     icerubble demo [--ridge N]          pile -> mesh -> punch-through -> figures (make demo)
     icerubble mesh PILE MESH [...]      mesh a settled pile with gmsh
+    icerubble study check TABLE         a yade-batch table checked line by line before it runs
     icerubble figures RESULTS [-o DIR]  every figure and table of the paper from a folder of runs
     icerubble run-figures RESULT        F-y_I record and u_y field of one run
     icerubble summary RESULTS           one line per run: peaks, alpha, n_t/n_s
@@ -19,6 +20,7 @@ import sys
 COMMANDS = {
     "demo": "icerubble.run.demo",
     "mesh": "icerubble.geometry.mesh_command",
+    "study": "icerubble.run.study_command",
     "figures": "postproc.make_figures",
     "run-figures": "postproc.run_figures",
     "summary": "postproc.summary",

@@ -1,0 +1,136 @@
+"""A yade-batch table checked as a whole before any line runs.
+
+YADE reads a table line by line when each line starts: an unknown column is a
+``NameError`` naming no valid name, an unquoted word a ``NameError`` naming no
+column, and a bad value fails only after that line's pile was made. Here every
+line is read as yade.utils.TableParamReader reads it (first non-empty line the
+column names; ``#`` starts a comment; ``=`` repeats the value above; a
+trailing ``!`` marks description columns; lines numbered as in an editor),
+each value is parsed as the Python literal YADE will evaluate, and each line is
+validated as the run will validate it. Every problem is reported as
+``line N, column C: ...``.
+
+    icerubble study check TABLE
+"""
+import ast
+import difflib
+import re
+
+from .. import parameters as P
+from .presets import SCENES
+
+# Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
+DRIVER_COLUMNS = {"ridge", "scene", "out_dir", "resume", "description"}
+
+
+def read_table(path):
+    """(columns, rows): rows as (line number, {column: text}) with '=' resolved."""
+    with open(path) as f:
+        raw = f.read().split("\n")
+    lines = [(i + 1, re.sub(r"\s*#.*", "", text)) for i, text in enumerate(raw)]
+    lines = [(n, text) for n, text in lines if text.strip()]
+    if not lines:
+        raise ValueError(f"table {path!r} has no column names (it is empty)")
+    (_, head), body = lines[0], lines[1:]
+    columns = [c[:-1] if c.endswith("!") else c for c in head.split()]
+    rows, previous = [], {}
+    for n, text in body:
+        cells = text.split()
+        if len(cells) != len(columns):
+            rows.append((n, None, f"line {n}: {len(cells)} values for {len(columns)} columns "
+                                  f"({' '.join(columns)})"))
+            continue
+        row = {}
+        for c, v in zip(columns, cells):
+            if v == "=":
+                if c not in previous:
+                    rows.append((n, None, f"line {n}, column {c}: '=' but no line above gives a value"))
+                    row = None
+                    break
+                v = previous[c]
+            row[c] = v
+        if row is not None:
+            previous = row
+            rows.append((n, row, None))
+    return columns, rows
+
+
+def _literal(text):
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        raise ValueError(f"{text} does not parse as a value (numbers as 0.3 or 5e3, words quoted: "
+                         f"'{text}')") from None
+
+
+def check_table(path):
+    """All problems of the table at `path`, as 'line N, column C: ...' strings
+    (an empty list: every line can run)."""
+    columns, rows = read_table(path)
+    known = DRIVER_COLUMNS | set(P.TABLE_1)
+    problems = []
+    for c in columns:
+        if c.startswith("!"):   # an environment variable for the line (YADE: !OMP_NUM_THREADS)
+            continue
+        if c not in known:
+            near = difflib.get_close_matches(c, sorted(known), n=1, cutoff=0.4)
+            hint = f"; did you mean {near[0]!r}?" if near else ""
+            problems.append(f"line {_head_line(path)}, column {c}: not a parameter{hint} "
+                            f"(valid: {', '.join(sorted(known))})")
+    descriptions = {}
+    for n, row, error in rows:
+        if error:
+            problems.append(error)
+            continue
+        problems += _check_line(n, row, known)
+        d = row.get("description")
+        if d is not None:
+            if d in descriptions:
+                problems.append(f"line {n}, column description: {d!r} also on line {descriptions[d]} "
+                                "(both runs would write the same result file)")
+            descriptions.setdefault(d, n)
+    return problems
+
+
+def _check_line(n, row, known):
+    values, problems = {}, []
+    for c, text in row.items():
+        # the description is taken as text, not evaluated
+        if c.startswith("!") or c not in known or c == "description":
+            continue
+        try:
+            value = _literal(text)
+        except ValueError as e:
+            problems.append(f"line {n}, column {c}: {e}")
+            continue
+        if value is not None:   # None: the scene's value, else Table 1's (as the driver reads it)
+            values[c] = value
+    scene_name = values.pop("scene", "demo")
+    if scene_name not in SCENES:
+        problems.append(f"line {n}, column scene: {scene_name!r} is not a scene; valid: "
+                        f"{', '.join(sorted(SCENES))}")
+        return problems
+    ridge = values.pop("ridge", 1)
+    if not (isinstance(ridge, int) and ridge >= 0):
+        problems.append(f"line {n}, column ridge: {ridge!r} must be a whole number >= 0 (it seeds the pile)")
+    for c in ("out_dir", "resume"):
+        values.pop(c, None)
+    for c, v in values.items():
+        try:
+            P.check_value(c, v)
+        except ValueError as e:
+            problems.append(f"line {n}, column {c}: {e}")
+    if not problems:
+        try:   # what only the whole line can tell (a drag constant without its law, ...)
+            P.validate(dict(SCENES[scene_name]["params"], **values))
+        except ValueError as e:
+            problems.append(f"line {n}: {e}")
+    return problems
+
+
+def _head_line(path):
+    with open(path) as f:
+        for i, text in enumerate(f, 1):
+            if re.sub(r"\s*#.*", "", text).strip():
+                return i
+    return 1
