@@ -11,7 +11,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from icerubble import _cst, fdem  # noqa: E402
+from icerubble import _engine, fdem  # noqa: E402
 
 
 def rubble(k):
@@ -32,7 +32,7 @@ def main():
         pts, tri, body = rubble(k)
         surf = np.arange(len(tri), dtype=np.int32)  # small blocks: every triangle is on the surface
         n = len(pts)
-        s = _cst.ContactSolver(skin_fraction=0.0)
+        s = _engine.ContactSolver(skin_fraction=0.0)
         z = np.zeros(n)
         x, y, mass = pts[:, 0].copy(), pts[:, 1].copy(), np.ones(n)
         fx, fy = np.zeros(n), np.zeros(n)

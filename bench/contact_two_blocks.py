@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from icerubble import _cst  # noqa: E402
+from icerubble import _engine  # noqa: E402
 
 
 def block(x0, y0, size, h):
@@ -54,7 +54,7 @@ def main():
     v[: n // 2] = 1.0
     v[n // 2:] = -1.0
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
-    solver = _cst.ContactSolver()
+    solver = _engine.ContactSolver()
     fx, fy = np.zeros(n), np.zeros(n)
     t0 = time.perf_counter()
     for _ in range(args.steps):

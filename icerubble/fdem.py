@@ -1,4 +1,4 @@
-"""Python API of the CST FEM-DEM engine (``icerubble._cst``).
+"""Python API of the CST FEM-DEM engine (``icerubble._engine``).
 
 Deformable ice blocks as plane-strain constant-strain triangles (total
 Lagrangian, St Venant-Kirchhoff: objective under any rotation), potential
@@ -30,9 +30,9 @@ import numpy as np
 # partner make steps 10-100x slower: there, export OMP_WAIT_POLICY=passive or
 # run with threads=1.
 
-from icerubble import _cst  # noqa: E402
+from icerubble import _engine  # noqa: E402
 
-InstabilityError = _cst.InstabilityError
+InstabilityError = _engine.InstabilityError
 
 MATERIAL_KEYS = ("E", "nu", "rho", "damping", "viscosity")
 MATERIAL_DEFAULTS = {"nu": 0.3, "damping": 0.0, "viscosity": 0.0}
@@ -124,7 +124,7 @@ class Model:
             raise ValueError("body ids must be integers")
         if body.min() < 0:
             raise ValueError("body ids must be >= 0")
-        self._m = _cst.Model(nodes, tri, body.astype(np.int32))
+        self._m = _engine.Model(nodes, tri, body.astype(np.int32))
         self._set_materials(materials)
         missing = sorted(set(np.unique(body).tolist()) - set(self.materials))
         if missing:

@@ -5,7 +5,7 @@ and above the friction angle (paper eqs 1-4, MODEL.md 3.2).
 import numpy as np
 import pytest
 
-from icerubble import _cst, fdem
+from icerubble import _engine, fdem
 
 ICE = dict(E=2e9, nu=0.3, rho=920.0)
 S = 2e11
@@ -16,7 +16,7 @@ def contact_dt(m, nodes, tri):
     """Critical step of the contact penalty for the model's masses (contact.hpp)."""
     m.evaluate()  # computes the lumped masses
     tri = np.asarray(tri, dtype=np.int32)
-    return _cst.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), np.array(m.mass),
+    return _engine.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), np.array(m.mass),
                                     tri, S)["dt"]
 
 
@@ -92,7 +92,7 @@ def test_stored_energy_is_the_potential_of_the_contact_forces_in_a_run():
     m.set_velocities(v)
     mass = np.array(m.mass)
     surf = np.asarray(m.surface_triangles, dtype=np.int32)
-    solver = _cst.ContactSolver()
+    solver = _engine.ContactSolver()
     z = np.zeros(len(nodes))
     x_prev = m.positions
     worst = peak = 0.0
