@@ -530,6 +530,7 @@ class Model:
             "bond_input": self._m.bond_input(),
             "bond_params": self._m.bond_params(),
             "bond_state": self._m.bond_state(),
+            "clock": {"time": self._m.time, "step_count": self._m.step_count},
             "energy": self._m.energy(),
             "contact_warm_start": {k: np.asarray(v) for k, v in
                                    zip(("keys", "forces"), self._m.contact_warm_start())},
@@ -554,6 +555,8 @@ class Model:
         self.set_positions(cp["positions"])
         self.set_velocities(cp["velocities"])
         self._m.restore_bond_state(cp["bond_state"])
+        clock = cp.get("clock", cp["bond_state"])  # checkpoints before "clock" kept it there
+        self._m.restore_clock(clock["time"], clock["step_count"])
         self._parents_seen = len(self._m.bond_parents())
         if "energy" in cp:
             self._m.restore_energy(cp["energy"])

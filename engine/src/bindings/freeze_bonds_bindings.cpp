@@ -4,7 +4,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "bindings/bindings.hpp"
 #include "cohesive_law/validation.hpp"
@@ -31,86 +33,54 @@ py::array_t<T> arr(const std::vector<T>& v) {
   return a;
 }
 
+template <class T, bool = std::is_enum_v<T>>
+struct StoredAs { using type = T; };
 template <class T>
-std::vector<T> item(const py::dict& d, const char* key) {
-  if (!d.contains(key)) throw std::invalid_argument(std::string("bond state lacks '") + key + "'");
-  return vec<T>(d[key]);
+struct StoredAs<T, true> { using type = std::underlying_type_t<T>; };
+// How a field's values travel to and from numpy: enums as their codes.
+template <class T>
+using Stored = typename StoredAs<T>::type;
+
+// A field to Python: arrays as numpy arrays of the stored codes (enums as
+// their underlying integers), totals as numbers.
+template <class Field>
+py::object to_py(const Field& f) {
+  if constexpr (is_bond_array<Field>) {
+    using T = typename Field::value_type;
+    py::array_t<Stored<T>> a(f.size());
+    std::transform(f.begin(), f.end(), a.mutable_data(), [](T v) { return Stored<T>(v); });
+    return std::move(a);
+  } else {
+    return py::cast(f);
+  }
 }
 
-py::dict state_dict(const BondState& s) {
+template <class Field>
+void from_py(const py::handle& h, Field& f) {
+  if constexpr (is_bond_array<Field>) {
+    using T = typename Field::value_type;
+    const std::vector<Stored<T>> v = vec<Stored<T>>(h);
+    f.resize(v.size());
+    std::transform(v.begin(), v.end(), f.begin(), [](Stored<T> x) { return T(x); });
+  } else {
+    f = h.cast<Field>();
+  }
+}
+
+template <class S>
+py::dict to_dict(const S& s) {
   py::dict d;
-  d["time"] = s.time;
-  d["step_count"] = s.step_count;
-  d["point_state"] = arr(s.point_state);
-  d["near"] = arr(s.near);
-  d["t_split"] = arr(s.t_split);
-  d["x_split"] = arr(s.x_split);
-  d["y_split"] = arr(s.y_split);
-  d["pair_state"] = arr(s.pair_state);
-  d["node_plus"] = arr(s.node_plus);
-  d["node_minus"] = arr(s.node_minus);
-  d["fnx"] = arr(s.fnx);
-  d["fny"] = arr(s.fny);
-  d["f0"] = arr(s.f0);
-  d["delta_f"] = arr(s.delta_f);
-  d["delta_m"] = arr(s.delta_m);
-  d["f_n_prev"] = arr(s.f_n_prev);
-  d["f_t_prev"] = arr(s.f_t_prev);
-  d["d_n_prev"] = arr(s.d_n_prev);
-  d["d_t_prev"] = arr(s.d_t_prev);
-  d["split_tn"] = arr(s.split_tn);
-  d["split_tt"] = arr(s.split_tt);
-  d["t_fail"] = arr(s.t_fail);
-  d["x_fail"] = arr(s.x_fail);
-  d["y_fail"] = arr(s.y_fail);
-  d["dn_fail"] = arr(s.dn_fail);
-  d["dt_fail"] = arr(s.dt_fail);
-  d["mode"] = arr(s.mode);
-  d["parent"] = arr(s.parent);
-  d["work"] = s.work;
-  d["dissipation_effective"] = s.dissipation_effective;
-  d["stored"] = s.stored;
-  d["late_detections"] = s.late_detections;
-  d["checks"] = s.checks;
+  S::each(s, [&](const char* key, BondExtent, const auto& field, auto) { d[key] = to_py(field); });
   return d;
 }
 
-BondState state_from(const py::dict& d) {
-  BondState s;
-  if (!d.contains("time") || !d.contains("step_count")) throw std::invalid_argument("bond state lacks the clock (time, step_count)");
-  s.time = d["time"].cast<double>();
-  s.step_count = d["step_count"].cast<int64_t>();
-  s.point_state = item<int8_t>(d, "point_state");
-  s.near = item<int8_t>(d, "near");
-  s.t_split = item<double>(d, "t_split");
-  s.x_split = item<double>(d, "x_split");
-  s.y_split = item<double>(d, "y_split");
-  s.pair_state = item<int8_t>(d, "pair_state");
-  s.node_plus = item<int32_t>(d, "node_plus");
-  s.node_minus = item<int32_t>(d, "node_minus");
-  s.fnx = item<double>(d, "fnx");
-  s.fny = item<double>(d, "fny");
-  s.f0 = item<double>(d, "f0");
-  s.delta_f = item<double>(d, "delta_f");
-  s.delta_m = item<double>(d, "delta_m");
-  s.f_n_prev = item<double>(d, "f_n_prev");
-  s.f_t_prev = item<double>(d, "f_t_prev");
-  s.d_n_prev = item<double>(d, "d_n_prev");
-  s.d_t_prev = item<double>(d, "d_t_prev");
-  s.split_tn = item<double>(d, "split_tn");
-  s.split_tt = item<double>(d, "split_tt");
-  s.t_fail = item<double>(d, "t_fail");
-  s.x_fail = item<double>(d, "x_fail");
-  s.y_fail = item<double>(d, "y_fail");
-  s.dn_fail = item<double>(d, "dn_fail");
-  s.dt_fail = item<double>(d, "dt_fail");
-  s.mode = item<int8_t>(d, "mode");
-  s.parent = item<int32_t>(d, "parent");
-  s.work = d["work"].cast<double>();
-  s.dissipation_effective = d["dissipation_effective"].cast<double>();
-  s.stored = d["stored"].cast<double>();
-  s.late_detections = d["late_detections"].cast<int64_t>();
-  s.checks = d["checks"].cast<int64_t>();
+template <class S>
+S from_dict(const py::dict& d, const char* what) {
+  S s;
+  S::each(s, [&](const char* key, BondExtent, auto& field, auto) {
+    if (!d.contains(key)) throw std::invalid_argument(std::string(what) + " lacks '" + key + "'");
+    from_py(d[key], field);
+  });
   return s;
 }
 
@@ -120,29 +90,24 @@ void bind_freeze_bonds(py::module_& m) {
   (void)m;
   auto cls = py::reinterpret_borrow<py::class_<Model>>(py::type::of<Model>());
   cls.def("set_bonds",
-          [](Model& M, py::handle node, py::handle sigma_cr, py::handle tau_cr, py::handle G,
-             py::handle pair_point, py::handle body_minus, py::handle body_plus, py::handle nx,
-             py::handle ny, py::handle length, py::handle frame_p, py::handle frame_q,
-             bool for_restore) {
+          [](Model& M, py::args arrays, bool for_restore) {
             BondInput in;
-            in.node = vec<int32_t>(node);
-            in.sigma_cr = vec<double>(sigma_cr);
-            in.tau_cr = vec<double>(tau_cr);
-            in.G = vec<double>(G);
-            in.pair_point = vec<int32_t>(pair_point);
-            in.body_minus = vec<int32_t>(body_minus);
-            in.body_plus = vec<int32_t>(body_plus);
-            in.nx = vec<double>(nx);
-            in.ny = vec<double>(ny);
-            in.length = vec<double>(length);
-            in.frame_p = vec<int32_t>(frame_p);
-            in.frame_q = vec<int32_t>(frame_q);
+            size_t i = 0;
+            BondInput::each(in, [&](const char* key, BondExtent, auto& field, auto) {
+              if (i >= arrays.size())
+                throw std::invalid_argument(std::string("set_bonds: missing array '") + key +
+                                            "' (the arrays come in bond_input() key order)");
+              from_py(arrays[i++], field);
+            });
+            if (i != arrays.size())
+              throw std::invalid_argument("set_bonds: " + std::to_string(arrays.size()) +
+                                          " arrays given, " + std::to_string(i) + " expected");
             M.bonds().set(M, in, for_restore);
           },
-          py::arg("node"), py::arg("sigma_cr"), py::arg("tau_cr"), py::arg("G"),
-          py::arg("pair_point"), py::arg("body_minus"), py::arg("body_plus"), py::arg("nx"),
-          py::arg("ny"), py::arg("length"), py::arg("frame_p"), py::arg("frame_q"),
-          py::arg("for_restore") = false)
+          py::kw_only(), py::arg("for_restore") = false,
+          "set_bonds(node, sigma_cr, tau_cr, G, pair_point, body_minus, body_plus, nx, ny, "
+          "length, frame_p, frame_q, *, for_restore=False): the arrays of bond_input(), in its "
+          "key order")
       .def("set_bond_params",
            [](Model& M, double mu, const std::string& direction, bool check_failure,
               int32_t screen_interval, double screen_fraction) {
@@ -167,27 +132,11 @@ void bind_freeze_bonds(py::module_& m) {
              d["screen_fraction"] = p.screen_fraction;
              return d;
            })
-      .def("bond_input",
-           [](Model& M) {
-             const BondInput& in = M.bonds().input();
-             py::dict d;
-             d["node"] = arr(in.node);
-             d["sigma_cr"] = arr(in.sigma_cr);
-             d["tau_cr"] = arr(in.tau_cr);
-             d["G"] = arr(in.G);
-             d["pair_point"] = arr(in.pair_point);
-             d["body_minus"] = arr(in.body_minus);
-             d["body_plus"] = arr(in.body_plus);
-             d["nx"] = arr(in.nx);
-             d["ny"] = arr(in.ny);
-             d["length"] = arr(in.length);
-             d["frame_p"] = arr(in.frame_p);
-             d["frame_q"] = arr(in.frame_q);
-             return d;
-           })
-      .def("bond_state", [](Model& M) { return state_dict(M.bonds().state(M)); })
+      .def("bond_input", [](Model& M) { return to_dict(M.bonds().input()); })
+      // Arrays of codes: point_state PointState, pair_state PairState, mode FailureMode.
+      .def("bond_state", [](Model& M) { return to_dict(M.bonds().state()); })
       .def("restore_bond_state",
-           [](Model& M, const py::dict& d) { M.bonds().restore(M, state_from(d)); })
+           [](Model& M, const py::dict& d) { M.bonds().restore(M, from_dict<BondState>(d, "bond state")); })
       .def("bond_parents", [](Model& M) { return arr(M.bonds().parents()); })
       .def("bond_tractions",
            [](Model& M) { return py::make_tuple(arr(M.bonds().last_tn()), arr(M.bonds().last_tt())); })

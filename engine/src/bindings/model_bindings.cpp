@@ -191,6 +191,7 @@ void bind_model(py::module_& m) {
       .def("step", &Model::step, py::arg("n"), py::call_guard<py::gil_scoped_release>())
       .def("evaluate", &Model::evaluate, py::call_guard<py::gil_scoped_release>())
       .def("reset_energy", &Model::reset_energy)
+      .def("restore_clock", &Model::restore_clock, py::arg("time"), py::arg("step_count"))
       .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })
       .def("energy", [](const Model& M) { return energy_dict(M.energy()); })
       .def("contact_warm_start",

@@ -19,11 +19,6 @@ namespace engine {
 
 namespace cl = cohesive_law;
 
-void FreezeBonds::regather(Model& M, int32_t i) const {
-  const ExternalParams& x = M.ext_;
-  M.gather_node(i, M.any_damping_, x.water(), x.buoyancy, x.drag_on(), x.gravity ? x.g : 0.0);
-}
-
 void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& gx,
                               double& gy) const {
   // Eq 8 as a vector: with g on the + node and -g on the - node both move with
@@ -36,8 +31,8 @@ void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& g
   //            plus m_r (v- - v+)/dt, which also stops a relative velocity the
   //            pair already has (stick of a rigid-plastic link; 0 at the split,
   //            where both nodes share the velocity).
-  const Nodes& N = M.nodes_;
-  const int32_t a = node_plus_[k], b = node_minus_[k];
+  const Nodes& N = M.nodes();
+  const int32_t a = st_.node_plus[k], b = st_.node_minus[k];
   const double mp = N.mass[a], mm = N.mass[b];
   double Fpx, Fpy, Fmx, Fmy;
   if (elastic) {
@@ -62,8 +57,10 @@ void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& g
 }
 
 void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
-  Nodes& N = M.nodes_;
-  Triangles& T = M.tris_;
+  const Model& CM = M;
+  const Nodes& N = CM.nodes();
+  const Triangles& T = CM.triangles();
+  const NodeGather& gather = CM.gather();
   const double time = M.time();
   // Per split point: its nodes (one per body, bodies ascending), and what the
   // unsplit node carried that is not per corner.
@@ -75,37 +72,30 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
   std::vector<Group> groups;
   groups.reserve(points.size());
   for (int32_t p : points) {
-    const int32_t i = node_[p];
+    const int32_t i = in_.node[p];
     Group G;
     G.point = p;
     G.mass = N.mass[i];
     G.fcx = N.f_con_x[i];
     G.fcy = N.f_con_y[i];
-    std::vector<int32_t> slots(M.gather_.slot.begin() + M.gather_.start[i],
-                               M.gather_.slot.begin() + M.gather_.start[i + 1]);
-    for (int32_t s : slots) G.bodies.push_back(T.body[s / 3]);
+    for (int32_t j = gather.start[i]; j < gather.start[i + 1]; ++j)
+      G.bodies.push_back(T.body[gather.slot[j] / 3]);
     std::sort(G.bodies.begin(), G.bodies.end());
     G.bodies.erase(std::unique(G.bodies.begin(), G.bodies.end()), G.bodies.end());
     G.nodes.assign(G.bodies.size(), i);
     // The highest body keeps node i; the others get new nodes.
     for (size_t b = 0; b + 1 < G.bodies.size(); ++b) {
-      const int32_t id = M.add_node(N.x[i], N.y[i], N.x0[i], N.y0[i], N.vx[i], N.vy[i]);
-      G.nodes[b] = id;
-      parent_.push_back(i);
-      for (int32_t s : slots)
-        if (T.body[s / 3] == G.bodies[b]) T.node[s] = id;
-      // A prescribed node stays prescribed on every side.
-      for (BoundaryCondition& bc : M.bcs_)
-        if (std::find(bc.nodes.begin(), bc.nodes.end(), i) != bc.nodes.end()) bc.nodes.push_back(id);
+      G.nodes[b] = M.split_off(i, G.bodies[b]);
+      st_.parent.push_back(i);
     }
-    point_state_[p] = 1;
-    t_split_[p] = time;
-    x_split_[p] = N.x[i];
-    y_split_[p] = N.y[i];
+    st_.point_state[p] = PointState::split;
+    st_.t_split[p] = time;
+    st_.x_split[p] = N.x[i];
+    st_.y_split[p] = N.y[i];
     groups.push_back(std::move(G));
   }
-  M.prepared_ = false;
   M.prepare_topology();  // gather list, surface triangles, masses, constraints
+  Nodes& W = M.nodes();
 
   for (const Group& G : groups) {
     // Forces of this step on each new node; contact shared by mass, the last
@@ -113,16 +103,16 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     double rx = G.fcx, ry = G.fcy;
     for (size_t b = 0; b < G.nodes.size(); ++b) {
       const int32_t id = G.nodes[b];
-      regather(M, id);
+      M.regather_node(id);
       if (b + 1 < G.nodes.size()) {
         const double w = N.mass[id] / G.mass;
-        N.f_con_x[id] = G.fcx * w;
-        N.f_con_y[id] = G.fcy * w;
+        W.f_con_x[id] = G.fcx * w;
+        W.f_con_y[id] = G.fcy * w;
         rx -= N.f_con_x[id];
         ry -= N.f_con_y[id];
       } else {
-        N.f_con_x[id] = rx;
-        N.f_con_y[id] = ry;
+        W.f_con_x[id] = rx;
+        W.f_con_y[id] = ry;
       }
     }
     // Cohesive pairs of the point.
@@ -132,33 +122,33 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
         const size_t b = std::lower_bound(G.bodies.begin(), G.bodies.end(), body) - G.bodies.begin();
         return G.nodes[b];
       };
-      node_plus_[k] = node_of(body_plus_[k]);
-      node_minus_[k] = node_of(body_minus_[k]);
+      st_.node_plus[k] = node_of(in_.body_plus[k]);
+      st_.node_minus[k] = node_of(in_.body_minus[k]);
       // The bond frame is frozen at the split (the paper's fixed n).
-      current_normal(M, k, fnx_[k], fny_[k]);
-      split_tn_[k] = tn_[k];
-      split_tt_[k] = tt_[k];
+      current_normal(M, k, st_.fnx[k], st_.fny[k]);
+      st_.split_tn[k] = tn_[k];
+      st_.split_tt[k] = tt_[k];
       double gx, gy;
       split_force(M, k, true, gx, gy);
-      const double gn = gx * fnx_[k] + gy * fny_[k], gt = -gx * fny_[k] + gy * fnx_[k];
+      const double gn = gx * st_.fnx[k] + gy * st_.fny[k], gt = -gx * st_.fny[k] + gy * st_.fnx[k];
       const double beta = beta_[p];
-      f0_[k] = cl::initial_effective_force(gn, gt, beta, params_.direction);
-      delta_m_[k] = 0.0;
-      d_n_prev_[k] = d_t_prev_[k] = 0.0;
-      f_n_prev_[k] = f_t_prev_[k] = 0.0;
-      if (f0_[k] > 0.0 && std::isfinite(f0_[k])) {
-        delta_f_[k] = cl::critical_opening(G_[p], l_[k], f0_[k]);
-        pair_state_[k] = 1;
+      st_.f0[k] = cl::initial_effective_force(gn, gt, beta, params_.direction);
+      st_.delta_m[k] = 0.0;
+      st_.d_n_prev[k] = st_.d_t_prev[k] = 0.0;
+      st_.f_n_prev[k] = st_.f_t_prev[k] = 0.0;
+      if (st_.f0[k] > 0.0 && std::isfinite(st_.f0[k])) {
+        st_.delta_f[k] = cl::critical_opening(in_.G[p], in_.length[k], st_.f0[k]);
+        st_.pair_state[k] = PairState::cohesive;
       } else {
         // Nothing to hold (an unloaded pair of a junction): broken at once.
-        f0_[k] = 0.0;
-        delta_f_[k] = 0.0;
-        pair_state_[k] = 2;
-        t_fail_[k] = time;
-        x_fail_[k] = x_split_[p];
-        y_fail_[k] = y_split_[p];
-        dn_fail_[k] = dt_fail_[k] = 0.0;
-        mode_[k] = int8_t(cl::failure_mode(0.0, 0.0));
+        st_.f0[k] = 0.0;
+        st_.delta_f[k] = 0.0;
+        st_.pair_state[k] = PairState::failed;
+        st_.t_fail[k] = time;
+        st_.x_fail[k] = st_.x_split[p];
+        st_.y_fail[k] = st_.y_split[p];
+        st_.dn_fail[k] = st_.dt_fail[k] = 0.0;
+        st_.mode[k] = cl::failure_mode(0.0, 0.0);
       }
     }
   }

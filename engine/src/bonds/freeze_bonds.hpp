@@ -19,31 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "bonds/bond_fields.hpp"
 #include "cohesive_law/softening.hpp"
 
 namespace engine {
 
 class Model;
-
-// The static description of the bonds, as found from the mesh
-// (icerubble/bond_points.py). Pairs must be grouped by point (pair_point
-// non-decreasing) and every point needs at least one pair.
-struct BondInput {
-  // per bond point
-  std::vector<int32_t> node;       // mesh node id
-  std::vector<double> sigma_cr;    // tensile strength [Pa]
-  std::vector<double> tau_cr;      // shear strength [Pa]
-  std::vector<double> G;           // fracture energy [J/m²]
-  // per pair (a two-body point has one)
-  std::vector<int32_t> pair_point;
-  std::vector<int32_t> body_minus, body_plus;  // the normal points from - to +
-  std::vector<double> nx, ny;                  // bond normal in the reference configuration
-  std::vector<double> length;                  // l [m]: half of the pair's bond edges at the node
-  // Two nodes whose reference-to-current rotation turns the normal of an
-  // intact pair (the ends of its bond edges at the node, or the node and the
-  // far end of its only edge).
-  std::vector<int32_t> frame_p, frame_q;
-};
 
 struct BondParams {
   // Friction coefficient of the compressive branch of eq 6; NaN: use the
@@ -59,30 +40,6 @@ struct BondParams {
   double screen_fraction = 0.5;
 };
 
-// Bond state that a checkpoint must carry (everything that changes in a run).
-struct BondState {
-  double time = 0.0;
-  int64_t step_count = 0;
-  // per point
-  std::vector<int8_t> point_state;  // 0 intact, 1 split
-  std::vector<int8_t> near;         // pre-screening flag
-  std::vector<double> t_split, x_split, y_split;
-  // per pair
-  std::vector<int8_t> pair_state;   // 0 intact, 1 opened (cohesive), 2 fully failed
-  std::vector<int32_t> node_plus, node_minus;
-  std::vector<double> fnx, fny;     // bond frame (normal) frozen at the split
-  std::vector<double> f0, delta_f, delta_m;
-  std::vector<double> f_n_prev, f_t_prev, d_n_prev, d_t_prev;
-  std::vector<double> split_tn, split_tt;
-  std::vector<double> t_fail, x_fail, y_fail, dn_fail, dt_fail;
-  std::vector<int8_t> mode;
-  // split nodes: parent (original) node of every node appended by splitting
-  std::vector<int32_t> parent;
-  // energy accounts [J/m]
-  double work = 0.0, dissipation_effective = 0.0, stored = 0.0;
-  int64_t late_detections = 0, checks = 0;
-};
-
 class FreezeBonds {
  public:
   // Validates against the model's mesh (ValueError naming the bad entry)
@@ -94,33 +51,35 @@ class FreezeBonds {
   const BondParams& params() const { return params_; }
   void clear();
 
-  // Engine hooks (Model::check_freeze_bonds / apply_cohesive_forces).
+  // Engine hooks, in step order: check() (eqs 5-7, may split nodes) runs
+  // only in a committed step; apply() (eqs 9-11) adds the cohesive forces
+  // and, if commit, advances the pairs' history, events and energy.
   void check(Model& M);
-  void apply(Model& M);
+  void apply(Model& M, bool commit);
 
   // Checkpoints: state out, and back into a model rebuilt from the exported
-  // nodes/triangles with the same set() input (restores the model clock).
-  BondState state(const Model& M) const;
+  // nodes/triangles with the same set() input. The clock is the model's.
+  const BondState& state() const { return st_; }
   void restore(Model& M, const BondState& s);
 
-  int32_t n_points() const { return int32_t(node_.size()); }
-  int32_t n_pairs() const { return int32_t(pair_point_.size()); }
+  int32_t n_points() const { return int32_t(in_.node.size()); }
+  int32_t n_pairs() const { return int32_t(in_.pair_point.size()); }
   int32_t n_split() const;
   int32_t n_failed() const;
-  const BondInput& input() const { return input_; }
+  const BondInput& input() const { return in_; }
   // Original node of every node appended by splitting (in order of appending).
-  const std::vector<int32_t>& parents() const { return parent_; }
+  const std::vector<int32_t>& parents() const { return st_.parent; }
   // Traction (t_n, t_t) of each pair at its last check [Pa].
   const std::vector<double>& last_tn() const { return tn_; }
   const std::vector<double>& last_tt() const { return tt_; }
   // Energy: mechanical work done against the cohesive forces (trapezoid of
   // the law), energy now stored on the secant branches, and the effective
   // dissipation sum 1/2 f0 delta_m (G l per fully failed pair).
-  double work() const { return work_; }
-  double stored() const { return stored_; }
-  double dissipation_effective() const { return dissipation_eff_; }
-  int64_t late_detections() const { return late_; }
-  int64_t checks() const { return checks_; }
+  double work() const { return st_.work; }
+  double stored() const { return st_.stored; }
+  double dissipation_effective() const { return st_.dissipation_effective; }
+  int64_t late_detections() const { return st_.late_detections; }
+  int64_t checks() const { return st_.checks; }
   size_t memory_bytes() const;
 
  private:
@@ -137,38 +96,23 @@ class FreezeBonds {
   double point_ratio(const Model& M, int32_t p, double mu);
   // bond_split.cpp
   void split_points(Model& M, const std::vector<int32_t>& points);
-  void regather(Model& M, int32_t node) const;
   // Eq 8 force on the + node of pair k from this step's forces (x, y): from
   // the elastic element forces (f0) or from all forces (the holding force).
   void split_force(const Model& M, int32_t k, bool elastic, double& gx, double& gy) const;
 
-  BondInput input_;
+  BondInput in_;
   BondParams params_;
-  bool in_step_ = false;
+  BondState st_;
 
-  // per point
-  std::vector<int32_t> node_, first_pair_, n_pairs_;
-  std::vector<double> sigma_, tau_, G_, beta_;
-  std::vector<int8_t> point_state_, near_, fail_;
-  std::vector<double> t_split_, x_split_, y_split_;
-  // per pair
-  std::vector<int32_t> pair_point_, body_minus_, body_plus_, frame_p_, frame_q_;
-  std::vector<double> n0x_, n0y_, d0x_, d0y_, l_;
-  std::vector<double> tn_, tt_;  // traction of the last check
-  std::vector<int8_t> pair_state_;
-  std::vector<int32_t> node_plus_, node_minus_;
-  std::vector<double> fnx_, fny_, f0_, delta_f_, delta_m_;
-  std::vector<double> f_n_prev_, f_t_prev_, d_n_prev_, d_t_prev_;
-  std::vector<double> split_tn_, split_tt_;
-  std::vector<double> t_fail_, x_fail_, y_fail_, dn_fail_, dt_fail_;
-  std::vector<int8_t> mode_;
-  // work lists
+  // derived from in_ by set()
+  std::vector<int32_t> first_pair_, n_pairs_;  // per point: its pairs
+  std::vector<double> beta_;                   // per point: tau_cr / sigma_cr
+  std::vector<double> n0x_, n0y_, d0x_, d0y_;  // per pair: unit normal, frame edge (reference)
+  // scratch of the current step
+  std::vector<int8_t> fail_;                   // per point: 0, 1 failing, 2 failing found late
+  std::vector<double> tn_, tt_;                // per pair: traction of the last check
   std::vector<int32_t> intact_points_, open_pairs_;
-  std::vector<double> fx_pair_, fy_pair_, w_pair_, s_pair_, e_pair_;  // per open pair, this step
-  std::vector<int32_t> parent_;  // per node appended by splitting
-
-  double work_ = 0.0, dissipation_eff_ = 0.0, stored_ = 0.0;
-  int64_t late_ = 0, checks_ = 0;
+  std::vector<double> fx_pair_, fy_pair_, w_pair_, s_pair_, e_pair_;  // per open pair
 };
 
 }  // namespace engine

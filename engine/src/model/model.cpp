@@ -171,6 +171,28 @@ void Model::set_triangle_node(int32_t tri, int corner, int32_t node) {
   prepared_ = false;
 }
 
+int32_t Model::split_off(int32_t node, int32_t body) {
+  const int32_t id = add_node(nodes_.x[node], nodes_.y[node], nodes_.x0[node], nodes_.y0[node],
+                              nodes_.vx[node], nodes_.vy[node]);
+  for (int32_t j = gather_.start[node]; j < gather_.start[node + 1]; ++j) {
+    const int32_t s = gather_.slot[j];
+    if (tris_.body[s / 3] == body) tris_.node[s] = id;
+  }
+  for (BoundaryCondition& bc : bcs_)
+    if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
+  return id;
+}
+
+void Model::regather_node(int32_t i) {
+  gather_node(i, any_damping_, ext_.water(), ext_.buoyancy, ext_.drag_on(), ext_.gravity ? ext_.g : 0.0);
+}
+
+bool Model::node_touches_body(int32_t node, int32_t body) const {
+  for (int32_t j = gather_.start[node]; j < gather_.start[node + 1]; ++j)
+    if (tris_.body[gather_.slot[j] / 3] == body) return true;
+  return false;
+}
+
 // ---------------------------------------------------------------- parameters
 
 void Model::set_material(int32_t b, const Material& mat) {
@@ -323,6 +345,13 @@ void Model::set_velocities(const std::vector<double>& vx, const std::vector<doub
 
 void Model::reset_energy() { energy_ = EnergyLedger{}; }
 
+void Model::restore_clock(double time, int64_t step_count) {
+  if (!std::isfinite(time)) bad("time must be finite (got " + num(time) + ")");
+  if (step_count < 0) bad("step_count must be >= 0 (got " + std::to_string(step_count) + ")");
+  time_ = time;
+  step_count_ = step_count;
+}
+
 size_t Model::memory_bytes() const {
   size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
              surface_tris_.capacity() * sizeof(int32_t) + partial_.capacity() * sizeof(double) +
@@ -466,7 +495,7 @@ void Model::advance() {
   compute_body_forces();
   compute_contact_forces();     // (2) neighbour search, (3) normal contact forces
   check_freeze_bonds();         // (4) bond stress check (eqs 5-7), node splitting
-  apply_cohesive_forces();      // (5) cohesive forces of opened bonds (eqs 8-12)
+  apply_cohesive_forces(true);  // (5) cohesive forces of opened bonds (eqs 8-12)
   assemble_forces();            // total of (1)-(6)
   apply_friction();             // (3b) Coulomb friction (eq 4), needs all forces above
   apply_boundary_conditions();  // fixed nodes, prescribed velocities, reactions
@@ -478,7 +507,7 @@ void Model::evaluate() {
   prepare();
   compute_body_forces();
   compute_contact_forces();
-  apply_cohesive_forces();
+  apply_cohesive_forces(false);
   assemble_forces();
   apply_friction();
   apply_boundary_conditions();
@@ -599,9 +628,22 @@ void Model::compute_contact_forces() {
   contact_work_step_ = contact_.stored_energy();
 }
 
-void Model::check_freeze_bonds() { bonds_.check(*this); }      // (4) freeze_bonds.cpp
+void Model::check_freeze_bonds() {  // (4) freeze_bonds.cpp
+  Stopwatch sw(timings_.bonds);
+  bonds_.check(*this);
+}
 
-void Model::apply_cohesive_forces() { bonds_.apply(*this); }  // (5) freeze_bonds.cpp
+void Model::apply_cohesive_forces(bool commit) {  // (5) freeze_bonds.cpp
+  Stopwatch sw(timings_.bonds);
+  bonds_.apply(*this, commit);
+  if (!commit) return;
+  // The ledger's cohesive term is the work done against the cohesive forces
+  // (booked by update_positions); the part stored on the secant branches is
+  // recoverable, so it moves from "dissipated" to "stored".
+  const double stored = bonds_.stored();
+  energy_.cohesive -= stored - energy_.cohesive_stored;
+  energy_.cohesive_stored = stored;
+}
 
 void Model::assemble_forces() {
   // Serial: one pass of adds, cheaper than waking the threads again.

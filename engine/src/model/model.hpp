@@ -88,6 +88,9 @@ class Model {
   void reset_energy();
   // Continue the bookkeeping of a checkpointed run (after positions/velocities are set).
   void restore_energy(const EnergyLedger& e) { energy_ = e; }
+  // Continue the clock of a checkpointed run. Throws std::invalid_argument
+  // unless time is finite and step_count >= 0.
+  void restore_clock(double time, int64_t step_count);
 
   // --- topology editing for freeze-bond node splitting ---
   int32_t add_node(double x, double y, double x0, double y0, double vx, double vy);
@@ -97,10 +100,25 @@ class Model {
   // rebuild_topology + masses + constraint masks if anything changed
   // (validates materials); step() and stable_step() call it.
   void prepare_topology();
+  // Node splitting (freeze bonds): a new node at `node`'s place and velocity
+  // takes over the corners of `body`'s triangles at `node`, and joins every
+  // boundary condition holding `node` (a prescribed node stays prescribed on
+  // every side). Returns its id; prepare_topology() then rebuilds the rest.
+  int32_t split_off(int32_t node, int32_t body);
+  // Recompute one node's sum of this step's corner forces, gravity and drag
+  // (after a split gave it its own corners).
+  void regather_node(int32_t node);
+  // Some triangle of `body` has a corner at `node`.
+  bool node_touches_body(int32_t node, int32_t body) const;
 
   // --- read access ---
   Nodes& nodes() { return nodes_; }
+  const Nodes& nodes() const { return nodes_; }
   Triangles& triangles() { return tris_; }
+  const Triangles& triangles() const { return tris_; }
+  // Node -> triangle corners, in the fixed order of every per-node sum.
+  const NodeGather& gather() const { return gather_; }
+  int threads() const { return threads_; }  // 0: OpenMP default
   const std::vector<int32_t>& surface_triangles() const { return surface_tris_; }
   const std::vector<uint8_t>& surface_nodes() const { return on_surface_; }
   const EnergyLedger& energy() const { return energy_; }
@@ -124,8 +142,6 @@ class Model {
   FreezeBonds& bonds() { return bonds_; }
 
  private:
-  friend class FreezeBonds;
-
   // The time step, MODEL.md 3.
   void advance();
   // one node's sums of corner forces + gravity and drag (also after a split)
@@ -133,7 +149,8 @@ class Model {
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
-  void apply_cohesive_forces();     // (5) hook: cohesive forces of opened bonds
+  // (5) hook: cohesive forces of opened bonds; commit: advance their history
+  void apply_cohesive_forces(bool commit);
   void assemble_forces();           // total force before friction
   void apply_friction();            // (3b) friction, once all other forces are known
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
