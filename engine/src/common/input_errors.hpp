@@ -1,6 +1,7 @@
 // Clear errors for bad input: std::invalid_argument (Python ValueError) with
 // numbers printed the same way everywhere in the engine.
 #pragma once
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -23,5 +24,15 @@ inline std::string num17(double v) {
 }
 
 [[noreturn]] inline void bad(const std::string& msg) { throw std::invalid_argument(msg); }
+
+inline void require_finite_positive(const char* name, double v, const char* unit) {
+  if (!(v > 0.0) || !std::isfinite(v))
+    bad(std::string(name) + " must be > 0 " + unit + " and finite (got " + num(v) + ")");
+}
+
+inline void require_finite_nonnegative(const char* name, double v, const char* unit) {
+  if (!(v >= 0.0) || !std::isfinite(v))
+    bad(std::string(name) + " must be >= 0 " + unit + " and finite (got " + num(v) + ")");
+}
 
 }  // namespace engine

@@ -11,6 +11,7 @@
 #include "contact/contact.hpp"
 #include "element/cst_element.hpp"
 #include "model/energy.hpp"
+#include "model/step_sums.hpp"
 #include "loads/external_forces.hpp"
 #include "bonds/freeze_bonds.hpp"
 #include "element/material.hpp"
@@ -142,15 +143,19 @@ class Model {
   FreezeBonds& bonds() { return bonds_; }
 
  private:
-  // The time step, MODEL.md 3.
+  // Whether a force evaluation moves history on (bond splits, cohesive
+  // pairs' damage and events) or only looks at the current state.
+  enum class History { commit, leave };
+
+  // The time step, docs/model.md §3: compute_forces(commit), then the update.
   void advance();
+  void compute_forces(History history);
   // one node's sums of corner forces + gravity and drag (also after a split)
   void gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g);
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
-  // (5) hook: cohesive forces of opened bonds; commit: advance their history
-  void apply_cohesive_forces(bool commit);
+  void apply_cohesive_forces(History history);  // (5) hook: cohesive forces of opened bonds
   void assemble_forces();           // total force before friction
   void apply_friction();            // (3b) friction, once all other forces are known
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
@@ -203,7 +208,7 @@ class Model {
   double contact_work_step_ = 0.0;
   int32_t first_inverted_ = -1;
   StepTimings timings_;
-  std::vector<double> partial_;  // per-thread partial sums, fixed-order reduction
+  std::vector<ThreadSums> partial_;  // per-thread sums, reduced in thread order
   FreezeBonds bonds_;
 };
 
