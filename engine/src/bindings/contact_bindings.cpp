@@ -151,7 +151,7 @@ void bind_contact(py::module_& m) {
           std::fill(body.mutable_data(), body.mutable_data() + body.size(), 0);
         }
         InputHolder h = make_input(x, y, zero, zero, mass, tri, body, surface, 0.0);
-        const ContactStableStep s = contact_critical_dt(ContactParams{penalty, 0.0}, h.in);
+        const ContactStableStep s = contact_critical_dt(validated_contact_params(penalty, 0.0), h.in);
         py::dict d;
         d["dt"] = s.dt;
         d["node"] = s.node;
@@ -183,7 +183,7 @@ void bind_contact(py::module_& m) {
             InputHolder h = make_input(x, y, vx, vy, mass, tri, body, surface, dt);
             double* px = writable(fx, "fx", h.in.n_nodes);
             double* py_ = writable(fy, "fy", h.in.n_nodes);
-            ContactParams p{penalty, mu};
+            const ContactParams p = validated_contact_params(penalty, mu);
             py::gil_scoped_release nogil;
             return s.compute_normal(p, h.in, px, py_);
           },
@@ -200,7 +200,7 @@ void bind_contact(py::module_& m) {
             add_constraints(h, constrained, vbx, vby);
             double* px = writable(fx, "fx", h.in.n_nodes);
             double* py_ = writable(fy, "fy", h.in.n_nodes);
-            ContactParams p{penalty, mu};
+            const ContactParams p = validated_contact_params(penalty, mu);
             py::gil_scoped_release nogil;
             return s.apply_friction(p, h.in, px, py_);
           },

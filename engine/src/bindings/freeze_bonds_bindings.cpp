@@ -87,7 +87,18 @@ S from_dict(const py::dict& d, const char* what) {
 }  // namespace
 
 void bind_freeze_bonds(py::module_& m) {
-  (void)m;
+  // The codes of the int8 arrays bond_state() returns: point_state, pair_state, mode.
+  py::enum_<PointState>(m, "PointState", "bond_state()['point_state'] codes")
+      .value("intact", PointState::intact)
+      .value("split", PointState::split);
+  py::enum_<PairState>(m, "PairState", "bond_state()['pair_state'] codes")
+      .value("intact", PairState::intact)
+      .value("cohesive", PairState::cohesive, "split, held by the cohesive law")
+      .value("failed", PairState::failed, "fully failed");
+  py::enum_<FailureMode>(m, "FailureMode", "bond_state()['mode'] codes", py::module_local())
+      .value("none", FailureMode::none)
+      .value("tensile", FailureMode::tensile)
+      .value("shear", FailureMode::shear);
   auto cls = py::reinterpret_borrow<py::class_<Model>>(py::type::of<Model>());
   cls.def("set_bonds",
           [](Model& M, py::args arrays, bool for_restore) {

@@ -320,8 +320,8 @@ void FreezeBonds::apply(Model& M, bool commit) {
     const double beta = beta_[p];
     const int32_t ip = st_.node_plus[k], im = st_.node_minus[k];
     const double nx = st_.fnx[k], ny = st_.fny[k];
-    double dn, dt;
-    cl::opening_components(N.x[ip] - N.x[im], N.y[ip] - N.y[im], nx, ny, dn, dt);
+    double delta_n, delta_t;
+    cl::opening_components(N.x[ip] - N.x[im], N.y[ip] - N.y[im], nx, ny, delta_n, delta_t);
     double dm = st_.delta_m[k];
     double fn = 0.0, ft = 0.0;  // the law's force, along the opening (bond axes)
     bool failed = false;
@@ -332,7 +332,7 @@ void FreezeBonds::apply(Model& M, bool commit) {
     const bool rigid = dm < kRigidOpening * st_.delta_f[k] ||
                        dm * mp * mm < 4.0 * st_.f0[k] * std::max(1.0, c) * dt2 * (mp + mm);
     if (rigid) {
-      const cl::StepOutcome s = cl::step_opened_bond(dn, dt, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
       failed = s.failed_now;
       mode = s.mode;
       if (!failed) {
@@ -346,7 +346,7 @@ void FreezeBonds::apply(Model& M, bool commit) {
         ft = -scale * gt;
       }
     } else {
-      const cl::StepOutcome s = cl::step_opened_bond(dn, dt, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
       failed = s.failed_now;
       mode = s.mode;
       fn = s.f_n;
@@ -356,23 +356,23 @@ void FreezeBonds::apply(Model& M, bool commit) {
     cl::nodal_forces(fn, ft, nx, ny, fpx, fpy, fmx, fmy);
     fx_pair_[j] = fpx;
     fy_pair_[j] = fpy;
-    w_pair_[j] = cl::work_increment(st_.f_n_prev[k], st_.f_t_prev[k], fn, ft, dn - st_.d_n_prev[k],
-                                    dt - st_.d_t_prev[k]);
-    s_pair_[j] = cl::stored_energy(dn, dt, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+    w_pair_[j] = cl::work_increment(st_.f_n_prev[k], st_.f_t_prev[k], fn, ft, delta_n - st_.d_n_prev[k],
+                                    delta_t - st_.d_t_prev[k]);
+    s_pair_[j] = cl::stored_energy(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
     e_pair_[j] = cl::dissipation_increment(st_.f0[k], st_.delta_f[k], st_.delta_m[k], dm);
     if (commit) {
       st_.delta_m[k] = dm;
       st_.f_n_prev[k] = fn;
       st_.f_t_prev[k] = ft;
-      st_.d_n_prev[k] = dn;
-      st_.d_t_prev[k] = dt;
+      st_.d_n_prev[k] = delta_n;
+      st_.d_t_prev[k] = delta_t;
       if (failed) {
         st_.pair_state[k] = PairState::failed;
         st_.t_fail[k] = time;
         st_.x_fail[k] = 0.5 * (N.x[ip] + N.x[im]);
         st_.y_fail[k] = 0.5 * (N.y[ip] + N.y[im]);
-        st_.dn_fail[k] = dn;
-        st_.dt_fail[k] = dt;
+        st_.dn_fail[k] = delta_n;
+        st_.dt_fail[k] = delta_t;
         st_.mode[k] = mode;
         any_failed = true;
       }
@@ -419,9 +419,9 @@ void FreezeBonds::apply_crack_closure(Model& M) {
     if (st_.pair_state[j] == PairState::intact) continue;
     const int32_t ip = st_.node_plus[j], im = st_.node_minus[j];
     const double nx = st_.fnx[j], ny = st_.fny[j];
-    const double dn = (W.x[ip] - W.x[im]) * nx + (W.y[ip] - W.y[im]) * ny;
-    if (dn >= 0.0) continue;
-    const double f = -k * dn;  // pushes x+ along +n and x- along -n
+    const double delta_n = (W.x[ip] - W.x[im]) * nx + (W.y[ip] - W.y[im]) * ny;
+    if (delta_n >= 0.0) continue;
+    const double f = -k * delta_n;  // pushes x+ along +n and x- along -n
     W.f_con_x[ip] += f * nx;
     W.f_con_y[ip] += f * ny;
     W.f_con_x[im] -= f * nx;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "contact/contact.hpp"
+#include "common/input_errors.hpp"
 
 #include <algorithm>
 
@@ -26,11 +27,10 @@ double now_s() {
 
 }  // namespace
 
-void check_contact_params(const ContactParams& p) {
-  if (!(std::isfinite(p.penalty) && p.penalty > 0.0))
-    throw std::invalid_argument("contact penalty must be finite and > 0 (Pa per m width)");
-  if (!(std::isfinite(p.mu) && p.mu >= 0.0))
-    throw std::invalid_argument("friction coefficient mu must be finite and >= 0");
+ContactParams validated_contact_params(double penalty, double mu) {
+  require_finite_positive("penalty", penalty, "Pa (per m width)");
+  require_finite_nonnegative("mu (friction coefficient)", mu, "");
+  return ContactParams{penalty, mu};
 }
 
 void ContactSolver::set_skin_fraction(double f) {
@@ -80,7 +80,6 @@ bool ContactSolver::list_still_valid(const ContactInput& in) const {
 
 int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput& in, double* fx,
                                       double* fy) {
-  check_contact_params(p);
   const double t0 = now_s();
   if (!list_still_valid(in)) {
     broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_,

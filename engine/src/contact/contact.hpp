@@ -23,9 +23,11 @@ struct ContactParams {
   double mu = 0.3;        // Coulomb friction coefficient [-]
 };
 
-// Throws std::invalid_argument (ValueError in Python) naming the parameter and
-// its valid range.
-void check_contact_params(const ContactParams& p);
+// The one check of the contact parameters, where they enter (Model::set_contact
+// and the ContactSolver bindings); the per-step calls trust them. Throws
+// std::invalid_argument (ValueError in Python) naming the parameter and its
+// valid range.
+ContactParams validated_contact_params(double penalty, double mu);
 
 // Views of the engine's flat node and element arrays (structure of arrays).
 struct ContactInput {

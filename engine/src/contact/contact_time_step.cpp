@@ -61,8 +61,8 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   const double l_hi = *std::max_element(len.begin(), len.end());
   std::vector<double> grid{l_lo};
   while (grid.back() < l_hi) grid.push_back(std::min(grid.back() * 1.1, l_hi));
-  const size_t G = grid.size();
-  std::vector<double> T(G, 0.0);
+  const size_t n_grid = grid.size();
+  std::vector<double> T(n_grid, 0.0);
 
   // Depth-first walk: edge f entered at its end c, c0 the length walked so far,
   // s0 the integral so far, g the first grid length above c0.
@@ -81,8 +81,8 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
         stack.pop_back();
         const double d = 1.0 / alt[fr.f], c1 = fr.c0 + len[fr.f];
         size_t g = fr.g;
-        for (; g < G && grid[g] <= c1; ++g) T[g] = std::max(T[g], fr.s0 + (grid[g] - fr.c0) * d);
-        if (g >= G) continue;  // reached the longest length
+        for (; g < n_grid && grid[g] <= c1; ++g) T[g] = std::max(T[g], fr.s0 + (grid[g] - fr.c0) * d);
+        if (g >= n_grid) continue;  // reached the longest length
         const double s1 = fr.s0 + len[fr.f] * d;
         const size_t k = at_end[2 * size_t(fr.f) + (1 - fr.c)];  // leave through the far end
         const int32_t v = fr.c == 0 ? eb[fr.f] : ea[fr.f];
@@ -100,17 +100,17 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   auto T_up = [&](double L) {
     if (!(L > 0.0)) return 0.0;
     const size_t g = std::lower_bound(grid.begin(), grid.end(), L) - grid.begin();
-    return std::min(T[std::min(g, G - 1)], L * d_max);
+    return std::min(T[std::min(g, n_grid - 1)], L * d_max);
   };
-  std::vector<double> T2(G);
-  for (size_t g = 0; g < G; ++g) {
+  std::vector<double> T2(n_grid);
+  for (size_t g = 0; g < n_grid; ++g) {
     T2[g] = T[g];
     for (size_t i = 0; i < g; ++i) T2[g] = std::max(T2[g], T[i] + T_up(grid[g] - grid[i]));
   }
   std::vector<double> out(n);
   for (size_t e = 0; e < n; ++e) {
     const size_t g = std::lower_bound(grid.begin(), grid.end(), len[e]) - grid.begin();
-    out[e] = T2[std::min(g, G - 1)];
+    out[e] = T2[std::min(g, n_grid - 1)];
   }
   return out;
 }
@@ -119,7 +119,6 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
 
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
                                       std::vector<double>* node_stiffness) {
-  check_contact_params(p);
   if (node_stiffness) node_stiffness->assign(in.n_nodes, 0.0);
   ContactStableStep out;
   out.dt = INFINITY;

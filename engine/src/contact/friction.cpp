@@ -40,7 +40,6 @@ inline double inverse_mass(double m) { return (m > 0.0 && std::isfinite(m)) ? 1.
 
 double ContactSolver::apply_friction(const ContactParams& p, const ContactInput& in, double* fx,
                                      double* fy) {
-  check_contact_params(p);
   if (p.mu == 0.0 || pairs_.empty()) {
     prev_key_.clear();
     prev_lambda_.clear();

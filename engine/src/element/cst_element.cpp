@@ -67,10 +67,10 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
     const double E22 = 0.5 * (k.F12 * k.F12 + k.F22 * k.F22 - 1.0);
     const double E12 = 0.5 * (k.F11 * k.F12 + k.F21 * k.F22);
     const double trE = E11 + E22;
-    const double S11 = m.lambda * trE + 2.0 * m.mu * E11;
-    const double S22 = m.lambda * trE + 2.0 * m.mu * E22;
-    const double S12 = 2.0 * m.mu * E12;
-    energy += a0 * (0.5 * m.lambda * trE * trE + m.mu * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
+    const double S11 = m.lambda * trE + 2.0 * m.shear_modulus * E11;
+    const double S22 = m.lambda * trE + 2.0 * m.shear_modulus * E22;
+    const double S12 = 2.0 * m.shear_modulus * E12;
+    energy += a0 * (0.5 * m.lambda * trE * trE + m.shear_modulus * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
 
     // First Piola-Kirchhoff stress of the elastic part, P = F S.
     const double P11 = k.F11 * S11 + k.F12 * S12, P12 = k.F11 * S12 + k.F12 * S22;
@@ -91,9 +91,9 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
       const double D22 = k.F12 * r.F12 + k.F22 * r.F22;
       const double D12 = 0.5 * (k.F11 * r.F12 + k.F21 * r.F22 + k.F12 * r.F11 + k.F22 * r.F21);
       const double trD = D11 + D22;
-      const double V11 = m.tau * (m.lambda * trD + 2.0 * m.mu * D11) + m.eta * D11;
-      const double V22 = m.tau * (m.lambda * trD + 2.0 * m.mu * D22) + m.eta * D22;
-      const double V12 = m.tau * 2.0 * m.mu * D12 + m.eta * D12;
+      const double V11 = m.tau * (m.lambda * trD + 2.0 * m.shear_modulus * D11) + m.eta * D11;
+      const double V22 = m.tau * (m.lambda * trD + 2.0 * m.shear_modulus * D22) + m.eta * D22;
+      const double V12 = m.tau * 2.0 * m.shear_modulus * D12 + m.eta * D12;
       const double W11 = k.F11 * V11 + k.F12 * V12, W12 = k.F11 * V12 + k.F12 * V22;
       const double W21 = k.F21 * V11 + k.F22 * V12, W22 = k.F21 * V12 + k.F22 * V22;
       const double v1x = -a0 * (W11 * b00 + W12 * b01), v1y = -a0 * (W21 * b00 + W22 * b01);
@@ -137,7 +137,7 @@ double element_strain_energy(const Nodes& nodes, const Triangles& tris,
   const double E12 = 0.5 * (k.F11 * k.F12 + k.F21 * k.F22);
   const double trE = E11 + E22;
   return tris.area0[t] *
-         (0.5 * m.lambda * trE * trE + m.mu * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
+         (0.5 * m.lambda * trE * trE + m.shear_modulus * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
 }
 
 }  // namespace engine

@@ -24,18 +24,18 @@ struct Material {
 // Plane-strain constants the element kernel uses.
 struct ElementMaterial {
   double lambda = 0.0;  // Lamé lambda [Pa]
-  double mu = 0.0;      // shear modulus [Pa]
+  double shear_modulus = 0.0;  // Lamé mu [Pa] (mu is the friction coefficient elsewhere)
   double tau = 0.0;     // damping time [s]
   double eta = 0.0;     // viscosity [Pa s]
   double rho = 0.0;
   // Damping time that bounds the damping ratio of every element mode from
   // above: the viscosity damps a shear mode (stiffness 2 mu) the most.
-  double tau_eff() const { return tau + (mu > 0.0 ? eta / (2.0 * mu) : 0.0); }
+  double tau_eff() const { return tau + (shear_modulus > 0.0 ? eta / (2.0 * shear_modulus) : 0.0); }
 
   static ElementMaterial from(const Material& m) {
     ElementMaterial e;
     e.lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
-    e.mu = m.E / (2.0 * (1.0 + m.nu));
+    e.shear_modulus = m.E / (2.0 * (1.0 + m.nu));
     e.tau = m.damping;
     e.eta = m.viscosity;
     e.rho = m.rho;

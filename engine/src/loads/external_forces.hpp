@@ -27,12 +27,17 @@ namespace engine {
 
 enum class DragModel : int { None = 0, Linear = 1, Quadratic = 2 };
 
+// Defaults of a Model built without the Python layer (icerubble.fdem sets
+// every parameter itself); the only place these numbers appear in C++.
+constexpr double kStandardGravity = 9.81;  // [m/s²]
+constexpr double kSeaWaterDensity = 1010.0;  // [kg/m³], the paper's Table 1 (docs/model.md §2)
+
 struct ExternalParams {
   bool gravity = true;
-  double g = 9.81;         // [m/s²], acts in -y
+  double g = kStandardGravity;  // acts in -y
   bool buoyancy = false;
   bool drag = false;
-  double rho_w = 1010.0;   // water density [kg/m³]
+  double rho_w = kSeaWaterDensity;
   double y_w = 0.0;        // water line [m]
   double c_w = 2.5e4;      // linear drag constant [Pa s]
   DragModel drag_model = DragModel::Linear;

@@ -52,10 +52,7 @@ void Model::set_drag_model(DragModel model, double C_d) {
 }
 
 void Model::set_contact(double penalty, double mu) {
-  require_finite_positive("penalty", penalty, "Pa");
-  require_finite_nonnegative("mu", mu, "");
-  contact_params_.penalty = penalty;
-  contact_params_.mu = mu;
+  contact_params_ = validated_contact_params(penalty, mu);
   stable_current_ = false;
   // The contact part of mass scaling depends on the penalty.
   if (mass_scaling_dt_ > 0.0) prepared_ = false;

@@ -42,19 +42,19 @@ double element_critical_dt(double ax, double ay, double bx, double by, double cx
     scc += c * c;
     sbc += b * c;
   }
-  // G = B B^T in Voigt form (xx, yy, engineering xy).
-  const double G[3][3] = {{sbb, 0.0, sbc}, {0.0, scc, sbc}, {sbc, sbc, sbb + scc}};
+  // BBt = B B^T in Voigt form (xx, yy, engineering xy).
+  const double BBt[3][3] = {{sbb, 0.0, sbc}, {0.0, scc, sbc}, {sbc, sbc, sbb + scc}};
   // Eigenbasis of the plane-strain D: (1,1,0)/√2, (1,-1,0)/√2, (0,0,1).
   const double r2 = 1.0 / std::sqrt(2.0);
   const double Q[3][3] = {{r2, r2, 0.0}, {r2, -r2, 0.0}, {0.0, 0.0, 1.0}};
-  const double s[3] = {std::sqrt(2.0 * m.lambda + 2.0 * m.mu), std::sqrt(2.0 * m.mu),
-                       std::sqrt(m.mu)};
+  const double s[3] = {std::sqrt(2.0 * m.lambda + 2.0 * m.shear_modulus), std::sqrt(2.0 * m.shear_modulus),
+                       std::sqrt(m.shear_modulus)};
   double H[3][3];
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       double h = 0.0;
       for (int k = 0; k < 3; ++k)
-        for (int l = 0; l < 3; ++l) h += Q[k][i] * G[k][l] * Q[l][j];
+        for (int l = 0; l < 3; ++l) h += Q[k][i] * BBt[k][l] * Q[l][j];
       H[i][j] = s[i] * h * s[j];
     }
   const double w2 = 3.0 * max_eigenvalue_sym3(H) / m.rho;
@@ -143,7 +143,7 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
     }
     s.altitude = 2.0 * tris.area0[t] / longest;
     const ElementMaterial& m = mat[tris.body[t]];
-    s.wave_speed = std::sqrt((m.lambda + 2.0 * m.mu) / m.rho);
+    s.wave_speed = std::sqrt((m.lambda + 2.0 * m.shear_modulus) / m.rho);
   }
   if (contact_possible) {
     // The potential contact stiffness of a boundary node is several times the
