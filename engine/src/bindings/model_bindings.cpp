@@ -128,6 +128,18 @@ void bind_model(py::module_& m) {
            py::arg("body"), py::arg("E"), py::arg("nu"), py::arg("rho"), py::arg("damping"),
            py::arg("viscosity") = 0.0)
       .def("set_dt", &Model::set_dt)
+      .def("set_dt_fraction", &Model::set_dt_fraction, py::arg("fraction"),
+           "dt = fraction x stable_step()['dt'] of the model as prepared now, fraction in (0, 1];\n"
+           "fixed from then on (set_dt or set_dt_fraction again to change it).")
+      .def("dt_control",
+           [](const Model& M) {
+             py::dict d;
+             d["dt"] = M.dt();
+             d["source"] = M.dt_fraction() > 0.0 ? "fraction" : M.dt() > 0.0 ? "explicit" : "unset";
+             d["fraction"] = M.dt_fraction() > 0.0 ? py::object(py::float_(M.dt_fraction())) : py::object(py::none());
+             return d;
+           },
+           "Which time step is in force: dt, source ('fraction', 'explicit' or 'unset'), fraction.")
       .def("set_gravity", &Model::set_gravity, py::arg("on"), py::arg("g"))
       .def("set_water", &Model::set_water, py::arg("buoyancy"), py::arg("drag"), py::arg("rho_w"),
            py::arg("y_w"), py::arg("c_w"))

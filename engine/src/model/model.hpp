@@ -46,7 +46,14 @@ class Model {
 
   // --- parameters (each setter validates and names the valid range) ---
   void set_material(int32_t body, const Material& m);
+  // An explicit time step [s]; switches a dt fraction off.
   void set_dt(double dt);
+  // dt = f x the stable step of the model as prepared now (masses scaled,
+  // topology current), f in (0, 1]. It stays fixed afterwards (bond splits
+  // and later parameter changes do not move it), as a run's dt always has:
+  // call again to re-derive. dt_fraction() is 0 while an explicit dt is in force.
+  void set_dt_fraction(double f);
+  double dt_fraction() const { return dt_fraction_; }
   void set_gravity(bool on, double g);
   void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
   // Which drag law acts when drag is on (external_forces.hpp); C_d >= 0 is
@@ -188,6 +195,7 @@ class Model {
   ContactParams contact_params_;
   ContactSolver contact_;
   double dt_ = 0.0;
+  double dt_fraction_ = 0.0;  // 0: dt_ was set explicitly (or not at all)
   bool check_stable_dt_ = true;
   bool check_energy_ = true;
   double energy_tolerance_ = 0.1;

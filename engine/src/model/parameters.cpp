@@ -24,6 +24,15 @@ void Model::set_material(int32_t b, const Material& mat) {
 void Model::set_dt(double dt) {
   require_finite_positive("dt", dt, "s");
   dt_ = dt;
+  dt_fraction_ = 0.0;
+}
+
+void Model::set_dt_fraction(double f) {
+  if (!(f > 0.0 && f <= 1.0))
+    bad("dt_fraction must be in (0, 1] (the stable step already carries its safety factor) (got " +
+        num(f) + ")");
+  dt_ = f * stable_step().dt;
+  dt_fraction_ = f;
 }
 
 void Model::set_gravity(bool on, double g) {
