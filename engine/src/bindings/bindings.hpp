@@ -6,4 +6,5 @@ namespace engine {
 void bind_contact(pybind11::module_& m);
 void bind_model(pybind11::module_& m);
 void bind_freeze_bonds(pybind11::module_& m);  // after bind_model: adds to Model
+void bind_loads(pybind11::module_& m);
 }

@@ -5,16 +5,19 @@
 
 namespace engine {
 
+double ramp_velocity(double time, double v_final, double ramp_time) {
+  if (time <= 0.0) return 0.0;
+  if (time >= ramp_time) return v_final;
+  const double s = time / ramp_time;
+  return v_final * (s - std::sin(2.0 * M_PI * s) / (2.0 * M_PI));
+}
+
 double VelocityHistory::at(double time) const {
   switch (kind) {
     case Kind::constant:
       return value;
-    case Kind::smooth_ramp: {
-      if (time <= 0.0) return 0.0;
-      if (time >= ramp_time) return value;
-      const double s = time / ramp_time;
-      return value * (s - std::sin(2.0 * M_PI * s) / (2.0 * M_PI));
-    }
+    case Kind::smooth_ramp:
+      return ramp_velocity(time, value, ramp_time);
     case Kind::table: {
       if (time <= t.front()) return v.front();
       if (time >= t.back()) return v.back();

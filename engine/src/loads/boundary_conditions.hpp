@@ -8,6 +8,11 @@
 
 namespace engine {
 
+// Smooth ramp s = v_f (t/T - sin(2 pi t/T)/(2 pi)) for 0 < t < T, 0 before,
+// v_f after: the acceleration rises from zero and returns to zero at T, so
+// the indenter starts without a jerk. Python: _engine.ramp_velocity.
+double ramp_velocity(double time, double v_final, double ramp_time);
+
 // Scalar speed s(t) [m/s]; the node velocity is direction * s(t).
 struct VelocityHistory {
   enum class Kind { constant, smooth_ramp, table };
@@ -16,8 +21,6 @@ struct VelocityHistory {
   double ramp_time = 0.0;  // smooth_ramp: time to reach the final speed [s]
   std::vector<double> t, v;  // table: piecewise linear, held constant outside
 
-  // Smooth ramp s = v_f (t/T - sin(2 pi t/T)/(2 pi)): acceleration rises from
-  // zero and returns to zero at T, so the indenter starts without a jerk.
   double at(double time) const;
   // Throws std::invalid_argument naming the bad parameter.
   void validate(const std::string& where) const;
