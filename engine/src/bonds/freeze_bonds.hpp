@@ -1,5 +1,5 @@
 // Freeze bonds as initially rigid cohesive elements (Polojärvi & Tuhkuri 2013,
-// section 2.3, eqs 5-12; MODEL.md 3.3; docs/freeze_bonds.md).
+// section 2.3, eqs 5-12; docs/model.md §3.3; docs/freeze_bonds.md).
 //
 // The mesh is continuous across touching blocks. A bond point is a mesh node on
 // a freeze-bond edge; it joins two bodies (one *pair*) or, at a junction, more
@@ -28,7 +28,7 @@ class Model;
 
 struct BondParams {
   // Friction coefficient of the compressive branch of eq 6; NaN: use the
-  // contact mu (MODEL.md 3.3, the paper's choice).
+  // contact mu (docs/model.md §3.3, the paper's choice).
   double mu = std::numeric_limits<double>::quiet_NaN();
   cohesive_law::ForceDirection direction = cohesive_law::ForceDirection::paper;
   bool check_failure = true;  // off while the scene settles under gravity

@@ -28,7 +28,7 @@ struct Nodes {
   std::vector<double> mass_phys;
 
   // Forces of the current step by origin [N/m]; kept apart so that the work
-  // of each can be integrated (energy bookkeeping, MODEL.md 4).
+  // of each can be integrated (energy bookkeeping, docs/model.md §4).
   std::vector<double> f_int_x, f_int_y;    // element forces, elastic + viscous
   std::vector<double> f_visc_x, f_visc_y;  // viscous (strain-rate damping) part
   std::vector<double> f_con_x, f_con_y;    // normal contact (potential contact)

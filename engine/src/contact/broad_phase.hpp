@@ -1,4 +1,4 @@
-// Broad phase of the contact search (MODEL.md 3: step (2), neighbour search).
+// Broad phase of the contact search (docs/model.md §3: step (2), neighbour search).
 //
 // A uniform cell grid with cells at least as large as the largest bounding box
 // of a surface triangle. Each triangle is binned by the lower-left corner of its

@@ -1,9 +1,9 @@
 // Contact between triangles of different bodies: the interface between the
-// engine (model.cpp, which owns the node arrays) and the contact module.
+// engine (the Model, which owns the node arrays) and the contact module.
 //
 // Two passes per step, so that friction can see every other force:
 //   1. compute_normal(): broad phase + Munjiza potential contact forces
-//      (MODEL.md 3.2, eqs 1-3). Adds the normal (penalty) forces to fx, fy and
+//      (docs/model.md §3.2, eqs 1-3). Adds the normal (penalty) forces to fx, fy and
 //      remembers, for every touching pair, where and how hard it pushes.
 //   2. apply_friction(): after all other forces of the step are assembled,
 //      dynamic Coulomb friction (eq 4) on the pairs of pass 1, regularised at

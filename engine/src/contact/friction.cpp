@@ -1,4 +1,4 @@
-// Coulomb friction (paper eq 4, MODEL.md 3.2) with an exact stick state.
+// Coulomb friction (paper eq 4, docs/model.md §3.2) with an exact stick state.
 //
 // Eq 4 as printed, f = -mu |f_c| v_t/|v_t|, is undefined at v_t = 0 and, in an
 // explicit scheme, makes a block resting on a slope below the friction angle

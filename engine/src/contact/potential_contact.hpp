@@ -1,5 +1,5 @@
 // Pair kernel of the potential contact force method (Munjiza; paper section
-// 2.1, eqs 1-3; MODEL.md 3.2): the penalty force between one contactor and one
+// 2.1, eqs 1-3; docs/model.md §3.2): the penalty force between one contactor and one
 // target triangle of different bodies.
 //
 // Potential. In each triangle phi = 3 * min(lambda_0, lambda_1, lambda_2)

@@ -1,4 +1,4 @@
-// The constant-strain triangle, total Lagrangian (MODEL.md 3.1).
+// The constant-strain triangle, total Lagrangian (docs/model.md §3.1).
 //
 // F = Ds Dm^-1 from current and reference edge vectors, Green-Lagrange strain
 // E = (F^T F - I)/2, St Venant-Kirchhoff S = lambda tr(E) I + 2 mu E (plane

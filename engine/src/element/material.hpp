@@ -1,5 +1,5 @@
 // Per-body isotropic linear elastic material with strain-rate damping
-// (MODEL.md 3.1). St Venant-Kirchhoff: the linear law between Green-Lagrange
+// (docs/model.md §3.1). St Venant-Kirchhoff: the linear law between Green-Lagrange
 // strain and second Piola-Kirchhoff stress, objective under any rotation.
 #pragma once
 

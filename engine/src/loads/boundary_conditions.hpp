@@ -1,5 +1,5 @@
 // Kinematic boundary conditions on node sets: fixed nodes and prescribed
-// velocity histories (the displacement-driven indenter, MODEL.md 1), and the
+// velocity histories (the displacement-driven indenter, docs/model.md §1), and the
 // reaction the boundary exerts to impose them.
 #pragma once
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Gravity, buoyancy and water drag (MODEL.md 3.4).
+// Gravity, buoyancy and water drag (docs/model.md §3.4).
 //
 // Buoyancy: each triangle is clipped at the water line y = y_w; the
 // submerged part gets rho_w g A_sub upward at its centroid, shared by the

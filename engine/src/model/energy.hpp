@@ -1,4 +1,4 @@
-// Energy bookkeeping (MODEL.md 4): current energies and cumulative works.
+// Energy bookkeeping (docs/model.md §4): current energies and cumulative works.
 //
 // Works are integrated with the midpoint rule on the central-difference
 // velocities, W += dt f^n . (v^{n-1/2} + v^{n+1/2}) / 2, for which the change

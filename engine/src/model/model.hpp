@@ -1,6 +1,6 @@
 // The FEM-DEM model: deformable blocks (CST), contact, external forces and
 // explicit central-difference time stepping. Model::advance() is the time step
-// of MODEL.md 3, one call per physical step.
+// of docs/model.md §3, one call per physical step.
 #pragma once
 #include <cstdint>
 #include <stdexcept>
