@@ -45,6 +45,16 @@ void each_finite(const char* name, const double* v, py::ssize_t n) {
   for (py::ssize_t i = 0; i < n; ++i) cl::require_finite(name, v[i]);
 }
 
+// Tractions and strengths of eqs 5-6, broadcast together and validated.
+Broadcast traction_args(py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr,
+                        py::object mu) {
+  Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
+  each_finite("t_n", b[0], b.size);
+  each_finite("t_t", b[1], b.size);
+  for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
+  return b;
+}
+
 // 1-D parameter arrays of one length n (size-1 arrays are repeated).
 std::vector<double> column(py::object a, std::size_t n, const char* name) {
   Arr arr(py::module_::import("numpy").attr("ravel")(a));
@@ -101,10 +111,7 @@ PYBIND11_MODULE(_cohesive_law, m) {
 
   m.def("effective_traction",
         [](py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr, py::object mu) {
-          Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
-          each_finite("t_n", b[0], b.size);
-          each_finite("t_t", b[1], b.size);
-          for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
+          const Broadcast b = traction_args(t_n, t_t, sigma_cr, tau_cr, mu);
           Arr out = b.out();
           double* o = out.mutable_data();
           for (py::ssize_t i = 0; i < b.size; ++i)
@@ -116,10 +123,7 @@ PYBIND11_MODULE(_cohesive_law, m) {
 
   m.def("criterion_reached",
         [](py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr, py::object mu) {
-          Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
-          each_finite("t_n", b[0], b.size);
-          each_finite("t_t", b[1], b.size);
-          for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
+          const Broadcast b = traction_args(t_n, t_t, sigma_cr, tau_cr, mu);
           auto out = b.out_bool();
           bool* o = out.mutable_data();
           for (py::ssize_t i = 0; i < b.size; ++i)

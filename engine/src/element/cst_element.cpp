@@ -33,6 +33,20 @@ inline Kinematics gradient(double ax, double ay, double bx, double by, double cx
           e1y * b01 + e2y * b11};
 }
 
+// Corner forces f = -A0 P Dm^-T of a first Piola-Kirchhoff stress P into
+// f[0..5]; corner 0 balances the other two, so the sum is exactly zero.
+inline void corner_forces(double P11, double P12, double P21, double P22, double a0, double b00,
+                          double b01, double b10, double b11, double* f) {
+  const double f1x = -a0 * (P11 * b00 + P12 * b01), f1y = -a0 * (P21 * b00 + P22 * b01);
+  const double f2x = -a0 * (P11 * b10 + P12 * b11), f2y = -a0 * (P21 * b10 + P22 * b11);
+  f[0] = -(f1x + f2x);
+  f[1] = -(f1y + f2y);
+  f[2] = f1x;
+  f[3] = f1y;
+  f[4] = f2x;
+  f[5] = f2y;
+}
+
 }  // namespace
 
 void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat,
@@ -96,30 +110,13 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
       const double V12 = m.tau * 2.0 * m.shear_modulus * D12 + m.eta * D12;
       const double W11 = k.F11 * V11 + k.F12 * V12, W12 = k.F11 * V12 + k.F12 * V22;
       const double W21 = k.F21 * V11 + k.F22 * V12, W22 = k.F21 * V12 + k.F22 * V22;
-      const double v1x = -a0 * (W11 * b00 + W12 * b01), v1y = -a0 * (W21 * b00 + W22 * b01);
-      const double v2x = -a0 * (W11 * b10 + W12 * b11), v2y = -a0 * (W21 * b10 + W22 * b11);
-      double* fv = fvc + 6 * t;
-      fv[0] = -(v1x + v2x);
-      fv[1] = -(v1y + v2y);
-      fv[2] = v1x;
-      fv[3] = v1y;
-      fv[4] = v2x;
-      fv[5] = v2y;
+      corner_forces(W11, W12, W21, W22, a0, b00, b01, b10, b11, fvc + 6 * t);
       Q11 += W11;
       Q12 += W12;
       Q21 += W21;
       Q22 += W22;
     }
-    // Corner forces f = -A0 P Dm^-T; corner 0 balances the other two.
-    const double f1x = -a0 * (Q11 * b00 + Q12 * b01), f1y = -a0 * (Q21 * b00 + Q22 * b01);
-    const double f2x = -a0 * (Q11 * b10 + Q12 * b11), f2y = -a0 * (Q21 * b10 + Q22 * b11);
-    double* f = fc + 6 * t;
-    f[0] = -(f1x + f2x);
-    f[1] = -(f1y + f2y);
-    f[2] = f1x;
-    f[3] = f1y;
-    f[4] = f2x;
-    f[5] = f2y;
+    corner_forces(Q11, Q12, Q21, Q22, a0, b00, b01, b10, b11, fc + 6 * t);
   }
   out.elastic_energy = energy;
   out.inverted = inverted;
