@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from icerubble import _cst, engine
+from icerubble import _engine, engine
 
 
 def rubble(k):
@@ -29,7 +29,7 @@ def main():
         pts, tri, body = rubble(k)
         surf = np.arange(len(tri), dtype=np.int32)  # small blocks: every triangle is on the surface
         n = len(pts)
-        s = _cst.ContactSolver(skin_fraction=0.0)
+        s = _engine.ContactSolver(skin_fraction=0.0)
         z = np.zeros(n)
         x, y, mass = pts[:, 0].copy(), pts[:, 1].copy(), np.ones(n)
         fx, fy = np.zeros(n), np.zeros(n)

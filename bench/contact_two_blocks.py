@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from icerubble import _cst
+from icerubble import _engine
 
 
 def block(x0, y0, size, h):
@@ -52,7 +52,7 @@ def main():
     v[: n // 2] = 1.0
     v[n // 2:] = -1.0
     x, y = pts[:, 0].copy(), pts[:, 1].copy()
-    solver = _cst.ContactSolver()
+    solver = _engine.ContactSolver()
     fx, fy = np.zeros(n), np.zeros(n)
     t0 = time.perf_counter()
     for _ in range(args.steps):

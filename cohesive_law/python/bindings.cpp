@@ -45,6 +45,16 @@ void each_finite(const char* name, const double* v, py::ssize_t n) {
   for (py::ssize_t i = 0; i < n; ++i) cl::require_finite(name, v[i]);
 }
 
+// Tractions and strengths of eqs 5-6, broadcast together and validated.
+Broadcast traction_args(py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr,
+                        py::object mu) {
+  Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
+  each_finite("t_n", b[0], b.size);
+  each_finite("t_t", b[1], b.size);
+  for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
+  return b;
+}
+
 // 1-D parameter arrays of one length n (size-1 arrays are repeated).
 std::vector<double> column(py::object a, std::size_t n, const char* name) {
   Arr arr(py::module_::import("numpy").attr("ravel")(a));
@@ -94,6 +104,15 @@ py::array_t<T> to_numpy(const std::vector<T>& v) {
 
 }  // namespace
 
+// out[i] = f(i) over a broadcast: the loop every elementwise binding shares.
+template <class F>
+Arr elementwise(const Broadcast& b, F&& f) {
+  Arr out = b.out();
+  double* o = out.mutable_data();
+  for (py::ssize_t i = 0; i < b.size; ++i) o[i] = f(i);
+  return out;
+}
+
 PYBIND11_MODULE(_cohesive_law, m) {
   m.doc() = "Freeze-bond cohesive law (Polojärvi & Tuhkuri 2013, eqs 5-12): mixed-mode "
             "criterion, linear softening, initially elastic variant. See docs/cohesive_law.md.";
@@ -101,25 +120,17 @@ PYBIND11_MODULE(_cohesive_law, m) {
 
   m.def("effective_traction",
         [](py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr, py::object mu) {
-          Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
-          each_finite("t_n", b[0], b.size);
-          each_finite("t_t", b[1], b.size);
-          for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::effective_traction(b[0][i], b[1][i], b[3][i] / b[2][i], b[4][i]);
-          return out;
+          const Broadcast b = traction_args(t_n, t_t, sigma_cr, tau_cr, mu);
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::effective_traction(b[0][i], b[1][i], b[3][i] / b[2][i], b[4][i]);
+          });
         },
         py::arg("t_n"), py::arg("t_t"), py::arg("sigma_cr"), py::arg("tau_cr"), py::arg("mu"),
         "Effective traction t_e of eq 6 [Pa].");
 
   m.def("criterion_reached",
         [](py::object t_n, py::object t_t, py::object sigma_cr, py::object tau_cr, py::object mu) {
-          Broadcast b({t_n, t_t, sigma_cr, tau_cr, mu});
-          each_finite("t_n", b[0], b.size);
-          each_finite("t_t", b[1], b.size);
-          for (py::ssize_t i = 0; i < b.size; ++i) cl::validate_strength(b[2][i], b[3][i], b[4][i]);
+          const Broadcast b = traction_args(t_n, t_t, sigma_cr, tau_cr, mu);
           auto out = b.out_bool();
           bool* o = out.mutable_data();
           for (py::ssize_t i = 0; i < b.size; ++i)
@@ -133,10 +144,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
         [](py::object dn, py::object dt, py::object beta) {
           Broadcast b({dn, dt, beta});
           each_positive("beta", b[2], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i) o[i] = cl::effective_opening(b[0][i], b[1][i], b[2][i]);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::effective_opening(b[0][i], b[1][i], b[2][i]);
+          });
         },
         py::arg("delta_n"), py::arg("delta_t"), py::arg("beta"), "Eq 9 [m].");
 
@@ -146,11 +156,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
           Broadcast b({mp, mm, fpx, fpy, fmx, fmy});
           each_positive("m_plus", b[0], b.size);
           each_positive("m_minus", b[1], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::initial_force_magnitude(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i]);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::initial_force_magnitude(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i]);
+          });
         },
         py::arg("m_plus"), py::arg("m_minus"), py::arg("f_plus_x"), py::arg("f_plus_y"),
         py::arg("f_minus_x"), py::arg("f_minus_y"), "Eq 8: |f_c^0| [N/m].");
@@ -160,11 +168,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
           const cl::ForceDirection dir = cl::parse_direction(direction);
           Broadcast b({fn, ft, beta});
           each_positive("beta", b[2], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::initial_effective_force(b[0][i], b[1][i], b[2][i], dir);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::initial_effective_force(b[0][i], b[1][i], b[2][i], dir);
+          });
         },
         py::arg("f_n"), py::arg("f_t"), py::arg("beta"), py::arg("direction") = "paper");
 
@@ -174,10 +180,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
           each_positive("G", b[0], b.size);
           each_positive("l", b[1], b.size);
           each_positive("f0", b[2], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i) o[i] = cl::critical_opening(b[0][i], b[1][i], b[2][i]);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::critical_opening(b[0][i], b[1][i], b[2][i]);
+          });
         },
         py::arg("G"), py::arg("l"), py::arg("f0"), "Eq 12: delta_f = 2 G l / f0 [m].");
 
@@ -196,11 +201,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
         [](py::object fno, py::object fto, py::object fnn, py::object ftn, py::object ddn,
            py::object ddt) {
           Broadcast b({fno, fto, fnn, ftn, ddn, ddt});
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::work_increment(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i]);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::work_increment(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i]);
+          });
         },
         py::arg("f_n_old"), py::arg("f_t_old"), py::arg("f_n_new"), py::arg("f_t_new"),
         py::arg("d_delta_n"), py::arg("d_delta_t"),
@@ -214,11 +217,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
           each_positive("beta", b[2], b.size);
           each_positive("f0", b[3], b.size);
           each_positive("delta_f", b[4], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::stored_energy(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i], dir);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::stored_energy(b[0][i], b[1][i], b[2][i], b[3][i], b[4][i], b[5][i], dir);
+          });
         },
         py::arg("delta_n"), py::arg("delta_t"), py::arg("beta"), py::arg("f0"),
         py::arg("delta_f"), py::arg("delta_m"), py::arg("direction") = "paper",
@@ -254,11 +255,9 @@ PYBIND11_MODULE(_cohesive_law, m) {
           cl::validate_depth_scaling(keel_depth, bottom_fraction);
           Broadcast b({depth});
           each_finite("depth", b[0], b.size);
-          Arr out = b.out();
-          double* o = out.mutable_data();
-          for (py::ssize_t i = 0; i < b.size; ++i)
-            o[i] = cl::depth_factor(b[0][i], keel_depth, bottom_fraction);
-          return out;
+          return elementwise(b, [&](py::ssize_t i) {
+            return cl::depth_factor(b[0][i], keel_depth, bottom_fraction);
+          });
         },
         py::arg("depth"), py::arg("keel_depth"), py::arg("bottom_fraction") = 0.1,
         "Factor on sigma_cr, tau_cr and G: 1 at the keel top, bottom_fraction at the bottom.");

@@ -1,4 +1,4 @@
-"""Python API of the FEM-DEM engine (compiled module ``icerubble._cst``).
+"""Python API of the FEM-DEM engine (compiled module ``icerubble._engine``).
 
 Deformable ice blocks as plane-strain constant-strain triangles (total
 Lagrangian, St Venant-Kirchhoff: objective under any rotation), potential
@@ -30,10 +30,12 @@ import numpy as np
 # partner make steps 10-100x slower: there, export OMP_WAIT_POLICY=passive or
 # run with threads=1.
 
-from icerubble import _cst  # noqa: E402
+from icerubble import _engine  # noqa: E402
 from icerubble.parameters import GRAVITY, RHO_W  # noqa: E402
 
-InstabilityError = _cst.InstabilityError
+InstabilityError = _engine.InstabilityError
+# The indenter's smooth speed ramp, the one the smooth_ramp boundary condition runs.
+ramp_velocity = _engine.ramp_velocity
 
 MATERIAL_KEYS = ("E", "nu", "rho", "damping", "viscosity")
 MATERIAL_DEFAULTS = {"nu": 0.3, "damping": 0.0, "viscosity": 0.0}
@@ -42,6 +44,8 @@ DRAG_MODELS = ("linear", "quadratic", "none")
 # Parameter name -> (default, description) for Model.set().
 PARAMETERS = {
     "dt": (None, "time step [s], > 0 and below the stable step"),
+    "dt_fraction": (None, "time step as this fraction (0, 1] of the stable step at the moment it is "
+                          "set (masses scaled); fixed after, like an explicit dt, which replaces it"),
     "gravity": (True, "gravity on/off"),
     "g": (GRAVITY, "gravitational acceleration [m/s²], >= 0"),
     "buoyancy": (False, "buoyancy on/off"),
@@ -125,7 +129,7 @@ class Model:
             raise ValueError("body ids must be integers")
         if body.min() < 0:
             raise ValueError("body ids must be >= 0")
-        self._m = _cst.Model(nodes, tri, body.astype(np.int32))
+        self._m = _engine.Model(nodes, tri, body.astype(np.int32))
         self._set_materials(materials)
         missing = sorted(set(np.unique(body).tolist()) - set(self.materials))
         if missing:
@@ -193,8 +197,10 @@ class Model:
                     raise ValueError(f"mass_scaling_dt must be >= 0 s and finite, 0 = off (got {v!r})")
             else:
                 p[k] = _number(k, v)
+        if "dt" in params and "dt_fraction" in params:
+            raise ValueError("give dt or dt_fraction, not both")
         if "dt" in params:
-            self._m.set_dt(p["dt"])
+            self._m.set_dt(p.pop("dt"))
         if params.keys() & {"gravity", "g"}:
             self._m.set_gravity(p["gravity"], p["g"])
         if params.keys() & {"buoyancy", "drag", "rho_w", "y_w", "c_w"}:
@@ -215,12 +221,23 @@ class Model:
             self._m.set_local_damping(p["local_damping"])
         if "mass_scaling_dt" in params:
             self._m.set_mass_scaling(p["mass_scaling_dt"])
+        # after everything that moves the stable step (masses, materials, penalty)
+        if "dt_fraction" in params:
+            self._m.set_dt_fraction(p.pop("dt_fraction"))
         self._params = p
         return self
 
     @property
     def params(self):
-        return dict(self._params)
+        """The parameters as set; dt and dt_fraction as the engine holds them."""
+        c = self._m.dt_control()
+        return dict(self._params, dt=c["dt"] if c["source"] != "unset" else None,
+                    dt_fraction=c["fraction"])
+
+    @property
+    def dt(self):
+        """The time step in force [s] (explicit, or dt_fraction x the stable step)."""
+        return self._m.dt
 
     def add_node_set(self, name, ids):
         self.node_sets[name] = _ids(name, ids, self._m.n_nodes)
@@ -531,6 +548,7 @@ class Model:
             "bond_input": self._m.bond_input(),
             "bond_params": self._m.bond_params(),
             "bond_state": self._m.bond_state(),
+            "clock": {"time": self._m.time, "step_count": self._m.step_count},
             "energy": self._m.energy(),
             "contact_warm_start": {k: np.asarray(v) for k, v in
                                    zip(("keys", "forces"), self._m.contact_warm_start())},
@@ -555,6 +573,8 @@ class Model:
         self.set_positions(cp["positions"])
         self.set_velocities(cp["velocities"])
         self._m.restore_bond_state(cp["bond_state"])
+        clock = cp.get("clock", cp["bond_state"])  # checkpoints before "clock" kept it there
+        self._m.restore_clock(clock["time"], clock["step_count"])
         self._parents_seen = len(self._m.bond_parents())
         if "energy" in cp:
             self._m.restore_energy(cp["energy"])

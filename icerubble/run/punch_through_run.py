@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 
+from .. import engine
 from . import checkpoint as ckpt
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
@@ -41,14 +42,13 @@ MEAN_FORCE_MIN_TRAVEL = 1e-9
 
 
 def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
-    """The indenter speed history starting at t0: s = v_f (τ/T - sin(2πτ/T)/(2π))
-    for τ = t - t0 < T, then v_f; zero speed and acceleration at the start, so
-    the rubble sees no inertial load (paper 2.4). Tabulated for the engine."""
+    """The engine's smooth indenter ramp (engine.ramp_velocity: zero speed and
+    acceleration at the start, so the rubble sees no inertial load, paper
+    2.4) started at t0 instead of 0, as a velocity table."""
     if ramp_time <= 0.0:
         return np.array([t0, t0 + 1e-12]), np.array([0.0, v_final])
     tau = np.linspace(0.0, ramp_time, n)
-    s = v_final * (tau / ramp_time - np.sin(2 * np.pi * tau / ramp_time) / (2 * np.pi))
-    return t0 + tau, s
+    return t0 + tau, engine.ramp_velocity(tau, v_final, ramp_time)
 
 
 class RunOptions:
@@ -117,10 +117,11 @@ class PunchThrough:
                              added_mass_fraction=st["added_mass_fraction"],
                              scaled_nodes=st["scaled_nodes"])
         if self.options.dt_fraction is not None:
-            # the stable step of this mesh (it already carries a 0.9 safety factor)
-            self.params["dt"] = self.options.dt_fraction * self.scene.model.stable_time_step()["dt"]
+            # the engine's stable step of this mesh (it carries a 0.9 safety factor);
+            # recorded as the run's dt, which a resumed run sets explicitly
+            self.scene.model.set(dt_fraction=self.options.dt_fraction)
+            self.params["dt"] = self.scene.model.dt
             self.scene.params = self.params
-            self.scene.model.set(dt=self.params["dt"])
         a = self.mesh["attrs"]
         # The friction phase 1 settled the pile at (the mesh records it; NaN
         # for piles that were not settled, e.g. constructed ones). Below it the
@@ -236,7 +237,8 @@ class PunchThrough:
         ~1 cm/s terminal speed. At rest neither does work, so the equilibrium
         is the same. Loading starts with drag on and local damping off.
         """
-        m, o, dt = self.model, self.options, self.params["dt"]
+        m, o = self.model, self.options
+        dt = m.dt
         self.apply_boundary_conditions()
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
         if self.t_settle is None or not math.isfinite(self.t_settle):
@@ -294,7 +296,7 @@ class PunchThrough:
 
     def load(self):
         m, p, o = self.model, self.params, self.options
-        dt = p["dt"]
+        dt = self.model.dt
         chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
         prog = Progress(p["target_travel"], every_s=o.progress_every_s)
         k = 0

@@ -7,5 +7,5 @@ def test_interpreter_is_debian_python():
 
 
 def test_extensions_import():
-    from icerubble import _cst, _cohesive_law
-    assert _cst.version() and _cohesive_law.version()
+    from icerubble import _engine, _cohesive_law
+    assert _engine.version() and _cohesive_law.version()

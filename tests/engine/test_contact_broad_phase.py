@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from icerubble import _cst
+from icerubble import _engine
 from tests.paths import ROOT
 
 S = 2e11
@@ -40,7 +40,7 @@ def random_scene(n_nodes, n_tri, n_bodies, seed, box=10.0):
 
 def run_normal(pts, tri, body, surface, solver=None, skin_fraction=0.0):
     n = len(pts)
-    solver = solver or _cst.ContactSolver(skin_fraction=skin_fraction)
+    solver = solver or _engine.ContactSolver(skin_fraction=skin_fraction)
     fx, fy = np.zeros(n), np.zeros(n)
     zero = np.zeros(n)
     solver.compute_normal(pts[:, 0].copy(), pts[:, 1].copy(), zero, zero, np.ones(n), tri, body,
@@ -89,7 +89,7 @@ def test_reused_candidate_list_finds_every_touching_pair_while_nodes_move():
     # touching pairs and forces equal those of a fresh broad phase.
     pts, tri, body, surface = random_scene(300, 500, 4, 8)
     rng = np.random.default_rng(9)
-    reused = _cst.ContactSolver(skin_fraction=0.1)
+    reused = _engine.ContactSolver(skin_fraction=0.1)
     calls = 40
     for _ in range(calls):
         pts = pts + rng.uniform(-2e-2, 2e-2, pts.shape)
@@ -124,7 +124,7 @@ def test_normal_pass_equals_sum_of_pair_kernels():
     touching = set()
     energy = 0.0
     for a, b in brute_force_candidates(pts, tri, body, surface):
-        r = _cst.contact_pair(pts[tri[a]], pts[tri[b]], S)
+        r = _engine.contact_pair(pts[tri[a]], pts[tri[b]], S)
         if r is None:
             continue
         touching.add((a, b))
@@ -183,7 +183,7 @@ def test_bad_parameters_are_rejected():
     pts, tri, body, surface = random_scene(50, 60, 2, 4)
     n = len(pts)
     z = np.zeros(n)
-    s = _cst.ContactSolver()
+    s = _engine.ContactSolver()
     with pytest.raises(ValueError, match="penalty"):
         s.compute_normal(pts[:, 0], pts[:, 1], z, z, np.ones(n), tri, body, surface, z.copy(),
                          z.copy(), penalty=0.0, mu=0.3, dt=1e-6)

@@ -9,7 +9,7 @@ on slopes) is in test_contact_integrated.py.
 import numpy as np
 import pytest
 
-from icerubble import _cst
+from icerubble import _engine
 
 S = 2e11
 DT = 1e-6
@@ -31,7 +31,7 @@ def scene(target_mass, d=1e-6, tilt=0.0):
 def step(pts, tri, body, mass, v, load, mu=MU, constrained=None, vbc=None):
     """Normal pass, add `load` (6x2) to the assembled forces, then friction."""
     n = len(pts)
-    solver = _cst.ContactSolver()
+    solver = _engine.ContactSolver()
     fx, fy = np.zeros(n), np.zeros(n)
     args = (pts[:, 0].copy(), pts[:, 1].copy(), v[:, 0].copy(), v[:, 1].copy(), mass, tri, body,
             np.arange(len(tri), dtype=np.int32))
@@ -51,7 +51,7 @@ def slip_velocity(pairs, pts, tri, mass, v, f):
     """Tangential relative velocity at the contact point at the end of the step."""
     inv_m = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)
     w = v + DT * f * inv_m[:, None]
-    r = _cst.contact_pair(pts[tri[0]], pts[tri[1]], S)
+    r = _engine.contact_pair(pts[tri[0]], pts[tri[1]], S)
     u = np.asarray(r["nc"]) @ w[tri[0]] - np.asarray(r["nt"]) @ w[tri[1]]
     n = pairs["normal"][0]
     return u @ np.array([-n[1], n[0]])
@@ -140,7 +140,7 @@ def test_prescribed_target_moves_the_contactor_along_in_stick():
                            constrained=cons, vbc=vbc)
     inv_m = 1.0 / mass[:3]
     w = v[:3] + DT * (f + df)[:3] * inv_m[:, None]
-    r = _cst.contact_pair(pts[tri[0]], pts[tri[1]], S)
+    r = _engine.contact_pair(pts[tri[0]], pts[tri[1]], S)
     u = np.asarray(r["nc"]) @ w
     # The contact point of the contactor moves with the belt (round-off).
     assert u[0] == pytest.approx(1e-3, rel=1e-9)

@@ -5,7 +5,7 @@ and above the friction angle (paper eqs 1-4, docs/model.md §3.2).
 import numpy as np
 import pytest
 
-from icerubble import _cst, engine
+from icerubble import _engine, engine
 
 ICE = dict(E=2e9, nu=0.3, rho=920.0)
 S = 2e11
@@ -16,8 +16,27 @@ def contact_dt(m, nodes, tri):
     """Critical step of the contact penalty for the model's masses (contact.hpp)."""
     m.evaluate()  # computes the lumped masses
     tri = np.asarray(tri, dtype=np.int32)
-    return _cst.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), np.array(m.mass),
+    return _engine.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), np.array(m.mass),
                                     tri, S)["dt"]
+
+
+def closing_blocks(gap, L=1.0, H=0.5, h=0.1):
+    """Two L x H blocks (mesh size h) `gap` apart closing at 2 m/s; no damping,
+    friction, gravity or water; dt a quarter of the critical contact step.
+    Returns (model, nodes, triangles, nodes of the left block, dt)."""
+    na_, ta = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(-L - gap / 2, 0.0))
+    nb_, tb = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(gap / 2, 0.0))
+    nodes, tri = np.r_[na_, nb_], np.r_[ta, tb + len(na_)].astype(np.int32)
+    na = len(na_)
+    body = np.r_[np.zeros(len(ta)), np.ones(len(tb))].astype(np.int32)
+    m = engine.Model(nodes, tri, body, materials=dict(ICE, damping=0.0))
+    m.set(dt=1e-7, gravity=False, water=False, mu=0.0, penalty=S)
+    dt = 0.25 * contact_dt(m, nodes, tri)
+    m.set(dt=dt)
+    v = np.zeros((len(nodes), 2))
+    v[:na, 0], v[na:, 0] = 1.0, -1.0
+    m.set_velocities(v)
+    return m, nodes, tri, na, dt
 
 
 # ------------------------------------------------------------------ collision
@@ -25,21 +44,9 @@ def contact_dt(m, nodes, tri):
 def test_head_on_collision_conserves_momentum_and_energy():
     # Two 1 m x 0.5 m blocks (h = 0.1 m) 1 mm apart close at 2 m/s; no damping,
     # no friction, no gravity or water.
-    L, H, h, gap = 1.0, 0.5, 0.1, 1e-3
-    na_, ta = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(-L - gap / 2, 0.0))
-    nb_, tb = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(gap / 2, 0.0))
-    nodes, tri = np.r_[na_, nb_], np.r_[ta, tb + len(na_)]
-    na = len(na_)
-    body = np.r_[np.zeros(len(ta)), np.ones(len(tb))].astype(int)
-    m = engine.Model(nodes, tri, body, materials=dict(ICE, damping=0.0))
-    m.set(dt=1e-7, gravity=False, water=False, mu=0.0, penalty=S)
     # A quarter of the critical contact step: the energy error of the central
     # difference on the stiff penalty oscillation is second order in dt.
-    dt = 0.25 * contact_dt(m, nodes, tri)
-    m.set(dt=dt)
-    v = np.zeros((len(nodes), 2))
-    v[:na, 0], v[na:, 0] = 1.0, -1.0
-    m.set_velocities(v)
+    m, nodes, tri, na, dt = closing_blocks(gap=1e-3)
     mass = np.array(m.mass)
     M = mass.sum()
     E0 = 0.5 * M * 1.0 ** 2
@@ -77,22 +84,11 @@ def test_stored_energy_is_the_potential_of_the_contact_forces_in_a_run():
     # O(dt^2) integration error, measured 0.33 J of a 23 J peak at 0.25 of the
     # critical step (3.1 J at 0.5): bound 1.5 J, far below the 23 J a force
     # that is not -dE/dx could miss by.
-    L, H, h, gap = 1.0, 0.5, 0.1, 1e-4
-    na_, ta = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(-L - gap / 2, 0.0))
-    nb_, tb = engine.rectangle_mesh(int(L / h), int(H / h), h, origin=(gap / 2, 0.0))
-    nodes, tri = np.r_[na_, nb_], np.r_[ta, tb + len(na_)].astype(np.int32)
-    na = len(na_)
-    body = np.r_[np.zeros(len(ta)), np.ones(len(tb))].astype(np.int32)
-    m = engine.Model(nodes, tri, body, materials=dict(ICE, damping=0.0))
-    m.set(dt=1e-7, gravity=False, water=False, mu=0.0, penalty=S)
-    dt = 0.25 * contact_dt(m, nodes, tri)
-    m.set(dt=dt)
-    v = np.zeros((len(nodes), 2))
-    v[:na, 0], v[na:, 0] = 1.0, -1.0
-    m.set_velocities(v)
+    m, nodes, tri, na, dt = closing_blocks(gap=1e-4)
     mass = np.array(m.mass)
     surf = np.asarray(m.surface_triangles, dtype=np.int32)
-    solver = _cst.ContactSolver()
+    body = np.asarray(m.body, dtype=np.int32)
+    solver = _engine.ContactSolver()
     z = np.zeros(len(nodes))
     x_prev = m.positions
     worst = peak = 0.0

@@ -7,7 +7,7 @@ over the overlap, phi = 3 * min area coordinate.
 import numpy as np
 import pytest
 
-from icerubble import _cst
+from icerubble import _engine
 
 S = 2e11  # paper's penalty [Pa]; the kernel is linear in s
 
@@ -24,7 +24,7 @@ def random_overlapping_pairs(n, seed):
             if abs(a2) < 0.2:  # avoid slivers: the FD check wants well-shaped triangles
                 break
         else:
-            if _cst.contact_pair(xc, xt, S) is not None:
+            if _engine.contact_pair(xc, xt, S) is not None:
                 out.append((xc, xt))
     return out
 
@@ -36,16 +36,16 @@ def moment(x, f):
 def test_no_overlap_gives_no_force():
     xt = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     # Separated by a gap, and touching along an edge with zero overlap area.
-    assert _cst.contact_pair(xt + [0.0, 1.5], xt, S) is None
+    assert _engine.contact_pair(xt + [0.0, 1.5], xt, S) is None
     mirrored = np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])  # shares the hypotenuse, no area
-    r = _cst.contact_pair(mirrored, xt, S)
+    r = _engine.contact_pair(mirrored, xt, S)
     assert r is None or np.all(r["forces"] == 0.0)
 
 
 @pytest.mark.parametrize("seed", [1, 2])
 def test_equal_opposite_and_zero_moment(seed):
     for xc, xt in random_overlapping_pairs(200, seed):
-        r = _cst.contact_pair(xc, xt, S)
+        r = _engine.contact_pair(xc, xt, S)
         f = r["forces"]
         x = np.vstack([xc, xt])
         scale = np.abs(f).max()
@@ -68,7 +68,7 @@ def test_force_separates_and_grows_with_penetration():
     forces = []
     for d in (1e-6, 1e-4, 1e-3, 1e-2, 0.1):
         xc, xt = mirror_pair(d)
-        f = _cst.contact_pair(xc, xt, S)["forces"]
+        f = _engine.contact_pair(xc, xt, S)["forces"]
         fc = f[:3].sum(0)
         # Mirror symmetry about x = 0: the resultant is along y, pushing the
         # contactor up (out of the target). 1e-12 relative: round-off only.
@@ -86,7 +86,7 @@ def test_small_penetration_matches_analytic_stiffness():
     # so the relative deviation is O(d): 1e-3 tolerance at d = 1e-5.
     d = 1e-5
     xc, xt = mirror_pair(d)
-    r = _cst.contact_pair(xc, xt, S)
+    r = _engine.contact_pair(xc, xt, S)
     assert r["forces"][:3, 1].sum() == pytest.approx(12 * S * d, rel=1e-3)
     assert r["energy"] == pytest.approx(6 * S * d * d, rel=1e-3)
 
@@ -101,7 +101,7 @@ def test_force_is_minus_gradient_of_stored_energy(seed):
     # resultant spread by area coordinates) is off by O(1).
     h = 1e-6
     for xc, xt in random_overlapping_pairs(40, seed):
-        r = _cst.contact_pair(xc, xt, S)
+        r = _engine.contact_pair(xc, xt, S)
         f = r["forces"]
         x = np.vstack([xc, xt])
         fd = np.zeros_like(f)
@@ -110,8 +110,8 @@ def test_force_is_minus_gradient_of_stored_energy(seed):
                 xp, xm = x.copy(), x.copy()
                 xp[a, k] += h
                 xm[a, k] -= h
-                rp = _cst.contact_pair(xp[:3], xp[3:], S)
-                rm = _cst.contact_pair(xm[:3], xm[3:], S)
+                rp = _engine.contact_pair(xp[:3], xp[3:], S)
+                rm = _engine.contact_pair(xm[:3], xm[3:], S)
                 ep = rp["energy"] if rp else 0.0
                 em = rm["energy"] if rm else 0.0
                 fd[a, k] = -(ep - em) / (2 * h)
@@ -121,7 +121,7 @@ def test_force_is_minus_gradient_of_stored_energy(seed):
 def test_bad_penalty_is_rejected():
     xc, xt = mirror_pair(0.1)
     with pytest.raises(ValueError, match="penalty"):
-        _cst.contact_pair(xc, xt, -1.0)
+        _engine.contact_pair(xc, xt, -1.0)
 
 
 def test_triangles_sharing_a_node_or_a_body_never_contact():
@@ -136,7 +136,7 @@ def test_triangles_sharing_a_node_or_a_body_never_contact():
         n = len(pts)
         pts = np.asarray(pts, dtype=float)
         fx, fy = np.zeros(n), np.zeros(n)
-        s = _cst.ContactSolver()
+        s = _engine.ContactSolver()
         s.compute_normal(pts[:, 0].copy(), pts[:, 1].copy(), np.zeros(n), np.zeros(n), np.ones(n),
                          np.asarray(tri, dtype=np.int32), np.asarray(body, dtype=np.int32),
                          np.arange(len(tri), dtype=np.int32), fx, fy, penalty=S, mu=0.3, dt=1e-6)

@@ -17,7 +17,7 @@ import gmsh
 import numpy as np
 import pytest
 
-from icerubble import _cst, engine
+from icerubble import _engine, engine
 
 ICE = dict(E=2e9, nu=0.3, rho=920.0, damping=0.0)
 S = 2e11
@@ -84,7 +84,7 @@ def model(nodes, tri, body):
 
 def contact_limits(m, nodes, tri, body, mass=None):
     mass = np.array(m.mass) if mass is None else mass
-    return _cst.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), mass, tri, S, body)
+    return _engine.contact_critical_dt(nodes[:, 0].copy(), nodes[:, 1].copy(), mass, tri, S, body)
 
 
 def smallest_altitude(nodes, tri):

@@ -8,7 +8,7 @@ namespace cohesive_law {
 
 // Effective traction t_e of eq 6 for the normal (t_n, tension positive) and
 // tangential (t_t) traction at a bond point; beta = tau_cr / sigma_cr.
-// On the compressive side friction of the closed crack (contact, MODEL.md 3.2)
+// On the compressive side friction of the closed crack (contact, docs/model.md §3.2)
 // carries mu |t_n| of the shear, so only the excess counts (the paper's reason:
 // otherwise a crack opened at |t_t| = tau_cr would be arrested by friction).
 // t_e can be negative under strong compression; that simply means "far from failure".

@@ -1,4 +1,4 @@
-// Depth dependence of the freeze-bond parameters (MODEL.md 2): sigma_cr, tau_cr and G
+// Depth dependence of the freeze-bond parameters (docs/model.md §2): sigma_cr, tau_cr and G
 // fall linearly from their value at the keel top (depth 0) to bottom_fraction of it at
 // the keel bottom (depth = keel_depth); outside the keel the nearest end value holds.
 // beta = tau_cr / sigma_cr is therefore the same at every depth.

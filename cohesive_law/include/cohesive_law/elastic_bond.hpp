@@ -1,4 +1,4 @@
-// Initially elastic freeze bond, for the rigid-block model (MODEL.md 6): rigid blocks
+// Initially elastic freeze bond, for the rigid-block model (docs/model.md §6): rigid blocks
 // have no elements to carry the traction of an intact bond, so the bond itself is a
 // spring until the criterion of eqs 5-6 is reached, then it follows the same linear
 // softening as the initially rigid law, with the same G.

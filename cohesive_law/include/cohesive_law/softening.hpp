@@ -23,7 +23,7 @@ namespace cohesive_law {
 // How the scalar |f_c| of eq 10 is turned into force components.
 //   paper:          eq 11 as printed, f_t = |f_c| beta delta_t/delta_e, f_n = |f_c| <delta_n>/delta_e.
 //                   |f| = |f_c|; the work over a full opening is G l in pure tension
-//                   but G l / beta in pure shear (MODEL.md 3.3 energy caveat).
+//                   but G l / beta in pure shear (docs/model.md §3.3 energy caveat).
 //   work_conjugate: Ortiz & Pandolfi (1999), f_t = |f_c| beta^2 delta_t/delta_e: f is the
 //                   gradient of the effective opening scaled by |f_c|, so
 //                   f . d(delta) = |f_c| d(delta_e) and the work is G l on every path.
@@ -88,7 +88,7 @@ inline void force_components(double F, double delta_n, double delta_t, double de
   f_t = s * (dir == ForceDirection::paper ? beta : beta * beta) * delta_t;
 }
 
-// Full failure classification (MODEL.md 3.3): tensile if delta_n >= |delta_t|.
+// Full failure classification (docs/model.md §3.3): tensile if delta_n >= |delta_t|.
 inline FailureMode failure_mode(double delta_n, double delta_t) {
   return delta_n >= std::fabs(delta_t) ? FailureMode::tensile : FailureMode::shear;
 }

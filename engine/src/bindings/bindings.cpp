@@ -1,0 +1,10 @@
+#include "bindings/bindings.hpp"
+
+PYBIND11_MODULE(_engine, m) {
+  m.doc() = "CST FEM-DEM engine: deformable blocks, potential contact, freeze bonds";
+  m.def("version", []() { return "0.1"; });
+  engine::bind_contact(m);
+  engine::bind_model(m);
+  engine::bind_freeze_bonds(m);
+  engine::bind_loads(m);
+}

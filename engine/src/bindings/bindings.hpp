@@ -1,0 +1,10 @@
+// Each part of the engine registers its Python API in its own *_bindings.cpp.
+#pragma once
+#include <pybind11/pybind11.h>
+
+namespace engine {
+void bind_contact(pybind11::module_& m);
+void bind_model(pybind11::module_& m);
+void bind_freeze_bonds(pybind11::module_& m);  // after bind_model: adds to Model
+void bind_loads(pybind11::module_& m);
+}

@@ -1,0 +1,274 @@
+// Python access to the engine (wrapped by icerubble/fdem.py, which is the
+// documented API: validation messages, node sets, named results).
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include "bindings/bindings.hpp"
+#include "model/model.hpp"
+
+namespace py = pybind11;
+
+namespace engine {
+
+namespace {
+
+using DArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+template <class T, class A>
+std::vector<T> to_vector(const A& a) {
+  return std::vector<T>(a.data(), a.data() + a.size());
+}
+
+// A numpy view on an engine array; keeps the model alive. Valid until the
+// array is reallocated (node splitting appends nodes).
+template <class T>
+py::array view(std::vector<T>& v, py::object owner, ssize_t cols = 1) {
+  const ssize_t rows = ssize_t(v.size()) / cols;
+  if (cols == 1) return py::array_t<T>({rows}, {ssize_t(sizeof(T))}, v.data(), owner);
+  return py::array_t<T>({rows, cols}, {ssize_t(sizeof(T)) * cols, ssize_t(sizeof(T))}, v.data(), owner);
+}
+
+py::array node_view(py::object self, const std::string& name) {
+  Nodes& N = self.cast<Model&>().nodes();
+  std::vector<double>* arrays[] = {&N.x, &N.y, &N.x0, &N.y0, &N.vx, &N.vy, &N.mass, &N.mass_phys,
+                                   &N.f_int_x, &N.f_int_y, &N.f_visc_x, &N.f_visc_y,
+                                   &N.f_con_x, &N.f_con_y, &N.f_coh_x, &N.f_coh_y,
+                                   &N.f_buoy_y, &N.drag_k, &N.f_x, &N.f_y, &N.r_x, &N.r_y};
+  const char* names[] = {"x", "y", "x0", "y0", "vx", "vy", "mass", "mass_phys", "f_int_x", "f_int_y",
+                         "f_visc_x", "f_visc_y", "f_con_x", "f_con_y", "f_coh_x", "f_coh_y",
+                         "f_buoy_y", "drag_k", "f_x", "f_y", "r_x", "r_y"};
+  for (size_t k = 0; k < sizeof(names) / sizeof(names[0]); ++k)
+    if (name == names[k]) return view(*arrays[k], self);
+  throw std::invalid_argument("unknown node array '" + name + "'");
+}
+
+py::array triangle_view(py::object self, const std::string& name) {
+  Model& M = self.cast<Model&>();
+  Triangles& T = M.triangles();
+  if (name == "triangles") return view(T.node, self, 3);
+  if (name == "body") return view(T.body, self);
+  if (name == "stress") return view(T.stress, self, 3);
+  if (name == "area0") return view(T.area0, self);
+  if (name == "f_corner") return view(T.f_corner, self, 6);
+  if (name == "f_visc_corner") return view(T.f_visc_corner, self, 6);
+  throw std::invalid_argument("unknown triangle array '" + name + "'");
+}
+
+py::dict energy_dict(const EnergyLedger& e) {
+  py::dict d;
+  d["kinetic"] = e.kinetic;
+  d["elastic"] = e.elastic;
+  d["contact"] = e.contact;
+  d["friction"] = e.friction;
+  d["damping"] = e.damping;
+  d["drag"] = e.drag;
+  d["cohesive"] = e.cohesive;
+  d["cohesive_stored"] = e.cohesive_stored;
+  d["work_gravity"] = e.work_gravity;
+  d["work_buoyancy"] = e.work_buoyancy;
+  d["work_boundary"] = e.work_boundary;
+  d["initial"] = e.initial;
+  d["elastic_midstep"] = e.elastic_midstep;
+  d["contact_solver"] = e.contact_solver;
+  d["friction_solver"] = e.friction_solver;
+  d["residual"] = e.residual();
+  d["scale"] = e.scale();
+  return d;
+}
+
+py::dict stable_dict(const StableStep& s, const Model& m) {
+  py::dict d;
+  d["dt"] = s.dt;
+  d["safety"] = kTimeStepSafety;
+  d["governing"] = s.governing();
+  d["dt_element"] = s.dt_element;
+  d["element"] = s.element;
+  d["altitude"] = s.altitude;
+  d["wave_speed"] = s.wave_speed;
+  d["damping_ratio"] = s.damping_ratio;
+  d["dt_contact"] = s.dt_contact;
+  d["contact_node"] = s.contact_node;
+  d["contact_mass"] = s.contact_mass;
+  d["dt_drag"] = s.dt_drag;
+  d["drag_body"] = s.drag_body;
+  d["mass_scaling_dt"] = s.mass_scaling_dt;
+  d["added_mass"] = s.added_mass;
+  d["added_mass_fraction"] = s.added_mass_fraction;
+  d["scaled_nodes"] = s.scaled_nodes;
+  d["message"] = s.describe(const_cast<Model&>(m).triangles().body);
+  return d;
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  py::register_exception<InstabilityError>(m, "InstabilityError", PyExc_RuntimeError);
+
+  py::class_<Model>(m, "Model")
+      .def(py::init([](DArray nodes, IArray tri, IArray body) {
+             if (nodes.ndim() != 2 || nodes.shape(1) != 2)
+               throw std::invalid_argument("nodes must be an (N, 2) array");
+             if (tri.ndim() != 2 || tri.shape(1) != 3)
+               throw std::invalid_argument("triangles must be an (M, 3) array");
+             if (body.ndim() != 1) throw std::invalid_argument("body must be an (M,) array");
+             return new Model(to_vector<double>(nodes), to_vector<int32_t>(tri), to_vector<int32_t>(body));
+           }),
+           py::arg("nodes"), py::arg("triangles"), py::arg("body"))
+      .def("set_material",
+           [](Model& M, int32_t b, double E, double nu, double rho, double damping, double viscosity) {
+             Material mat;
+             mat.E = E;
+             mat.nu = nu;
+             mat.rho = rho;
+             mat.damping = damping;
+             mat.viscosity = viscosity;
+             M.set_material(b, mat);
+           },
+           py::arg("body"), py::arg("E"), py::arg("nu"), py::arg("rho"), py::arg("damping"),
+           py::arg("viscosity") = 0.0)
+      .def("set_dt", &Model::set_dt)
+      .def("set_dt_fraction", &Model::set_dt_fraction, py::arg("fraction"),
+           "dt = fraction x stable_step()['dt'] of the model as prepared now, fraction in (0, 1];\n"
+           "fixed from then on (set_dt or set_dt_fraction again to change it).")
+      .def("dt_control",
+           [](const Model& M) {
+             py::dict d;
+             d["dt"] = M.dt();
+             d["source"] = M.dt_fraction() > 0.0 ? "fraction" : M.dt() > 0.0 ? "explicit" : "unset";
+             d["fraction"] = M.dt_fraction() > 0.0 ? py::object(py::float_(M.dt_fraction())) : py::object(py::none());
+             return d;
+           },
+           "Which time step is in force: dt, source ('fraction', 'explicit' or 'unset'), fraction.")
+      .def("set_gravity", &Model::set_gravity, py::arg("on"), py::arg("g"))
+      .def("set_water", &Model::set_water, py::arg("buoyancy"), py::arg("drag"), py::arg("rho_w"),
+           py::arg("y_w"), py::arg("c_w"))
+      .def("set_drag_model",
+           [](Model& M, const std::string& model, double C_d) {
+             DragModel d;
+             if (model == "none") d = DragModel::None;
+             else if (model == "linear") d = DragModel::Linear;
+             else if (model == "quadratic") d = DragModel::Quadratic;
+             else throw std::invalid_argument("drag_model = '" + model +
+                                              "' is invalid: valid values are 'linear', 'quadratic', 'none'");
+             M.set_drag_model(d, C_d);
+           },
+           py::arg("model"), py::arg("C_d"))
+      .def("set_contact", &Model::set_contact, py::arg("penalty"), py::arg("mu"))
+      .def("set_check_stable_dt", &Model::set_check_stable_dt)
+      .def("set_check_energy", &Model::set_check_energy)
+      .def("set_energy_tolerance", &Model::set_energy_tolerance)
+      .def("set_local_damping", &Model::set_local_damping)
+      .def("set_threads", &Model::set_threads)
+      .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
+      .def("add_boundary_condition",
+           [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
+              double dir_y, const std::string& kind, double value, double ramp_time, DArray t, DArray v) {
+             BoundaryCondition bc;
+             bc.name = name;
+             bc.nodes = to_vector<int32_t>(nodes);
+             bc.x = x;
+             bc.y = y;
+             bc.dir_x = dir_x;
+             bc.dir_y = dir_y;
+             if (kind == "constant") bc.history.kind = VelocityHistory::Kind::constant;
+             else if (kind == "smooth_ramp") bc.history.kind = VelocityHistory::Kind::smooth_ramp;
+             else if (kind == "table") bc.history.kind = VelocityHistory::Kind::table;
+             else throw std::invalid_argument("kind must be 'constant', 'smooth_ramp' or 'table'");
+             bc.history.value = value;
+             bc.history.ramp_time = ramp_time;
+             bc.history.t = to_vector<double>(t);
+             bc.history.v = to_vector<double>(v);
+             M.add_boundary_condition(bc);
+           })
+      .def("clear_boundary_conditions", &Model::clear_boundary_conditions)
+      .def("velocity_history",
+           [](const Model& M, const std::string& name, double t) {
+             const int32_t k = M.find_boundary_condition(name);
+             if (k < 0) throw std::invalid_argument("no boundary condition named '" + name + "'");
+             return M.boundary_conditions()[k].history.at(t);
+           })
+      .def("reaction",
+           [](const Model& M, IArray nodes) {
+             double rx, ry;
+             M.reaction(to_vector<int32_t>(nodes), rx, ry);
+             return py::make_tuple(rx, ry);
+           })
+      .def("set_positions", [](Model& M, DArray x, DArray y) {
+        M.set_positions(to_vector<double>(x), to_vector<double>(y));
+      })
+      .def("set_velocities", [](Model& M, DArray vx, DArray vy) {
+        M.set_velocities(to_vector<double>(vx), to_vector<double>(vy));
+      })
+      .def("step", &Model::step, py::arg("n"), py::call_guard<py::gil_scoped_release>())
+      .def("evaluate", &Model::evaluate, py::call_guard<py::gil_scoped_release>())
+      .def("reset_energy", &Model::reset_energy)
+      .def("restore_clock", &Model::restore_clock, py::arg("time"), py::arg("step_count"))
+      .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })
+      .def("energy", [](const Model& M) { return energy_dict(M.energy()); })
+      .def("contact_warm_start",
+           [](Model& M) {
+             return py::make_tuple(M.contact().warm_start_keys(), M.contact().warm_start_forces());
+           })
+      .def("set_contact_warm_start",
+           [](Model& M, const std::vector<uint64_t>& k, const std::vector<double>& f) {
+             if (k.size() != f.size()) throw std::invalid_argument("warm start: keys and forces differ in length");
+             M.contact().set_warm_start(k, f);
+           })
+      .def("restore_energy",
+           [](Model& M, const py::dict& d) {
+             EnergyLedger e;
+             auto get = [&](const char* k) { return d[k].cast<double>(); };
+             e.kinetic = get("kinetic");
+             e.elastic = get("elastic");
+             e.contact = get("contact");
+             e.friction = get("friction");
+             e.damping = get("damping");
+             e.drag = get("drag");
+             e.cohesive = get("cohesive");
+             e.cohesive_stored = get("cohesive_stored");
+             e.work_gravity = get("work_gravity");
+             e.work_buoyancy = get("work_buoyancy");
+             e.work_boundary = get("work_boundary");
+             e.initial = get("initial");
+             e.elastic_midstep = get("elastic_midstep");
+             e.contact_solver = get("contact_solver");
+             e.friction_solver = get("friction_solver");
+             e.started = true;
+             M.restore_energy(e);
+           })
+      .def("timings", [](const Model& M) {
+        const StepTimings& t = M.timings();
+        py::dict d;
+        d["elements"] = t.elements;
+        d["contact_detection"] = t.contact_detection;
+        d["contact_forces"] = t.contact_forces;
+        d["bonds"] = t.bonds;
+        d["integration"] = t.integration;
+        d["total"] = t.total;
+        d["steps"] = t.steps;
+        return d;
+      })
+      .def("node_array", &node_view)
+      .def("triangle_array", &triangle_view)
+      .def("surface_triangles", [](py::object self) {
+        return view(const_cast<std::vector<int32_t>&>(self.cast<Model&>().surface_triangles()), self);
+      })
+      .def("surface_nodes", [](py::object self) {
+        return view(const_cast<std::vector<uint8_t>&>(self.cast<Model&>().surface_nodes()), self);
+      })
+      .def("add_node", &Model::add_node)
+      .def("set_triangle_node", &Model::set_triangle_node)
+      .def("rebuild_topology", &Model::rebuild_topology)
+      .def("prepare", &Model::prepare_topology)
+      .def_property_readonly("n_nodes", [](Model& M) { return M.nodes().size(); })
+      .def_property_readonly("n_triangles", [](Model& M) { return M.triangles().size(); })
+      .def_property_readonly("n_bodies", &Model::n_bodies)
+      .def_property_readonly("time", &Model::time)
+      .def_property_readonly("step_count", &Model::step_count)
+      .def_property_readonly("dt", &Model::dt)
+      .def_property_readonly("touching_pairs", &Model::touching_pairs)
+      .def("memory_bytes", &Model::memory_bytes);
+}
+
+}  // namespace engine

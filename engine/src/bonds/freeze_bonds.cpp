@@ -1,0 +1,460 @@
+#include "common/input_errors.hpp"
+#include "bonds/freeze_bonds.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "cohesive_law/criterion.hpp"
+#include "model/model.hpp"
+
+namespace engine {
+
+namespace cl = cohesive_law;
+
+namespace {
+
+// Below this many points (pairs) a pass is a few microseconds and a thread
+// team costs more than it saves.
+constexpr int32_t kMinParallelItems = 1024;
+
+// Rigid phase of an opened pair. Eq 11 has no usable direction while the
+// opening is round-off (just split, both nodes at one place), and at a small
+// opening delta_e its direction turns with a stiffness |f_c| c/delta_e
+// (c = beta for 'paper', beta^2 for 'work_conjugate') that the explicit step
+// cannot integrate once it exceeds m_r/dt² (m_r: reduced mass of the two
+// nodes): the pair would chatter. So until delta_m has once exceeded
+//   delta_r = max(kRigidOpening delta_f, 4 |f0| max(1, c) dt²/m_r)
+// the pair acts as a constraint: it holds the nodes together with the
+// eq-8 force of the step when that force's effective value is within the
+// law's |f_c| = f0 (1 - delta_m/delta_f), and otherwise pulls with |f_c| along
+// it (so the crack opens in the direction the elements drive it). Past
+// delta_r eq 11 takes over with a direction that is stable to integrate (the
+// factor 4 keeps k dt²/m_r <= 1/4, so with an element mode at 0.9 of its
+// limit, (w dt)² <= 3.24, the sum stays below 4).
+// delta_m, |f_c| and the dissipation follow eq 10 throughout.
+constexpr double kRigidOpening = 1e-6;
+
+}  // namespace
+
+// ---------------------------------------------------------------- setup
+
+int FreezeBonds::team_size(const Model& M, int64_t items) {
+  if (items < kMinParallelItems) return 1;
+  const int t = M.threads() > 0 ? M.threads() : omp_get_max_threads();
+  return std::max(1, t);
+}
+
+void FreezeBonds::clear() {
+  *this = FreezeBonds{};
+}
+
+void FreezeBonds::set(Model& M, const BondInput& in, bool for_restore) {
+  if (!st_.parent.empty())
+    bad("bond points can only be set before any bond point has split "
+        "(restore a checkpoint to continue a run with split bonds)");
+  const int64_t P = int64_t(in.node.size());
+  const int64_t K = int64_t(in.pair_point.size());
+  const int32_t n = M.nodes().size();
+  const int32_t nb = M.n_bodies();
+  auto need = [](const char* name, size_t got, int64_t want) {
+    if (int64_t(got) != want)
+      bad(std::string(name) + " must have " + std::to_string(want) + " entries (got " +
+          std::to_string(got) + ")");
+  };
+  need("sigma_cr", in.sigma_cr.size(), P);
+  need("tau_cr", in.tau_cr.size(), P);
+  need("G", in.G.size(), P);
+  for (auto* v : {&in.body_minus, &in.body_plus, &in.frame_p, &in.frame_q})
+    need("pair arrays (body_minus, body_plus, frame_p, frame_q)", v->size(), K);
+  for (auto* v : {&in.nx, &in.ny, &in.length})
+    need("pair arrays (normal, length)", v->size(), K);
+  if (P > 0 && K < P) bad("every bond point needs at least one pair");
+  M.prepare_topology();
+  std::vector<uint8_t> used(n, 0);
+  for (int64_t p = 0; p < P; ++p) {
+    const std::string where = "bond point " + std::to_string(p);
+    const int32_t i = in.node[p];
+    if (i < 0 || i >= n)
+      bad(where + ": node must be in [0, " + std::to_string(n - 1) + "] (got " + std::to_string(i) + ")");
+    if (used[i]) bad(where + ": node " + std::to_string(i) + " appears twice");
+    used[i] = 1;
+    if (!(in.sigma_cr[p] > 0.0) || !std::isfinite(in.sigma_cr[p]))
+      bad(where + ": sigma_cr must be > 0 Pa and finite (got " + num(in.sigma_cr[p]) + ")");
+    if (!(in.tau_cr[p] > 0.0) || !std::isfinite(in.tau_cr[p]))
+      bad(where + ": tau_cr must be > 0 Pa and finite (got " + num(in.tau_cr[p]) + ")");
+    if (!(in.G[p] > 0.0) || !std::isfinite(in.G[p]))
+      bad(where + ": G must be > 0 J/m² and finite (got " + num(in.G[p]) + ")");
+  }
+  const Model& CM = M;
+  const Nodes& N = CM.nodes();
+  for (int64_t k = 0; k < K; ++k) {
+    const std::string where = "bond pair " + std::to_string(k);
+    const int32_t p = in.pair_point[k];
+    if (p < 0 || p >= P) bad(where + ": point must be in [0, " + std::to_string(P - 1) + "]");
+    if (k > 0 && p < in.pair_point[k - 1]) bad("pairs must be grouped by point (pair_point non-decreasing)");
+    if (k > 0 && p > in.pair_point[k - 1] + 1) bad("bond point " + std::to_string(in.pair_point[k - 1] + 1) + " has no pair");
+    if (k == 0 && p != 0) bad("bond point 0 has no pair");
+    const int32_t i = in.node[p];
+    const int32_t bm = in.body_minus[k], bp = in.body_plus[k];
+    if (bm < 0 || bm >= nb || bp < 0 || bp >= nb || bm == bp)
+      bad(where + ": body_minus and body_plus must be two different bodies in [0, " + std::to_string(nb - 1) + "]");
+    if (!for_restore && (!M.node_touches_body(i, bm) || !M.node_touches_body(i, bp)))
+      bad(where + ": bodies " + std::to_string(bm) + " and " + std::to_string(bp) +
+          " must both have triangles at node " + std::to_string(i));
+    const double nn = std::hypot(in.nx[k], in.ny[k]);
+    if (!(nn > 0.0) || !std::isfinite(nn)) bad(where + ": normal must be finite and non-zero");
+    if (!(in.length[k] > 0.0) || !std::isfinite(in.length[k]))
+      bad(where + ": length l must be > 0 m and finite (got " + num(in.length[k]) + ")");
+    const int32_t a = in.frame_p[k], b = in.frame_q[k];
+    if (a < 0 || a >= n || b < 0 || b >= n || a == b)
+      bad(where + ": frame_p and frame_q must be two different node ids in [0, " + std::to_string(n - 1) + "]");
+    if (!(std::hypot(N.x0[b] - N.x0[a], N.y0[b] - N.y0[a]) > 0.0))
+      bad(where + ": frame nodes " + std::to_string(a) + " and " + std::to_string(b) + " coincide");
+  }
+  if (K > 0 && in.pair_point[K - 1] != P - 1) bad("bond point " + std::to_string(P - 1) + " has no pair");
+
+  // All valid: store.
+  const BondParams keep = params_;
+  *this = FreezeBonds{};
+  params_ = keep;
+  in_ = in;
+  const size_t extent_size[] = {size_t(P), size_t(K), 0, 1};
+  BondState::each(st_, [&](const char*, BondExtent e, auto& field, auto init) {
+    if constexpr (is_bond_array<decltype(field)>)
+      field.assign(extent_size[int(e)], init);
+    else
+      field = init;
+  });
+  beta_.resize(P);
+  for (int64_t p = 0; p < P; ++p) beta_[p] = in_.tau_cr[p] / in_.sigma_cr[p];
+  first_pair_.assign(P, 0);
+  n_pairs_.assign(P, 0);
+  for (int64_t k = K - 1; k >= 0; --k) {
+    first_pair_[in.pair_point[k]] = int32_t(k);
+    ++n_pairs_[in.pair_point[k]];
+  }
+  fail_.assign(P, 0);
+  n0x_.resize(K);
+  n0y_.resize(K);
+  d0x_.resize(K);
+  d0y_.resize(K);
+  for (int64_t k = 0; k < K; ++k) {
+    const double nn = std::hypot(in.nx[k], in.ny[k]);
+    n0x_[k] = in.nx[k] / nn;
+    n0y_[k] = in.ny[k] / nn;
+    d0x_[k] = N.x0[in.frame_q[k]] - N.x0[in.frame_p[k]];
+    d0y_[k] = N.y0[in.frame_q[k]] - N.y0[in.frame_p[k]];
+  }
+  tn_.assign(K, 0.0);
+  tt_.assign(K, 0.0);
+  refresh_lists();
+}
+
+void FreezeBonds::set_params(const BondParams& p) {
+  if (!(std::isnan(p.mu) || (p.mu >= 0.0 && std::isfinite(p.mu))))
+    bad("mu must be >= 0 and finite, or None to use the contact mu (got " + num(p.mu) + ")");
+  if (p.screen_interval < 1)
+    bad("screen_interval must be an integer >= 1 (1: no pre-screening) (got " +
+        std::to_string(p.screen_interval) + ")");
+  if (!(p.screen_fraction > 0.0 && p.screen_fraction < 1.0))
+    bad("screen_fraction must be in (0, 1) (got " + num(p.screen_fraction) + ")");
+  // Switching failure checking back on (or changing the screening) checks
+  // every point at the next step, so no stale screening flag delays a failure.
+  if (p.check_failure != params_.check_failure || p.screen_interval != params_.screen_interval ||
+      p.screen_fraction != params_.screen_fraction)
+    std::fill(st_.near.begin(), st_.near.end(), 1);
+  params_ = p;
+}
+
+double FreezeBonds::mu(const Model& M) const {
+  return std::isnan(params_.mu) ? M.contact_params().mu : params_.mu;
+}
+
+void FreezeBonds::refresh_lists() {
+  intact_points_.clear();
+  for (int32_t p = 0; p < n_points(); ++p)
+    if (st_.point_state[p] == PointState::intact) intact_points_.push_back(p);
+  open_pairs_.clear();
+  for (int32_t k = 0; k < n_pairs(); ++k)
+    if (st_.pair_state[k] == PairState::cohesive) open_pairs_.push_back(k);
+}
+
+int32_t FreezeBonds::n_split() const {
+  return int32_t(std::count(st_.point_state.begin(), st_.point_state.end(), PointState::split));
+}
+
+int32_t FreezeBonds::n_failed() const {
+  return int32_t(std::count(st_.pair_state.begin(), st_.pair_state.end(), PairState::failed));
+}
+
+size_t FreezeBonds::memory_bytes() const {
+  size_t b = 0;
+  auto add = [&b](const auto& v) { b += v.capacity() * sizeof(v[0]); };
+  auto add_field = [&](const char*, BondExtent, const auto& field, auto) {
+    if constexpr (is_bond_array<decltype(field)>) add(field);
+  };
+  BondInput::each(in_, add_field);
+  BondState::each(st_, add_field);
+  for (auto* v : {&first_pair_, &n_pairs_, &intact_points_, &open_pairs_}) add(*v);
+  for (auto* v : {&beta_, &n0x_, &n0y_, &d0x_, &d0y_, &tn_, &tt_, &fx_pair_, &fy_pair_, &w_pair_,
+                  &s_pair_, &e_pair_})
+    add(*v);
+  add(fail_);
+  return b;
+}
+
+// ---------------------------------------------------------------- eq 7 and the criterion
+
+void FreezeBonds::mean_stress(const Model& M, int32_t node, double& sxx, double& syy,
+                              double& sxy) const {
+  const int32_t* start = M.gather().start.data();
+  const int32_t* slot = M.gather().slot.data();
+  const double* sig = M.triangles().stress.data();
+  const double* A = M.triangles().area0.data();
+  double a = 0.0, xx = 0.0, yy = 0.0, xy = 0.0;
+  for (int32_t j = start[node]; j < start[node + 1]; ++j) {
+    const int32_t t = slot[j] / 3;
+    const double w = A[t];
+    a += w;
+    xx += w * sig[3 * t];
+    yy += w * sig[3 * t + 1];
+    xy += w * sig[3 * t + 2];
+  }
+  sxx = xx / a;
+  syy = yy / a;
+  sxy = xy / a;
+}
+
+void FreezeBonds::current_normal(const Model& M, int32_t k, double& nx, double& ny) const {
+  const Nodes& N = M.nodes();
+  const double dx = N.x[in_.frame_q[k]] - N.x[in_.frame_p[k]];
+  const double dy = N.y[in_.frame_q[k]] - N.y[in_.frame_p[k]];
+  // rotation from the reference frame edge d0 to its current direction d
+  double c = d0x_[k] * dx + d0y_[k] * dy;
+  double s = d0x_[k] * dy - d0y_[k] * dx;
+  const double r = 1.0 / std::sqrt(c * c + s * s);  // |d0| |d|, never 0 for a valid mesh
+  c *= r;
+  s *= r;
+  nx = c * n0x_[k] - s * n0y_[k];
+  ny = s * n0x_[k] + c * n0y_[k];
+}
+
+double FreezeBonds::point_ratio(const Model& M, int32_t p, double mu) {
+  double sxx, syy, sxy;
+  mean_stress(M, in_.node[p], sxx, syy, sxy);
+  double worst = -std::numeric_limits<double>::infinity();
+  bool reached = false;
+  for (int32_t k = first_pair_[p]; k < first_pair_[p] + n_pairs_[p]; ++k) {
+    double nx, ny;
+    current_normal(M, k, nx, ny);
+    // eq 7: t = sigma n; normal and tangential (t = (-n_y, n_x)) parts
+    const double tx = sxx * nx + sxy * ny, ty = sxy * nx + syy * ny;
+    const double t_n = tx * nx + ty * ny, t_t = -tx * ny + ty * nx;
+    tn_[k] = t_n;
+    tt_[k] = t_t;
+    reached = reached || cl::criterion_reached(t_n, t_t, in_.sigma_cr[p], in_.tau_cr[p], mu);
+    worst = std::max(worst, cl::effective_traction(t_n, t_t, beta_[p], mu) / in_.sigma_cr[p]);
+  }
+  // The split decision is eq 5 itself; the ratio only steers the screening.
+  return reached ? std::max(worst, 1.0) : std::min(worst, std::nextafter(1.0, 0.0));
+}
+
+void FreezeBonds::check(Model& M) {
+  if (!params_.check_failure || intact_points_.empty()) return;
+  const int64_t step = M.step_count();
+  const int32_t k = params_.screen_interval;
+  const double frac = params_.screen_fraction;
+  const double mu = this->mu(M);
+  const int32_t n = int32_t(intact_points_.size());
+  int64_t evaluated = 0;
+  #pragma omp parallel for schedule(static) num_threads(team_size(M, n)) reduction(+ : evaluated)
+  for (int32_t j = 0; j < n; ++j) {
+    const int32_t p = intact_points_[j];
+    if (k > 1 && !st_.near[p] && (step + p) % k != 0) {
+      fail_[p] = 0;
+      continue;
+    }
+    ++evaluated;
+    const bool was_near = st_.near[p];
+    const double r = point_ratio(M, p, mu);
+    st_.near[p] = r >= frac;
+    fail_[p] = r >= 1.0 ? (was_near || k == 1 ? 1 : 2) : 0;
+  }
+  st_.checks += evaluated;
+  std::vector<int32_t> failing;
+  for (int32_t j = 0; j < n; ++j) {
+    const int32_t p = intact_points_[j];
+    if (fail_[p]) {
+      failing.push_back(p);
+      if (fail_[p] == 2) ++st_.late_detections;  // found at a staggered check: up to k-1 steps late
+    }
+  }
+  if (!failing.empty()) {
+    split_points(M, failing);
+    refresh_lists();
+  }
+}
+
+// ---------------------------------------------------------------- eqs 9-11
+
+void FreezeBonds::apply(Model& M, bool commit) {
+  const int32_t n = int32_t(open_pairs_.size());
+  fx_pair_.assign(n, 0.0);
+  fy_pair_.assign(n, 0.0);
+  w_pair_.assign(n, 0.0);
+  s_pair_.assign(n, 0.0);
+  e_pair_.assign(n, 0.0);
+  const Nodes& N = static_cast<const Model&>(M).nodes();
+  const cl::ForceDirection dir = params_.direction;
+  const double time = M.time();
+  const double dt2 = M.dt() * M.dt();
+  bool any_failed = false;
+  #pragma omp parallel for schedule(static) num_threads(team_size(M, n)) reduction(|| : any_failed)
+  for (int32_t j = 0; j < n; ++j) {
+    const int32_t k = open_pairs_[j];
+    const int32_t p = in_.pair_point[k];
+    const double beta = beta_[p];
+    const int32_t ip = st_.node_plus[k], im = st_.node_minus[k];
+    const double nx = st_.fnx[k], ny = st_.fny[k];
+    double delta_n, delta_t;
+    cl::opening_components(N.x[ip] - N.x[im], N.y[ip] - N.y[im], nx, ny, delta_n, delta_t);
+    double dm = st_.delta_m[k];
+    double fn = 0.0, ft = 0.0;  // the law's force, along the opening (bond axes)
+    bool failed = false;
+    cl::FailureMode mode = cl::FailureMode::none;
+    // dm < delta_r without a division: dm m+ m- < 4 f0 max(1, c) dt² (m+ + m-)
+    const double mp = N.mass[ip], mm = N.mass[im];
+    const double c = dir == cl::ForceDirection::paper ? beta : beta * beta;
+    const bool rigid = dm < kRigidOpening * st_.delta_f[k] ||
+                       dm * mp * mm < 4.0 * st_.f0[k] * std::max(1.0, c) * dt2 * (mp + mm);
+    if (rigid) {
+      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+      failed = s.failed_now;
+      mode = s.mode;
+      if (!failed) {
+        double gx, gy;
+        split_force(M, k, false, gx, gy);
+        const double gn = gx * nx + gy * ny, gt = -gx * ny + gy * nx;
+        const double F = st_.f0[k] * (1.0 - dm / st_.delta_f[k]);
+        const double geff = cl::initial_effective_force(gn, gt, beta, dir);
+        const double scale = geff > F ? F / geff : 1.0;
+        fn = -scale * gn;
+        ft = -scale * gt;
+      }
+    } else {
+      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+      failed = s.failed_now;
+      mode = s.mode;
+      fn = s.f_n;
+      ft = s.f_t;
+    }
+    double fpx, fpy, fmx, fmy;
+    cl::nodal_forces(fn, ft, nx, ny, fpx, fpy, fmx, fmy);
+    fx_pair_[j] = fpx;
+    fy_pair_[j] = fpy;
+    w_pair_[j] = cl::work_increment(st_.f_n_prev[k], st_.f_t_prev[k], fn, ft, delta_n - st_.d_n_prev[k],
+                                    delta_t - st_.d_t_prev[k]);
+    s_pair_[j] = cl::stored_energy(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
+    e_pair_[j] = cl::dissipation_increment(st_.f0[k], st_.delta_f[k], st_.delta_m[k], dm);
+    if (commit) {
+      st_.delta_m[k] = dm;
+      st_.f_n_prev[k] = fn;
+      st_.f_t_prev[k] = ft;
+      st_.d_n_prev[k] = delta_n;
+      st_.d_t_prev[k] = delta_t;
+      if (failed) {
+        st_.pair_state[k] = PairState::failed;
+        st_.t_fail[k] = time;
+        st_.x_fail[k] = 0.5 * (N.x[ip] + N.x[im]);
+        st_.y_fail[k] = 0.5 * (N.y[ip] + N.y[im]);
+        st_.dn_fail[k] = delta_n;
+        st_.dt_fail[k] = delta_t;
+        st_.mode[k] = mode;
+        any_failed = true;
+      }
+    }
+  }
+  // Scatter in pair order: deterministic, whatever the thread count.
+  Nodes& W = M.nodes();
+  double work = 0.0, stored = 0.0, eff = 0.0;
+  for (int32_t j = 0; j < n; ++j) {
+    const int32_t k = open_pairs_[j];
+    W.f_coh_x[st_.node_plus[k]] += fx_pair_[j];
+    W.f_coh_y[st_.node_plus[k]] += fy_pair_[j];
+    W.f_coh_x[st_.node_minus[k]] -= fx_pair_[j];
+    W.f_coh_y[st_.node_minus[k]] -= fy_pair_[j];
+    work += w_pair_[j];
+    stored += s_pair_[j];
+    eff += e_pair_[j];
+  }
+  apply_crack_closure(M);
+  if (!commit) return;
+  st_.work += work;
+  st_.stored = stored;
+  st_.dissipation_effective += eff;
+  if (any_failed) refresh_lists();
+}
+
+// ---------------------------------------------------------------- crack closure
+
+// The crack faces of a bond point take part in contact (eqs 1-4) only once no
+// node is shared between them any more: triangles that share a node never
+// contact. Until the neighbouring bond points have split too, a closing crack
+// would therefore interpenetrate freely, and when the last shared node splits
+// the contact would meet a deep overlap at once and throw the faces apart
+// (energy out of nothing). A node-to-node penalty on the split pair, as stiff
+// as the contact penalty s (N/m per m, below the 6 s node stiffness of the
+// potential contact the stable step allows for), keeps x+ and x- from
+// crossing along the bond normal. It is conservative: its forces go with the
+// contact forces, whose work the ledger books as stored contact energy.
+void FreezeBonds::apply_crack_closure(Model& M) {
+  const double k = M.contact_params().penalty;
+  Nodes& W = M.nodes();
+  const int32_t n = int32_t(st_.pair_state.size());
+  for (int32_t j = 0; j < n; ++j) {
+    if (st_.pair_state[j] == PairState::intact) continue;
+    const int32_t ip = st_.node_plus[j], im = st_.node_minus[j];
+    const double nx = st_.fnx[j], ny = st_.fny[j];
+    const double delta_n = (W.x[ip] - W.x[im]) * nx + (W.y[ip] - W.y[im]) * ny;
+    if (delta_n >= 0.0) continue;
+    const double f = -k * delta_n;  // pushes x+ along +n and x- along -n
+    W.f_con_x[ip] += f * nx;
+    W.f_con_y[ip] += f * ny;
+    W.f_con_x[im] -= f * nx;
+    W.f_con_y[im] -= f * ny;
+  }
+}
+
+// ---------------------------------------------------------------- checkpoints
+
+void FreezeBonds::restore(Model& M, const BondState& s) {
+  const size_t extent_size[] = {in_.node.size(), in_.pair_point.size(), 0, 1};
+  BondState::each(s, [&](const char* name, BondExtent e, const auto& field, auto) {
+    if constexpr (is_bond_array<decltype(field)>) {
+      if (e != BondExtent::split_node && field.size() != extent_size[int(e)])
+        bad(std::string("bond state: ") + name + " must have " + std::to_string(extent_size[int(e)]) +
+            " entries (got " + std::to_string(field.size()) + "); set the same bond points first");
+    }
+  });
+  M.prepare_topology();
+  const int32_t n = M.nodes().size();
+  if (s.parent.size() > size_t(n)) bad("bond state: more split nodes than model nodes");
+  for (size_t k = 0; k < in_.pair_point.size(); ++k) {
+    if (s.pair_state[k] == PairState::intact) continue;
+    const int32_t a = s.node_plus[k], b = s.node_minus[k];
+    if (a < 0 || a >= n || b < 0 || b >= n || !M.node_touches_body(a, in_.body_plus[k]) ||
+        !M.node_touches_body(b, in_.body_minus[k]))
+      bad("bond state: pair " + std::to_string(k) +
+          " does not match the model's split topology (build the model from the checkpoint's "
+          "nodes and triangles)");
+  }
+  st_ = s;
+  fail_.assign(in_.node.size(), 0);
+  refresh_lists();
+}
+
+}  // namespace engine

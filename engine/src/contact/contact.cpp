@@ -1,0 +1,170 @@
+// Normal contact pass: broad phase, then the potential contact pair kernel on
+// every candidate pair (in parallel, one result slot per candidate), then a
+// serial scatter in candidate order. The scatter is serial so that the sums in
+// fx, fy do not depend on the thread count at all; it touches only the few
+// touching pairs, so it costs little.
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "contact/contact.hpp"
+#include "common/input_errors.hpp"
+
+#include <algorithm>
+
+namespace engine {
+namespace {
+
+// Below this many candidate pairs the kernel loop runs serially: waking the
+// threads would cost more than it saves.
+constexpr int64_t kMinParallelPairs = 2048;
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+ContactParams validated_contact_params(double penalty, double mu) {
+  require_finite_positive("penalty", penalty, "Pa (per m width)");
+  require_finite_nonnegative("mu (friction coefficient)", mu, "");
+  return ContactParams{penalty, mu};
+}
+
+void ContactSolver::set_skin_fraction(double f) {
+  if (!(std::isfinite(f) && f >= 0.0 && f <= 1.0))
+    throw std::invalid_argument("skin_fraction must be in [0, 1]");
+  skin_fraction_ = f;
+  have_list_ = false;
+}
+
+namespace {
+
+// FNV-style hash of what the candidate list depends on besides positions.
+uint64_t list_signature(const ContactInput& in) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](uint64_t v) { h = (h ^ v) * 1099511628211ull; };
+  mix(static_cast<uint64_t>(in.n_nodes));
+  mix(static_cast<uint64_t>(in.n_surface));
+  for (int32_t i = 0; i < in.n_surface; ++i) {
+    const int64_t t = in.surface_tris[i];
+    mix(static_cast<uint64_t>(t));
+    mix(static_cast<uint64_t>(in.body[t]));
+    for (int k = 0; k < 3; ++k) mix(static_cast<uint64_t>(in.tri[3 * t + k]));
+  }
+  return h;
+}
+
+}  // namespace
+
+// True when the candidate list of the last build still holds every pair whose
+// boxes can overlap now: no node of a surface triangle moved more than the skin.
+bool ContactSolver::list_still_valid(const ContactInput& in) const {
+  if (!have_list_ || skin_fraction_ == 0.0) return false;
+  if (static_cast<int64_t>(xref_.size()) != in.n_nodes) return false;
+  if (list_signature(in) != list_signature_) return false;
+  const double skin = broad_.skin();
+  for (int32_t i = 0; i < in.n_surface; ++i) {
+    const int32_t* v = in.tri + 3 * static_cast<int64_t>(in.surface_tris[i]);
+    for (int k = 0; k < 3; ++k) {
+      const int32_t n = v[k];
+      // Written so that a NaN position forces a rebuild (which reports it).
+      if (!(std::fabs(in.x[n] - xref_[n]) <= skin && std::fabs(in.y[n] - yref_[n]) <= skin))
+        return false;
+    }
+  }
+  return true;
+}
+
+int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput& in, double* fx,
+                                      double* fy) {
+  const double t0 = now_s();
+  if (!list_still_valid(in)) {
+    broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_,
+                in.threads, skin_fraction_);
+    xref_.assign(in.x, in.x + in.n_nodes);
+    yref_.assign(in.y, in.y + in.n_nodes);
+    list_signature_ = list_signature(in);
+    have_list_ = true;
+    ++rebuilds_;
+  }
+  const double t1 = now_s();
+
+  const int64_t nc = static_cast<int64_t>(candidates_.size());
+  if (static_cast<int64_t>(results_.size()) < nc) results_.resize(nc);
+  if (static_cast<int64_t>(hit_.size()) < nc) hit_.resize(nc);
+  const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) num_threads(nthreads) if (nc >= kMinParallelPairs)
+  for (int64_t i = 0; i < nc; ++i) {
+    const int32_t* va = in.tri + 3 * static_cast<int64_t>(candidates_[i].a);
+    const int32_t* vb = in.tri + 3 * static_cast<int64_t>(candidates_[i].b);
+    const double xa[3] = {in.x[va[0]], in.x[va[1]], in.x[va[2]]};
+    const double ya[3] = {in.y[va[0]], in.y[va[1]], in.y[va[2]]};
+    const double xb[3] = {in.x[vb[0]], in.x[vb[1]], in.x[vb[2]]};
+    const double yb[3] = {in.y[vb[0]], in.y[vb[1]], in.y[vb[2]]};
+    // Candidates carry a skin: drop those whose current boxes are apart.
+    if (std::fmax(xa[0], std::fmax(xa[1], xa[2])) < std::fmin(xb[0], std::fmin(xb[1], xb[2])) ||
+        std::fmax(xb[0], std::fmax(xb[1], xb[2])) < std::fmin(xa[0], std::fmin(xa[1], xa[2])) ||
+        std::fmax(ya[0], std::fmax(ya[1], ya[2])) < std::fmin(yb[0], std::fmin(yb[1], yb[2])) ||
+        std::fmax(yb[0], std::fmax(yb[1], yb[2])) < std::fmin(ya[0], std::fmin(ya[1], ya[2]))) {
+      hit_[i] = 0;
+      continue;
+    }
+    hit_[i] = potential_contact_pair(xa, ya, xb, yb, p.penalty, results_[i]) ? 1 : 0;
+  }
+
+  // Touching pairs in (contactor, target) order, not in the order the
+  // candidate list happened to be built: forces are then summed, and friction
+  // solved, in an order fixed by the state alone, so a run resumed from a
+  // checkpoint (with a freshly built list) continues bit for bit.
+  hits_.clear();
+  for (int64_t i = 0; i < nc; ++i)
+    if (hit_[i]) hits_.push_back(i);
+  std::sort(hits_.begin(), hits_.end(), [this](int64_t u, int64_t v) {
+    const CandidatePair &a = candidates_[u], &b = candidates_[v];
+    return a.a != b.a ? a.a < b.a : a.b < b.b;
+  });
+  pairs_.clear();
+  double energy = 0.0;
+  for (const int64_t i : hits_) {
+    const PairContact& r = results_[i];
+    ContactPair cp;
+    cp.contactor = candidates_[i].a;
+    cp.target = candidates_[i].b;
+    for (int k = 0; k < 3; ++k) {
+      cp.node[k] = in.tri[3 * static_cast<int64_t>(cp.contactor) + k];
+      cp.node[3 + k] = in.tri[3 * static_cast<int64_t>(cp.target) + k];
+      cp.nc[k] = r.nc[k];
+      cp.nt[k] = r.nt[k];
+    }
+    double rx = 0.0, ry = 0.0;  // resultant on the contactor
+    for (int k = 0; k < 6; ++k) {
+      fx[cp.node[k]] += r.fx[k];
+      fy[cp.node[k]] += r.fy[k];
+      if (k < 3) {
+        rx += r.fx[k];
+        ry += r.fy[k];
+      }
+    }
+    cp.fn = std::hypot(rx, ry);
+    if (cp.fn > 0.0) {
+      cp.nx = rx / cp.fn;
+      cp.ny = ry / cp.fn;
+    }
+    cp.px = r.px;
+    cp.py = r.py;
+    cp.energy = r.energy;
+    energy += r.energy;
+    pairs_.push_back(cp);
+  }
+  stored_energy_ = energy;
+  n_touching_ = static_cast<int32_t>(pairs_.size());
+  const double t2 = now_s();
+  timings_.detection_s += t1 - t0;
+  timings_.forces_s += t2 - t1;
+  return n_touching_;
+}
+
+}  // namespace engine

@@ -1,0 +1,176 @@
+// Contact between triangles of different bodies: the interface between the
+// engine (the Model, which owns the node arrays) and the contact module.
+//
+// Two passes per step, so that friction can see every other force:
+//   1. compute_normal(): broad phase + Munjiza potential contact forces
+//      (docs/model.md §3.2, eqs 1-3). Adds the normal (penalty) forces to fx, fy and
+//      remembers, for every touching pair, where and how hard it pushes.
+//   2. apply_friction(): after all other forces of the step are assembled,
+//      dynamic Coulomb friction (eq 4) on the pairs of pass 1, regularised at
+//      zero slip so that a block below the friction angle stays at rest.
+#pragma once
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "contact/broad_phase.hpp"
+#include "contact/potential_contact.hpp"
+
+namespace engine {
+
+struct ContactParams {
+  double penalty = 2e11;  // s in eq 2-3 [Pa, per unit width]
+  double mu = 0.3;        // Coulomb friction coefficient [-]
+};
+
+// The one check of the contact parameters, where they enter (Model::set_contact
+// and the ContactSolver bindings); the per-step calls trust them. Throws
+// std::invalid_argument (ValueError in Python) naming the parameter and its
+// valid range.
+ContactParams validated_contact_params(double penalty, double mu);
+
+// Views of the engine's flat node and element arrays (structure of arrays).
+struct ContactInput {
+  int32_t n_nodes = 0;
+  const double* x = nullptr;    // node positions [m]
+  const double* y = nullptr;
+  const double* vx = nullptr;   // node velocities at t - dt/2 [m/s]
+  const double* vy = nullptr;
+  const double* mass = nullptr; // lumped node masses [kg per m width]; a node
+                                // with mass <= 0 or inf is immovable (friction)
+  int32_t n_tri = 0;
+  const int32_t* tri = nullptr;   // 3 node ids per triangle, counter-clockwise
+  const int32_t* body = nullptr;  // body id per triangle
+  // Triangles that can touch another body (a node on their body's boundary);
+  // the broad phase looks at nothing else.
+  int32_t n_surface = 0;
+  const int32_t* surface_tris = nullptr;
+  double dt = 0.0;
+  int32_t threads = 0;  // OpenMP threads for the contact passes; 0: OpenMP default
+  // Optional kinematic constraints (nullptr: none). constrained[n] bit 0: vx
+  // prescribed, bit 1: vy prescribed. Friction treats a prescribed component
+  // as immovable, moving at v_bc (the prescribed velocity at t + dt/2) if
+  // given, else at its current velocity vx, vy.
+  const uint8_t* constrained = nullptr;
+  const double* v_bc_x = nullptr;
+  const double* v_bc_y = nullptr;
+};
+
+// A touching triangle pair of the last compute_normal call: where the
+// resultant normal force acts and how large it is (input of friction, eq 4).
+struct ContactPair {
+  int32_t contactor = 0, target = 0;  // triangle ids (contactor < target)
+  int32_t node[6] = {0, 0, 0, 0, 0, 0};  // contactor nodes, then target nodes
+  double nc[3] = {0, 0, 0};  // contactor shape functions at the contact point
+  double nt[3] = {0, 0, 0};  // target shape functions at the contact point
+  double px = 0, py = 0;     // contact point: centroid of the overlap [m]
+  double nx = 0, ny = 0;     // unit normal: direction of the force on the contactor
+  double fn = 0;             // |f_c|, magnitude of the normal force [N per m width]
+  double energy = 0;         // stored energy of the pair [J per m width]
+};
+
+// Cumulative wall time since the solver was made [s].
+struct ContactTimings {
+  double detection_s = 0.0;  // broad phase (bounding-box candidates)
+  double forces_s = 0.0;     // pair kernel (incl. rejecting non-overlapping candidates), friction
+};
+
+// Stability limit of the explicit scheme set by the contact penalty.
+// A boundary edge of length l on a triangle of altitude a (onto that edge),
+// pressed flat onto another body's edge of altitude a', stores
+// E = 3/2 s l d^2 (1/a + 1/a') at overlap depth d (each potential grows as
+// 3 depth/altitude). Half of that edge stiffness goes to each end node, so a
+// boundary node i gets
+//   k_i = 3/2 s sum_{boundary edges e at i} (l_e/a_e + T(l_e)),
+// T(l) standing in for the unknown other body: the largest integral of 1/a'
+// over any stretch of length l of any body's boundary, or over two stretches
+// whose lengths add up to l (an edge across a junction of blocks, where the
+// tiny elements are; contact_time_step.cpp).
+// On a regular mesh T(h) = 1, i.e. l/a'; a sliver counts only over its own
+// edge, not over the whole contactor edge (the smallest altitude anywhere,
+// l_e/a_min, made one 2 mm sliver set the step of every node). Two facing nodes vibrate at w^2 = k_i/m_i + k_j/m_j <= 2 max k/m,
+// so the critical step is dt = 2/w = min_i sqrt(2 m_i / k_i). On a regular
+// mesh (l = a = h) k = 6 s at every boundary node, six times the single-spring
+// estimate k = s. Head-on collisions of two 1 m x 0.5 m blocks (h = 0.1 m,
+// s = 2e11, limit 1.6 us) conserve energy to 0.4 % at 1.2 times this step and
+// gain 4 % at 1.3 times, 18 % at 1.4 times (there a corner touches a face with
+// one of its two edges only, k = 3 s; the bound covers corner-on-corner too).
+struct ContactStableStep {
+  double dt = 0.0;        // critical step, no safety factor [s] (inf: no boundary)
+  int32_t node = -1;      // governing node
+  double stiffness = 0.0; // its k_i [N/m per m width]
+  double mass = 0.0;      // its m_i [kg per m width]
+};
+// Uses tri, body, n_tri, x, y and mass of `in`. Each body is taken on its own
+// (boundary edges: used by one triangle of the body; a node shared by bodies,
+// i.e. a freeze-bond point, counts per body with that body's mass share), so
+// the limit also holds after every bond point has split.
+// Throws std::invalid_argument on bad p.
+// node_stiffness (optional, resized to n_nodes): per node, the largest over its
+// bodies of k_i scaled to the node's whole mass (k_i x node area / that body's
+// area around it), so that node n's limit is sqrt(2 mass[n] / node_stiffness[n]);
+// 0 for an interior node. For mass scaling (Model::set_mass_scaling).
+ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
+                                      std::vector<double>* node_stiffness = nullptr);
+
+class ContactSolver {
+ public:
+  // Adds normal contact forces to fx, fy (length n_nodes). Returns the number
+  // of touching triangle pairs.
+  int32_t compute_normal(const ContactParams& p, const ContactInput& in, double* fx, double* fy);
+  // Adds friction forces to fx, fy, given the forces already assembled there
+  // (used to predict the sliding velocity). Returns the friction power
+  // (dissipation rate, >= 0) [W per m width].
+  double apply_friction(const ContactParams& p, const ContactInput& in, double* fx, double* fy);
+  // Contact potential energy at the positions of the last compute_normal call
+  // [J per m width]: sum over touching pairs of s * int_overlap (phi_c + phi_t),
+  // whose exact gradient the normal forces are (potential_contact.hpp). A state
+  // value like the elastic energy: add it to the energy balance as it is, do
+  // not accumulate it over steps.
+  double stored_energy() const { return stored_energy_; }
+  int32_t touching_pairs() const { return n_touching_; }
+  const ContactTimings& timings() const { return timings_; }
+  const std::vector<ContactPair>& pairs() const { return pairs_; }
+  // Friction warm start (last step's tangential force per (contactor, target)
+  // key, keys sorted): part of a checkpoint, so a resumed run continues exactly.
+  const std::vector<uint64_t>& warm_start_keys() const { return prev_key_; }
+  const std::vector<double>& warm_start_forces() const { return prev_lambda_; }
+  void set_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
+    prev_key_ = keys;
+    prev_lambda_ = forces;
+  }
+  // Bounding-box candidates of the last broad phase (diagnostics and tests).
+  const std::vector<CandidatePair>& candidates() const { return candidates_; }
+  // Candidate reuse: boxes are grown by skin_fraction times the largest
+  // surface-triangle extent, and the list is rebuilt only when a node of a
+  // surface triangle has moved farther than that (or the surface triangles,
+  // their nodes or bodies changed). 0: rebuild every call.
+  void set_skin_fraction(double f);
+  double skin_fraction() const { return skin_fraction_; }
+  int64_t rebuilds() const { return rebuilds_; }  // broad-phase builds so far
+
+ private:
+  bool list_still_valid(const ContactInput& in) const;
+
+  double stored_energy_ = 0.0;
+  int32_t n_touching_ = 0;
+  ContactTimings timings_;
+  // Buffers reused from step to step (no allocation once they have grown).
+  BroadPhase broad_;
+  std::vector<CandidatePair> candidates_;
+  double skin_fraction_ = 0.1;
+  int64_t rebuilds_ = 0;
+  bool have_list_ = false;
+  uint64_t list_signature_ = 0;     // surface triangles, nodes, bodies of the list
+  std::vector<double> xref_, yref_; // node positions when the list was built
+  std::vector<PairContact> results_;
+  std::vector<uint8_t> hit_;
+  std::vector<ContactPair> pairs_;
+  std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
+  std::vector<std::pair<uint64_t, double>> order_;
+  std::vector<int64_t> hits_;       // touching candidates, in pair order
+  std::vector<uint64_t> prev_key_;  // (contactor, target) of last step's pairs, sorted
+  std::vector<double> prev_lambda_; // their tangential forces (warm start)
+};
+
+}  // namespace engine

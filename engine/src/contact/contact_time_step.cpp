@@ -1,0 +1,223 @@
+// Critical time step of the contact penalty; the estimate is derived in
+// contact.hpp (ContactStableStep).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "contact/contact.hpp"
+
+namespace engine {
+
+namespace {
+
+// The other body's share of a contactor edge's stiffness (contact.hpp): the
+// edge, length l, pressed onto a stretch of boundary of length l, gets 3/2 s
+// times the integral of 1/a' (a' the altitude of the target triangle under
+// it) over that stretch. T(l) bounds it by the largest such integral over
+// every window of length l along every body's boundary, so a sliver (small a')
+// only counts over its own short edge: a regular mesh (l = a' = h) gives 1,
+// as before, but a 3 mm edge of altitude 2 mm next to 0.15 m edges raises it
+// to ~2.3, where the smallest altitude anywhere (l/a_min) gave 65.
+// The integrand is piecewise constant, so the largest window has an end at a
+// vertex: walk from every boundary vertex along each of its boundary edges,
+// once, to the longest edge length, reading the integral at every length of a
+// geometric grid (factor 1.1; an edge takes the grid length at or above its
+// own, which only overestimates, the integral growing with the length). Where
+// a body's boundary meets itself at a node every branch is followed.
+// Tiny elements sit at junctions of blocks, so an edge can rest on two bodies
+// (or bridge a notch of one) at once: the returned bound is
+// T2(l) = max over l1 of T(l1) + T(l - l1), which is T(l) on a regular mesh.
+std::vector<double> target_terms(const std::vector<double>& len, const std::vector<double>& alt,
+                                 const std::vector<int32_t>& ea, const std::vector<int32_t>& eb,
+                                 const std::vector<int32_t>& ebody) {
+  const size_t n = len.size();
+  // boundary edges at each (body, node), for the walk
+  struct End {
+    int32_t body, node, edge;
+  };
+  std::vector<End> ends;
+  ends.reserve(2 * n);
+  for (size_t e = 0; e < n; ++e) {
+    ends.push_back({ebody[e], ea[e], int32_t(e)});
+    ends.push_back({ebody[e], eb[e], int32_t(e)});
+  }
+  auto key_less = [](const End& a, const End& b) {
+    return a.body != b.body ? a.body < b.body : a.node != b.node ? a.node < b.node : a.edge < b.edge;
+  };
+  std::sort(ends.begin(), ends.end(), key_less);
+  // first[k]..first[k+1]: the edges at the k-th distinct (body, node); at_end[2e+c]: the
+  // index k of edge e's end c (0: ea, 1: eb)
+  std::vector<size_t> first;
+  std::vector<size_t> at_end(2 * n);
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (i == 0 || ends[i].body != ends[i - 1].body || ends[i].node != ends[i - 1].node)
+      first.push_back(i);
+    const int32_t e = ends[i].edge;
+    at_end[2 * size_t(e) + (ea[e] == ends[i].node ? 0 : 1)] = first.size() - 1;
+  }
+  first.push_back(ends.size());
+
+  const double l_lo = *std::min_element(len.begin(), len.end());
+  const double l_hi = *std::max_element(len.begin(), len.end());
+  std::vector<double> grid{l_lo};
+  while (grid.back() < l_hi) grid.push_back(std::min(grid.back() * 1.1, l_hi));
+  const size_t n_grid = grid.size();
+  std::vector<double> T(n_grid, 0.0);
+
+  // Depth-first walk: edge f entered at its end c, c0 the length walked so far,
+  // s0 the integral so far, g the first grid length above c0.
+  struct Frame {
+    int32_t f;
+    int c;
+    double c0, s0;
+    size_t g;
+  };
+  std::vector<Frame> stack;
+  for (size_t e = 0; e < n; ++e)
+    for (int c = 0; c < 2; ++c) {
+      stack.push_back({int32_t(e), c, 0.0, 0.0, 0});
+      while (!stack.empty()) {
+        const Frame fr = stack.back();
+        stack.pop_back();
+        const double d = 1.0 / alt[fr.f], c1 = fr.c0 + len[fr.f];
+        size_t g = fr.g;
+        for (; g < n_grid && grid[g] <= c1; ++g) T[g] = std::max(T[g], fr.s0 + (grid[g] - fr.c0) * d);
+        if (g >= n_grid) continue;  // reached the longest length
+        const double s1 = fr.s0 + len[fr.f] * d;
+        const size_t k = at_end[2 * size_t(fr.f) + (1 - fr.c)];  // leave through the far end
+        const int32_t v = fr.c == 0 ? eb[fr.f] : ea[fr.f];
+        for (size_t i = first[k]; i < first[k + 1]; ++i) {
+          const int32_t h = ends[i].edge;
+          if (h == fr.f) continue;
+          stack.push_back({h, ea[h] == v ? 0 : 1, c1, s1, g});
+        }
+      }
+    }
+  // T of any length up to l_hi: the grid value at or above it, and never more
+  // than L times the largest density 1/a' (short lengths below the grid)
+  double d_max = 0.0;
+  for (double a : alt) d_max = std::max(d_max, 1.0 / a);
+  auto T_up = [&](double L) {
+    if (!(L > 0.0)) return 0.0;
+    const size_t g = std::lower_bound(grid.begin(), grid.end(), L) - grid.begin();
+    return std::min(T[std::min(g, n_grid - 1)], L * d_max);
+  };
+  std::vector<double> T2(n_grid);
+  for (size_t g = 0; g < n_grid; ++g) {
+    T2[g] = T[g];
+    for (size_t i = 0; i < g; ++i) T2[g] = std::max(T2[g], T[i] + T_up(grid[g] - grid[i]));
+  }
+  std::vector<double> out(n);
+  for (size_t e = 0; e < n; ++e) {
+    const size_t g = std::lower_bound(grid.begin(), grid.end(), len[e]) - grid.begin();
+    out[e] = T2[std::min(g, n_grid - 1)];
+  }
+  return out;
+}
+
+}  // namespace
+
+ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
+                                      std::vector<double>* node_stiffness) {
+  if (node_stiffness) node_stiffness->assign(in.n_nodes, 0.0);
+  ContactStableStep out;
+  out.dt = INFINITY;
+  // Each body on its own: an edge is a boundary edge of a body if no other
+  // triangle of the same body uses it, and a node shared by several bodies
+  // (a freeze-bond point of a continuous mesh) counts once per body with that
+  // body's share of its mass. That is the state after the bond points split,
+  // so a step chosen before the run stays stable through every split. Without
+  // shared nodes this is the plain per-node estimate.
+  struct Edge {
+    int32_t a, b, body, tri, opp;  // end nodes (a < b), body, triangle, opposite node
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * static_cast<size_t>(in.n_tri));
+  for (int32_t t = 0; t < in.n_tri; ++t) {
+    const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = v[(k + 1) % 3], b = v[(k + 2) % 3];
+      edges.push_back({std::min(a, b), std::max(a, b), in.body[t], t, v[k]});
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) {
+    if (e.a != f.a) return e.a < f.a;
+    if (e.b != f.b) return e.b < f.b;
+    return e.body != f.body ? e.body < f.body : e.tri < f.tri;
+  });
+  struct Share {
+    int32_t node, body;
+    double k, area;
+  };
+  std::vector<Share> shares;  // (node, body) contributions, merged below
+  std::vector<double> len, alt;
+  std::vector<int32_t> ea, eb, ebody;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b &&
+           edges[j].body == edges[i].body)
+      ++j;
+    if (j == i + 1) {
+      const Edge& e = edges[i];
+      const double ex = in.x[e.b] - in.x[e.a], ey = in.y[e.b] - in.y[e.a];
+      const double l = std::hypot(ex, ey);
+      const double area2 = std::fabs(ex * (in.y[e.opp] - in.y[e.a]) - ey * (in.x[e.opp] - in.x[e.a]));
+      if (l > 0.0 && area2 > 0.0) {
+        len.push_back(l);
+        alt.push_back(area2 / l);
+        ea.push_back(e.a);
+        eb.push_back(e.b);
+        ebody.push_back(e.body);
+      }
+    }
+    i = j;
+  }
+  if (len.empty()) return out;
+  const std::vector<double> target = target_terms(len, alt, ea, eb, ebody);
+  for (size_t e = 0; e < len.size(); ++e) {
+    const double ke = 1.5 * p.penalty * (len[e] / alt[e] + target[e]);
+    shares.push_back({ea[e], ebody[e], ke, 0.0});
+    shares.push_back({eb[e], ebody[e], ke, 0.0});
+  }
+  // Mass share of each body at a node: its triangles' share of the area around
+  // the node (lumped masses are 1/3 of each triangle's mass; equal densities
+  // of the bodies meeting at a node are assumed, as for ice on ice).
+  std::vector<double> node_area(in.n_nodes, 0.0);
+  for (int32_t t = 0; t < in.n_tri; ++t) {
+    const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
+    const double A = 0.5 * std::fabs((in.x[v[1]] - in.x[v[0]]) * (in.y[v[2]] - in.y[v[0]]) -
+                                     (in.x[v[2]] - in.x[v[0]]) * (in.y[v[1]] - in.y[v[0]]));
+    for (int k = 0; k < 3; ++k) {
+      node_area[v[k]] += A;
+      shares.push_back({v[k], in.body[t], 0.0, A});
+    }
+  }
+  std::sort(shares.begin(), shares.end(), [](const Share& a, const Share& b) {
+    return a.node != b.node ? a.node < b.node : a.body < b.body;
+  });
+  for (size_t i = 0; i < shares.size();) {
+    size_t j = i;
+    double k = 0.0, area = 0.0;
+    while (j < shares.size() && shares[j].node == shares[i].node && shares[j].body == shares[i].body) {
+      k += shares[j].k;
+      area += shares[j].area;
+      ++j;
+    }
+    const int32_t n = shares[i].node;
+    const double m = node_area[n] > 0.0 ? in.mass[n] * area / node_area[n] : 0.0;
+    i = j;
+    if (node_stiffness && k > 0.0 && area > 0.0)
+      (*node_stiffness)[n] = std::max((*node_stiffness)[n], k * node_area[n] / area);
+    if (!(k > 0.0) || !(m > 0.0) || !std::isfinite(m)) continue;
+    const double dt = std::sqrt(2.0 * m / k);
+    if (dt < out.dt) {
+      out.dt = dt;
+      out.node = n;
+      out.stiffness = k;
+      out.mass = m;
+    }
+  }
+  return out;
+}
+
+}  // namespace engine

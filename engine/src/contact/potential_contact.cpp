@@ -1,0 +1,184 @@
+// Pair kernel of the potential contact force method; the formulas and the
+// energy they derive from are explained in potential_contact.hpp.
+#include "contact/potential_contact.hpp"
+
+#include <cmath>
+
+namespace engine {
+namespace {
+
+// A triangle cut by 3 half-planes has at most 6 vertices, by 2 more at most 8.
+constexpr int kMaxPoly = 12;
+
+struct Poly {
+  int n = 0;
+  double x[kMaxPoly];
+  double y[kMaxPoly];
+};
+
+// A counter-clockwise triangle in the local frame with its area-coordinate
+// gradients: lambda_k(p) = 1/3 + gx[k] (px - cx) + gy[k] (py - cy).
+struct Tri {
+  double x[3], y[3];
+  double cx, cy;
+  double gx[3], gy[3];
+  int perm[3];  // local vertex k is caller's vertex perm[k]
+
+  double lambda(int k, double px, double py) const {
+    return 1.0 / 3.0 + gx[k] * (px - cx) + gy[k] * (py - cy);
+  }
+};
+
+// Sets up `t` from the caller's vertices shifted by (ox, oy); makes it
+// counter-clockwise. Returns false for a degenerate triangle.
+bool make_tri(const double xs[3], const double ys[3], double ox, double oy, Tri& t) {
+  double x[3], y[3];
+  for (int k = 0; k < 3; ++k) {
+    x[k] = xs[k] - ox;
+    y[k] = ys[k] - oy;
+  }
+  const double a2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+  if (!(std::fabs(a2) > 0.0)) return false;
+  t.perm[0] = 0;
+  t.perm[1] = a2 > 0 ? 1 : 2;
+  t.perm[2] = a2 > 0 ? 2 : 1;
+  for (int k = 0; k < 3; ++k) {
+    t.x[k] = x[t.perm[k]];
+    t.y[k] = y[t.perm[k]];
+  }
+  const double inv2a = 1.0 / std::fabs(a2);
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    t.gx[k] = (t.y[i] - t.y[j]) * inv2a;
+    t.gy[k] = (t.x[j] - t.x[i]) * inv2a;
+  }
+  t.cx = (t.x[0] + t.x[1] + t.x[2]) / 3.0;
+  t.cy = (t.y[0] + t.y[1] + t.y[2]) / 3.0;
+  return true;
+}
+
+// Sutherland-Hodgman: keeps the part of `in` on the left of the directed line
+// a -> b (the inside of a counter-clockwise polygon).
+void clip(const Poly& in, double ax, double ay, double bx, double by, Poly& out) {
+  out.n = 0;
+  if (in.n == 0) return;
+  const double ex = bx - ax, ey = by - ay;
+  double dprev = ex * (in.y[in.n - 1] - ay) - ey * (in.x[in.n - 1] - ax);
+  double xprev = in.x[in.n - 1], yprev = in.y[in.n - 1];
+  for (int i = 0; i < in.n; ++i) {
+    const double xi = in.x[i], yi = in.y[i];
+    const double d = ex * (yi - ay) - ey * (xi - ax);
+    if ((d >= 0.0) != (dprev >= 0.0)) {
+      const double s = dprev / (dprev - d);
+      out.x[out.n] = xprev + s * (xi - xprev);
+      out.y[out.n] = yprev + s * (yi - yprev);
+      ++out.n;
+    }
+    if (d >= 0.0) {
+      out.x[out.n] = xi;
+      out.y[out.n] = yi;
+      ++out.n;
+    }
+    dprev = d;
+    xprev = xi;
+    yprev = yi;
+  }
+}
+
+// Area and centroid of a simple counter-clockwise polygon. Coordinates are
+// taken relative to the first vertex: overlaps are thin slivers (penetrations
+// of ~1e-10 m against edges of ~0.1 m) and this keeps their area accurate.
+double area_centroid(const Poly& p, double& gx, double& gy) {
+  if (p.n < 3) return 0.0;
+  const double x0 = p.x[0], y0 = p.y[0];
+  double a2 = 0.0, sx = 0.0, sy = 0.0;
+  for (int i = 1; i + 1 < p.n; ++i) {
+    const double x1 = p.x[i] - x0, y1 = p.y[i] - y0;
+    const double x2 = p.x[i + 1] - x0, y2 = p.y[i + 1] - y0;
+    const double c = x1 * y2 - x2 * y1;
+    a2 += c;
+    sx += c * (x1 + x2);
+    sy += c * (y1 + y2);
+  }
+  if (!(a2 > 0.0)) return 0.0;
+  gx = x0 + sx / (3.0 * a2);
+  gy = y0 + sy / (3.0 * a2);
+  return 0.5 * a2;
+}
+
+// Adds the force of the potential of `owner` acting on the overlap `ov`
+// (which lies inside `owner`): owner nodes get  s A N^o_k(g) grad phi_o,
+// the other triangle's nodes get  -s A (N^p_j(g) grad phi_o + phi_o(g) grad N^p_j),
+// summed over the three sub-triangles of `owner`. Returns s int phi_o.
+double potential_term(const Tri& owner, const Tri& other, const Poly& ov, double s, double fo_x[3],
+                      double fo_y[3], double fp_x[3], double fp_y[3]) {
+  double energy = 0.0;
+  Poly q, tmp;
+  for (int i = 0; i < 3; ++i) {
+    const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    // Sub-triangle (node i1, node i2, centroid), where phi = 3 lambda_i.
+    clip(ov, owner.x[i2], owner.y[i2], owner.cx, owner.cy, tmp);
+    clip(tmp, owner.cx, owner.cy, owner.x[i1], owner.y[i1], q);
+    double gx = 0.0, gy = 0.0;
+    const double a = area_centroid(q, gx, gy);
+    if (a <= 0.0) continue;
+    const double sa = s * a;
+    const double dphix = 3.0 * owner.gx[i], dphiy = 3.0 * owner.gy[i];
+    const double phi = 3.0 * owner.lambda(i, gx, gy);
+    energy += sa * phi;
+    for (int k = 0; k < 3; ++k) {
+      const double no = owner.lambda(k, gx, gy);
+      fo_x[k] += sa * no * dphix;
+      fo_y[k] += sa * no * dphiy;
+      const double np = other.lambda(k, gx, gy);
+      fp_x[k] -= sa * (np * dphix + phi * other.gx[k]);
+      fp_y[k] -= sa * (np * dphiy + phi * other.gy[k]);
+    }
+  }
+  return energy;
+}
+
+}  // namespace
+
+bool potential_contact_pair(const double xc[3], const double yc[3], const double xt[3],
+                            const double yt[3], double s, PairContact& out) {
+  // Local frame at the target centroid: overlaps are tiny compared with the
+  // global coordinates, so work with small numbers.
+  const double ox = (xt[0] + xt[1] + xt[2]) / 3.0, oy = (yt[0] + yt[1] + yt[2]) / 3.0;
+  Tri c, t;
+  if (!make_tri(xc, yc, ox, oy, c) || !make_tri(xt, yt, ox, oy, t)) return false;
+
+  // Overlap polygon: the contactor clipped by the three target edges.
+  Poly p0, p1;
+  p0.n = 3;
+  for (int k = 0; k < 3; ++k) {
+    p0.x[k] = c.x[k];
+    p0.y[k] = c.y[k];
+  }
+  clip(p0, t.x[0], t.y[0], t.x[1], t.y[1], p1);
+  clip(p1, t.x[1], t.y[1], t.x[2], t.y[2], p0);
+  clip(p0, t.x[2], t.y[2], t.x[0], t.y[0], p1);
+  double gx = 0.0, gy = 0.0;
+  const double area = area_centroid(p1, gx, gy);
+  if (!(area > 0.0)) return false;
+
+  double fcx[3] = {0, 0, 0}, fcy[3] = {0, 0, 0}, ftx[3] = {0, 0, 0}, fty[3] = {0, 0, 0};
+  double energy = potential_term(t, c, p1, s, ftx, fty, fcx, fcy);  // contactor in target's phi
+  energy += potential_term(c, t, p1, s, fcx, fcy, ftx, fty);        // target in contactor's phi
+
+  for (int k = 0; k < 3; ++k) {
+    out.fx[c.perm[k]] = fcx[k];
+    out.fy[c.perm[k]] = fcy[k];
+    out.fx[3 + t.perm[k]] = ftx[k];
+    out.fy[3 + t.perm[k]] = fty[k];
+    out.nc[c.perm[k]] = c.lambda(k, gx, gy);
+    out.nt[t.perm[k]] = t.lambda(k, gx, gy);
+  }
+  out.energy = energy;
+  out.area = area;
+  out.px = gx + ox;
+  out.py = gy + oy;
+  return true;
+}
+
+}  // namespace engine

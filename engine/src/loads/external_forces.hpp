@@ -1,0 +1,69 @@
+// Gravity, buoyancy and water drag (docs/model.md §3.4).
+//
+// Buoyancy: each triangle is clipped at the water line y = y_w; the
+// submerged part gets rho_w g A_sub upward at its centroid, shared by the
+// three corners with the barycentric coordinates of that centroid, so both
+// the force and its moment are exact for partially submerged triangles.
+//
+// Drag: f_i = -c_b v_i sum_e (m_i,e / M_body) (A_sub,e / A_e): the node's mass
+// share of its body's drag constant c_b, scaled per triangle by the submerged
+// fraction. A fully submerged body translating rigidly at v feels exactly
+// -c_b v; a dry body feels none. The body's constant c_b depends on the model:
+//   linear:    c_b = c_w (Pa s = N s/m per m width), the same for every body;
+//   quadratic: c_b = 1/2 rho_w C_d |V| L, form drag of a body moving at its
+//              mean velocity V with L its width across V, so the body feels
+//              -1/2 rho_w C_d |V| V L (per m width);
+//   none:      no drag.
+// The drag uses the velocity at t - dt/2 (explicit; stable for dt < 2 rho
+// A_body / c_b: for quadratic drag that bound is ~1e8 m/s over any block's
+// speed at the steps used here, so it does not enter the stable step).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/mesh_arrays.hpp"
+
+namespace engine {
+
+enum class DragModel : int { None = 0, Linear = 1, Quadratic = 2 };
+
+// Defaults of a Model built without the Python layer (icerubble.fdem sets
+// every parameter itself); the only place these numbers appear in C++.
+constexpr double kStandardGravity = 9.81;  // [m/s²]
+constexpr double kSeaWaterDensity = 1010.0;  // [kg/m³], the paper's Table 1 (docs/model.md §2)
+
+struct ExternalParams {
+  bool gravity = true;
+  double g = kStandardGravity;  // acts in -y
+  bool buoyancy = false;
+  bool drag = false;
+  double rho_w = kSeaWaterDensity;
+  double y_w = 0.0;        // water line [m]
+  double c_w = 2.5e4;      // linear drag constant [Pa s]
+  DragModel drag_model = DragModel::Linear;
+  double C_d = 1.0;        // form drag coefficient (quadratic model) [-]
+  bool drag_on() const { return drag && drag_model != DragModel::None; }
+  bool water() const { return buoyancy || drag_on(); }
+};
+
+// Submerged area and centroid of a triangle below y_w.
+struct Submerged {
+  double area = 0.0, cx = 0.0, cy = 0.0;
+};
+Submerged submerged_part(double ax, double ay, double bx, double by, double cx, double cy, double y_w);
+
+// Per triangle in [begin, end): buoyancy per corner (f_buoy_corner) and the
+// drag coefficient of each corner (drag_k_tri) from the bodies' drag
+// constants body_drag (N s/m per m width). Returns the submerged area.
+double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
+                                 const std::vector<double>& body_area0,
+                                 const std::vector<double>& body_drag, int32_t begin, int32_t end);
+
+// Every body's drag constant c_b for the current velocities (see above);
+// quadratic drag needs each body's mean velocity (area weighted, from the
+// triangles, so shared bond nodes count for both bodies) and its width across
+// that velocity. Serial: two passes over the triangles.
+void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
+                         const std::vector<double>& body_area0, std::vector<double>& body_drag);
+
+}  // namespace engine

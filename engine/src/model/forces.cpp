@@ -1,0 +1,172 @@
+// The force stages of a step, (1)-(6) of docs/model.md §3, each adding into
+// the node arrays in a fixed order (bit-reproducible at a fixed thread count).
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+
+#include "common/stopwatch.hpp"
+#include "model/threading.hpp"
+
+namespace engine {
+
+// The per-node sums of the corner forces (elastic, viscous, buoyancy) and the
+// drag coefficient, in the fixed gather order, plus gravity and drag: the
+// node's total of everything but contact, bonds and friction. Also used for a
+// node that has just been split off (FreezeBonds::split_points).
+void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g) {
+  const int32_t* start = gather_.start.data();
+  const int32_t* slot = gather_.slot.data();
+  const double* fc = tris_.f_corner.data();
+  const double* fvc = tris_.f_visc_corner.data();
+  const double* fbc = tris_.f_buoy_corner.data();
+  const double* kdt = tris_.drag_k_tri.data();
+  Nodes& N = nodes_;
+  double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
+  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+    const int32_t s = slot[j];
+    fx += fc[2 * s];
+    fy += fc[2 * s + 1];
+    if (damping) {
+      vx += fvc[2 * s];
+      vy += fvc[2 * s + 1];
+    }
+    if (water) {
+      if (buoy) fb += fbc[s];
+      if (drag) k += kdt[s / 3];
+    }
+  }
+  N.f_int_x[i] = fx;
+  N.f_int_y[i] = fy;
+  N.f_visc_x[i] = vx;
+  N.f_visc_y[i] = vy;
+  N.f_buoy_y[i] = fb;
+  N.drag_k[i] = k;
+  N.f_x[i] = fx - k * N.vx[i];
+  // Weight from the physical mass: mass scaling adds inertia, not weight.
+  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass_phys[i] * g;
+  N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
+}
+
+void Model::compute_body_forces() {
+  Stopwatch sw(timings_.elements);
+  const int nt = int(partial_.size());
+  const int32_t m = tris_.size(), n = nodes_.size();
+  int32_t inverted[kMaxThreads];
+  std::fill(inverted, inverted + kMaxThreads, -1);
+  const bool damping = any_damping_;
+  const bool water = ext_.water();
+  const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
+  const double g = ext_.gravity ? ext_.g : 0.0;
+  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_);
+  #pragma omp parallel num_threads(nt) if (use_threads())
+  {
+    const int tid = omp_get_thread_num(), team = omp_get_num_threads();
+    int32_t b, e;
+    block(m, tid, team, b, e);
+    // (1) element forces and (6) water forces, per triangle.
+    ElementSweep sweep;
+    element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep);
+    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e);
+    partial_[tid].s.elastic = sweep.elastic_energy;
+    inverted[tid] = sweep.inverted;
+    #pragma omp barrier
+    // Gather corner forces onto nodes in the fixed gather order, add gravity
+    // and drag: the total of everything but contact, bonds and friction.
+    Nodes& N = nodes_;
+    #pragma omp for schedule(static)
+    for (int32_t i = 0; i < n; ++i) {
+      gather_node(i, damping, water, buoy, drag, g);
+      // Contact and cohesive passes add into these.
+      N.f_con_x[i] = N.f_con_y[i] = 0.0;
+    }
+  }
+  double u = 0.0;
+  first_inverted_ = -1;
+  for (int t = 0; t < nt; ++t) {
+    u += partial_[t].s.elastic;
+    partial_[t].s.elastic = 0.0;
+    if (first_inverted_ < 0) first_inverted_ = inverted[t];
+  }
+  energy_.elastic = u;
+}
+
+ContactInput Model::contact_input() const {
+  ContactInput in;
+  in.n_nodes = nodes_.size();
+  in.x = nodes_.x.data();
+  in.y = nodes_.y.data();
+  in.vx = nodes_.vx.data();
+  in.vy = nodes_.vy.data();
+  in.mass = nodes_.mass.data();
+  in.n_tri = tris_.size();
+  in.tri = tris_.node.data();
+  in.body = tris_.body.data();
+  in.n_surface = int32_t(surface_tris_.size());
+  in.surface_tris = surface_tris_.data();
+  in.dt = dt_;
+  in.threads = threads_;
+  // Friction must see fixed and driven nodes as immovable (contact branch).
+  in.constrained = nodes_.constrained.data();
+  return in;
+}
+
+void Model::compute_contact_forces() {
+  contact_work_step_ = 0.0;
+  if (!contact_possible_) return;
+  const double detection_before = contact_.timings().detection_s;
+  const double t0 = omp_get_wtime();
+  contact_.compute_normal(contact_params_, contact_input(), nodes_.f_con_x.data(), nodes_.f_con_y.data());
+  const double wall = omp_get_wtime() - t0;
+  // ContactTimings are read as cumulative seconds since the solver was made.
+  const double detection = contact_.timings().detection_s - detection_before;
+  timings_.contact_detection += detection;
+  timings_.contact_forces += wall - detection;
+  contact_work_step_ = contact_.stored_energy();
+}
+
+void Model::check_freeze_bonds() {  // (4) freeze_bonds.cpp
+  Stopwatch sw(timings_.bonds);
+  bonds_.check(*this);
+}
+
+void Model::apply_cohesive_forces(History history) {  // (5) freeze_bonds.cpp
+  Stopwatch sw(timings_.bonds);
+  const bool commit = history == History::commit;
+  bonds_.apply(*this, commit);
+  if (!commit) return;
+  // The ledger's cohesive term is the work done against the cohesive forces
+  // (booked by update_positions); the part stored on the secant branches is
+  // recoverable, so it moves from "dissipated" to "stored".
+  const double stored = bonds_.stored();
+  energy_.cohesive -= stored - energy_.cohesive_stored;
+  energy_.cohesive_stored = stored;
+}
+
+void Model::assemble_forces() {
+  // Serial: one pass of adds, cheaper than waking the threads again.
+  Stopwatch sw(timings_.integration);
+  Nodes& N = nodes_;
+  const int32_t n = N.size();
+  for (int32_t i = 0; i < n; ++i) {
+    N.f_x[i] += N.f_con_x[i] + N.f_coh_x[i];
+    N.f_y[i] += N.f_con_y[i] + N.f_coh_y[i];
+  }
+  N.f_pre_x = N.f_x;
+  N.f_pre_y = N.f_y;
+}
+
+void Model::apply_friction() {
+  if (!contact_possible_) return;
+  const double t0 = omp_get_wtime();
+  const double detection_before = contact_.timings().detection_s;
+  const double power = contact_.apply_friction(contact_params_, contact_input(), nodes_.f_x.data(), nodes_.f_y.data());
+  const double detection = contact_.timings().detection_s - detection_before;
+  timings_.contact_detection += detection;
+  timings_.contact_forces += omp_get_wtime() - t0 - detection;
+  energy_.friction_solver += power * dt_;
+}
+
+}  // namespace engine

@@ -1,0 +1,188 @@
+// The time step of docs/model.md §3: preparation, the stable-step check,
+// the force stages in their one order, and the central-difference update
+// with the work integration of the energy ledger.
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/stopwatch.hpp"
+#include "model/threading.hpp"
+
+namespace engine {
+
+void Model::prepare_topology() {
+  if (prepared_) return;
+  rebuild_topology();  // node splitting may have appended nodes or moved corners
+  compute_masses();
+  build_constraints();
+  stable_current_ = false;
+  prepared_ = true;
+}
+
+StableStep Model::stable_step() {
+  prepare_topology();
+  if (!stable_current_) {
+    const ContactStableStep contact =
+        contact_possible_ ? contact_critical_dt(contact_params_, contact_input()) : ContactStableStep{};
+    stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
+    stable_.mass_scaling_dt = mass_scaling_dt_;
+    stable_.added_mass = added_mass_;
+    stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
+    stable_.scaled_nodes = scaled_nodes_;
+    stable_current_ = true;
+  }
+  return stable_;
+}
+
+bool Model::use_threads() const { return tris_.size() >= kMinParallelTriangles; }
+
+void Model::prepare() {
+  stable_step();
+  const int nt = std::min(threads_ > 0 ? threads_ : omp_get_max_threads(), kMaxThreads);
+  partial_.assign(size_t(nt), ThreadSums{});
+}
+
+// ---------------------------------------------------------------- the time step
+
+void Model::step(int64_t n) {
+  if (n < 0) bad("n (number of steps) must be >= 0");
+  prepare();
+  if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
+  if (check_stable_dt_ && dt_ > stable_.dt)
+    bad("dt = " + num17(dt_) + " s exceeds the stable step " + num17(stable_.dt) + " s (by " +
+        num(100.0 * (dt_ / stable_.dt - 1.0)) + " %; the stable step is recomputed when bond points split): " +
+        stable_.describe(tris_.body) +
+        ". Reduce dt, or coarsen the governing elements / lower the penalty.");
+  for (int64_t k = 0; k < n; ++k) {
+    Stopwatch total(timings_.total);
+    advance();
+    ++timings_.steps;
+  }
+}
+
+void Model::advance() {
+  compute_forces(History::commit);
+  update_positions();           // (7) central difference, work integration
+  guard_stability();
+}
+
+void Model::evaluate() {
+  prepare();
+  compute_forces(History::leave);
+}
+
+// The one order of the force stages. Only a committed step may split bond
+// points or move the cohesive pairs' history on: evaluate() looks at the
+// forces of the current state and leaves it as it was.
+void Model::compute_forces(History history) {
+  // (1) element internal forces and (6) gravity, buoyancy, drag: both depend
+  // only on the state at t, so one pass computes them (half the thread
+  // synchronisations of two passes).
+  compute_body_forces();
+  compute_contact_forces();     // (2) neighbour search, (3) normal contact forces
+  if (history == History::commit)
+    check_freeze_bonds();       // (4) bond stress check (eqs 5-7), node splitting
+  apply_cohesive_forces(history);  // (5) cohesive forces of opened bonds (eqs 8-12)
+  assemble_forces();            // total of (1)-(6)
+  apply_friction();             // (3b) Coulomb friction (eq 4), needs all forces above
+  apply_boundary_conditions();  // fixed nodes, prescribed velocities, reactions
+}
+
+void Model::update_positions() {
+  Stopwatch sw(timings_.integration);
+  const int nt = int(partial_.size());
+  const int32_t n = nodes_.size();
+  const double dt = dt_;
+  const double g = ext_.gravity ? ext_.g : 0.0;
+  const double alpha = local_damping_;
+  #pragma omp parallel num_threads(nt) if (use_threads())
+  {
+    Nodes& N = nodes_;
+    // Plain local accumulators, stored once at the end: summing straight into
+    // the struct's members compiles to other (fused) operations and changes
+    // the last bits of the energies against earlier runs.
+    double kinetic2_new = 0.0, kinetic2_old = 0.0, viscous = 0.0, local_damping = 0.0;
+    double contact = 0.0, friction = 0.0, cohesive = 0.0, gravity = 0.0, buoyancy = 0.0;
+    double drag = 0.0, boundary = 0.0, elastic_new = 0.0, elastic_old = 0.0;
+    #pragma omp for schedule(static)
+    for (int32_t i = 0; i < n; ++i) {
+      const double m = N.mass[i];
+      const double vox = N.vx[i], voy = N.vy[i];
+      const uint8_t c = N.constrained[i];
+      double dfx = 0.0, dfy = 0.0;  // local damping force
+      if (alpha > 0.0) {
+        const double fx = N.f_x[i], fy = N.f_y[i];
+        if (!(c & 1) && fx * vox != 0.0) dfx = -alpha * std::fabs(fx) * (vox > 0.0 ? 1.0 : -1.0);
+        if (!(c & 2) && fy * voy != 0.0) dfy = -alpha * std::fabs(fy) * (voy > 0.0 ? 1.0 : -1.0);
+      }
+      const double vnx = (c & 1) ? N.v_bc_x[i] : vox + dt * (N.f_x[i] + dfx) / m;
+      const double vny = (c & 2) ? N.v_bc_y[i] : voy + dt * (N.f_y[i] + dfy) / m;
+      N.vx[i] = vnx;
+      N.vy[i] = vny;
+      N.x[i] += dt * vnx;
+      N.y[i] += dt * vny;
+      // Midpoint-rule power of each force with v(t) = (v^{n-1/2} + v^{n+1/2})/2.
+      const double bx = 0.5 * (vox + vnx), by = 0.5 * (voy + vny);
+      const double elx = N.f_int_x[i] - N.f_visc_x[i], ely = N.f_int_y[i] - N.f_visc_y[i];
+      kinetic2_new += m * (vnx * vnx + vny * vny);
+      kinetic2_old += m * (vox * vox + voy * voy);
+      viscous += N.f_visc_x[i] * bx + N.f_visc_y[i] * by;
+      local_damping += dfx * bx + dfy * by;
+      contact += N.f_con_x[i] * bx + N.f_con_y[i] * by;
+      friction += (N.f_x[i] - N.f_pre_x[i]) * bx + (N.f_y[i] - N.f_pre_y[i]) * by;
+      cohesive += N.f_coh_x[i] * bx + N.f_coh_y[i] * by;
+      gravity -= N.mass_phys[i] * g * by;  // the weight's power (physical mass)
+      buoyancy += N.f_buoy_y[i] * by;
+      drag -= N.drag_k[i] * (vox * bx + voy * by);
+      boundary += N.r_x[i] * bx + N.r_y[i] * by;
+      elastic_new += elx * vnx + ely * vny;
+      elastic_old += elx * vox + ely * voy;
+    }
+    StepSums& p = partial_[omp_get_thread_num()].s;
+    p.kinetic2_new = kinetic2_new;
+    p.kinetic2_old = kinetic2_old;
+    p.viscous = viscous;
+    p.local_damping = local_damping;
+    p.contact = contact;
+    p.friction = friction;
+    p.cohesive = cohesive;
+    p.gravity = gravity;
+    p.buoyancy = buoyancy;
+    p.drag = drag;
+    p.boundary = boundary;
+    p.elastic_new = elastic_new;
+    p.elastic_old = elastic_old;
+  }
+  StepSums s;
+  for (int t = 0; t < nt; ++t) {
+    s += partial_[t].s;
+    partial_[t].s = StepSums{};
+  }
+  EnergyLedger& E = energy_;
+  if (!E.started) {
+    // Bookkeeping starts at x^{-1/2} = x^0 - dt v^{-1/2}/2, where the
+    // midpoint-rule work starts: move U^0 there to first order.
+    E.initial = 0.5 * s.kinetic2_old + E.elastic + 0.5 * dt * s.elastic_old;
+    E.started = true;
+  }
+  E.kinetic = 0.5 * s.kinetic2_new;
+  E.damping -= dt * (s.viscous + s.local_damping);
+  E.contact -= dt * s.contact;
+  E.friction -= dt * s.friction;
+  E.cohesive -= dt * s.cohesive;
+  E.work_gravity += dt * s.gravity;
+  E.work_buoyancy += dt * s.buoyancy;
+  E.drag -= dt * s.drag;
+  E.work_boundary += dt * s.boundary;
+  // The works cover the motion up to x^{n+1/2}; so must the elastic energy.
+  E.elastic_midstep = E.elastic - 0.5 * dt * s.elastic_new;
+  E.contact_solver = contact_work_step_;  // the contact module's current potential energy
+  time_ += dt;
+  ++step_count_;
+}
+
+}  // namespace engine

@@ -1,0 +1,86 @@
+// Lumped nodal masses and selective mass scaling.
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace engine {
+
+void Model::compute_masses() {
+  for (int32_t b = 0; b < n_bodies(); ++b)
+    if (!materials_[b].set) {
+      for (int32_t body : tris_.body)
+        if (body == b)
+          bad("material of body " + std::to_string(b) + " is not set (E, nu, rho, damping, viscosity)");
+    }
+  elem_mat_.resize(materials_.size());
+  any_damping_ = false;
+  for (size_t b = 0; b < materials_.size(); ++b) {
+    elem_mat_[b] = ElementMaterial::from(materials_[b]);
+    any_damping_ = any_damping_ || materials_[b].damping > 0.0 || materials_[b].viscosity > 0.0;
+  }
+  body_area0_.assign(materials_.size(), 0.0);
+  std::fill(nodes_.mass.begin(), nodes_.mass.end(), 0.0);
+  for (int32_t t = 0; t < tris_.size(); ++t) body_area0_[tris_.body[t]] += tris_.area0[t];
+  // Lumped: a third of each triangle's mass per corner, summed in gather order.
+  for (int32_t i = 0; i < nodes_.size(); ++i) {
+    double m = 0.0;
+    for (int32_t k = gather_.start[i]; k < gather_.start[i + 1]; ++k) {
+      const int32_t t = gather_.slot[k] / 3;
+      m += materials_[tris_.body[t]].rho * tris_.area0[t] / 3.0;
+    }
+    nodes_.mass[i] = m;
+  }
+  nodes_.mass_phys = nodes_.mass;
+  scale_masses();
+  if (!any_damping_) {
+    std::fill(tris_.f_visc_corner.begin(), tris_.f_visc_corner.end(), 0.0);
+    std::fill(nodes_.f_visc_x.begin(), nodes_.f_visc_x.end(), 0.0);
+    std::fill(nodes_.f_visc_y.begin(), nodes_.f_visc_y.end(), 0.0);
+  }
+}
+
+// Selective mass scaling. Element limit: with corner masses r m_phys a
+// triangle's damped limit is sqrt(r dt0² + tau²) - tau (time_step.hpp; dt0
+// its undamped limit, tau its damping time), so each corner of a triangle with
+// limit dt_e < need = dt_target/safety needs r >= need (need + 2 tau)/dt0².
+// In a tiny element the viscosity dominates (dt_e ~ dt0²/2 tau) and this is
+// far less mass than (need/dt_e)². Contact limit sqrt(2 m / k): m >= k (dt_target/safety)²/2,
+// with k the node's stiffness from the contact module (node splitting keeps
+// it: k is per body). The margin 1e-12 absorbs the round-off of squaring and
+// taking the root again, so the stable step is not below the target.
+void Model::scale_masses() {
+  added_mass_ = 0.0;
+  scaled_nodes_ = 0;
+  total_mass_phys_ = 0.0;
+  for (double m : nodes_.mass_phys) total_mass_phys_ += m;
+  if (!(mass_scaling_dt_ > 0.0)) return;
+  const double need = mass_scaling_dt_ / kTimeStepSafety;
+  const double margin = 1.0 + 1e-12;
+  std::vector<double>& M = nodes_.mass;
+  const std::vector<double>& Mp = nodes_.mass_phys;
+  for (int32_t t = 0; t < tris_.size(); ++t) {
+    const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
+    if (dt_e >= need) continue;
+    const double r = mass_ratio_for(element_undamped_dt(nodes_, tris_, elem_mat_, t),
+                                    elem_mat_[tris_.body[t]].tau_eff(), need) * margin;
+    for (int c = 0; c < 3; ++c) {
+      const int32_t i = tris_.node[3 * t + c];
+      M[i] = std::max(M[i], Mp[i] * r);
+    }
+  }
+  if (contact_possible_) {
+    std::vector<double> k;
+    contact_critical_dt(contact_params_, contact_input(), &k);
+    for (int32_t i = 0; i < nodes_.size(); ++i)
+      if (k[i] > 0.0) M[i] = std::max(M[i], 0.5 * k[i] * need * need * margin);
+  }
+  for (int32_t i = 0; i < nodes_.size(); ++i)
+    if (M[i] > Mp[i]) {
+      added_mass_ += M[i] - Mp[i];
+      ++scaled_nodes_;
+    }
+}
+
+}  // namespace engine

@@ -1,0 +1,161 @@
+// The mesh the model is built on and its edits: reference geometry, the
+// node -> corner gather list, body surfaces, and node splitting.
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace engine {
+
+Model::Model(const std::vector<double>& xy, const std::vector<int32_t>& tri,
+             const std::vector<int32_t>& body) {
+  if (xy.size() % 2 != 0 || xy.empty()) bad("nodes must be an (N, 2) array with N >= 3");
+  if (tri.size() % 3 != 0 || tri.empty()) bad("triangles must be an (M, 3) array with M >= 1");
+  const int64_t n = int64_t(xy.size() / 2), m = int64_t(tri.size() / 3);
+  if (n > INT32_MAX / 2 || m > INT32_MAX / 6) bad("mesh too large for 32-bit ids");
+  if (int64_t(body.size()) != m)
+    bad("body must have one id per triangle (" + std::to_string(m) + "), got " +
+        std::to_string(body.size()));
+  for (double v : xy)
+    if (!std::isfinite(v)) bad("nodes must be finite");
+  int32_t n_bodies = 0;
+  for (int64_t t = 0; t < m; ++t) {
+    if (body[t] < 0) bad("body ids must be >= 0 (triangle " + std::to_string(t) + ")");
+    n_bodies = std::max(n_bodies, body[t] + 1);
+    for (int c = 0; c < 3; ++c) {
+      const int32_t id = tri[3 * t + c];
+      if (id < 0 || id >= n)
+        bad("triangle " + std::to_string(t) + " uses node " + std::to_string(id) +
+            ": node ids must be in [0, " + std::to_string(n - 1) + "]");
+    }
+  }
+  nodes_.resize(int32_t(n));
+  for (int64_t i = 0; i < n; ++i) {
+    nodes_.x[i] = nodes_.x0[i] = xy[2 * i];
+    nodes_.y[i] = nodes_.y0[i] = xy[2 * i + 1];
+  }
+  tris_.resize(int32_t(m));
+  std::copy(tri.begin(), tri.end(), tris_.node.begin());
+  std::copy(body.begin(), body.end(), tris_.body.begin());
+  for (int32_t t = 0; t < int32_t(m); ++t) {
+    const int32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    const double A = element_reference(nodes_.x0[a], nodes_.y0[a], nodes_.x0[b], nodes_.y0[b],
+                                       nodes_.x0[c], nodes_.y0[c], tris_.binv00[t],
+                                       tris_.binv01[t], tris_.binv10[t], tris_.binv11[t]);
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const int32_t p = tri[3 * t + k], q = tri[3 * t + (k + 1) % 3];
+      longest = std::max(longest, std::hypot(nodes_.x0[q] - nodes_.x0[p], nodes_.y0[q] - nodes_.y0[p]));
+    }
+    // A sliver whose area is round-off of its edge lengths has no usable Dm^-1.
+    if (!(A > 1e-10 * longest * longest))
+      bad("triangle " + std::to_string(t) + " (nodes " + std::to_string(a) + ", " +
+          std::to_string(b) + ", " + std::to_string(c) + ") has signed area " + num(A) +
+          " m²: triangles must be counter-clockwise and not degenerate (area > 1e-10 x longest edge²)");
+    tris_.area0[t] = A;
+  }
+  materials_.assign(n_bodies, Material{});
+  rebuild_topology();
+}
+
+void Model::rebuild_topology() {
+  const int32_t n = nodes_.size(), m = tris_.size();
+  // Node -> corner gather list, corners in ascending slot order.
+  gather_.start.assign(size_t(n) + 1, 0);
+  for (int32_t s = 0; s < 3 * m; ++s) {
+    const int32_t id = tris_.node[s];
+    if (id < 0 || id >= n)
+      bad("triangle " + std::to_string(s / 3) + " uses node " + std::to_string(id) +
+          ": node ids must be in [0, " + std::to_string(n - 1) + "]");
+    ++gather_.start[id + 1];
+  }
+  for (int32_t i = 0; i < n; ++i) {
+    if (gather_.start[i + 1] == 0)
+      bad("node " + std::to_string(i) + " is not used by any triangle (it would have no mass)");
+    gather_.start[i + 1] += gather_.start[i];
+  }
+  gather_.slot.resize(size_t(3) * m);
+  {
+    std::vector<int32_t> fill(gather_.start.begin(), gather_.start.end() - 1);
+    for (int32_t s = 0; s < 3 * m; ++s) gather_.slot[fill[tris_.node[s]]++] = s;
+  }
+  // Boundary edges of each body: used by one triangle of that body only. The
+  // mesh may be continuous across bodies (freeze bonds), so count per body.
+  std::vector<std::tuple<int32_t, int32_t, int32_t>> edges;
+  edges.reserve(size_t(3) * m);
+  for (int32_t t = 0; t < m; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const int32_t a = tris_.node[3 * t + c], b = tris_.node[3 * t + (c + 1) % 3];
+      edges.emplace_back(tris_.body[t], std::min(a, b), std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  on_surface_.assign(n, 0);
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) on_surface_[std::get<1>(edges[i])] = on_surface_[std::get<2>(edges[i])] = 1;
+    i = j;
+  }
+  surface_tris_.clear();
+  std::vector<uint8_t> body_used(materials_.size(), 0);
+  for (int32_t t = 0; t < m; ++t) {
+    body_used[tris_.body[t]] = 1;
+    const int32_t* c = &tris_.node[3 * t];
+    if (on_surface_[c[0]] || on_surface_[c[1]] || on_surface_[c[2]]) surface_tris_.push_back(t);
+  }
+  contact_possible_ = std::count(body_used.begin(), body_used.end(), 1) >= 2;
+  prepared_ = false;
+  stable_current_ = false;
+}
+
+int32_t Model::add_node(double x, double y, double x0, double y0, double vx, double vy) {
+  const int32_t id = nodes_.size();
+  nodes_.resize(id + 1);
+  nodes_.x[id] = x;
+  nodes_.y[id] = y;
+  nodes_.x0[id] = x0;
+  nodes_.y0[id] = y0;
+  nodes_.vx[id] = vx;
+  nodes_.vy[id] = vy;
+  prepared_ = false;
+  return id;
+}
+
+void Model::set_triangle_node(int32_t tri, int corner, int32_t node) {
+  if (tri < 0 || tri >= tris_.size()) bad("tri must be in [0, " + std::to_string(tris_.size() - 1) + "]");
+  if (corner < 0 || corner > 2) bad("corner must be 0, 1 or 2");
+  if (node < 0 || node >= nodes_.size()) bad("node must be in [0, " + std::to_string(nodes_.size() - 1) + "]");
+  tris_.node[3 * tri + corner] = node;
+  prepared_ = false;
+}
+
+int32_t Model::split_off(int32_t node, int32_t body) {
+  const int32_t id = add_node(nodes_.x[node], nodes_.y[node], nodes_.x0[node], nodes_.y0[node],
+                              nodes_.vx[node], nodes_.vy[node]);
+  for (int32_t j = gather_.start[node]; j < gather_.start[node + 1]; ++j) {
+    const int32_t s = gather_.slot[j];
+    if (tris_.body[s / 3] == body) tris_.node[s] = id;
+  }
+  for (BoundaryCondition& bc : bcs_)
+    if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
+  return id;
+}
+
+void Model::regather_node(int32_t i) {
+  gather_node(i, any_damping_, ext_.water(), ext_.buoyancy, ext_.drag_on(), ext_.gravity ? ext_.g : 0.0);
+}
+
+bool Model::node_touches_body(int32_t node, int32_t body) const {
+  for (int32_t j = gather_.start[node]; j < gather_.start[node + 1]; ++j)
+    if (tris_.body[gather_.slot[j] / 3] == body) return true;
+  return false;
+}
+
+int32_t Model::body_of_node(int32_t node) const {
+  if (node < 0 || size_t(node) + 1 >= gather_.start.size()) return -1;
+  return tris_.body[gather_.slot[gather_.start[node]] / 3];
+}
+
+}  // namespace engine

@@ -1,0 +1,223 @@
+// The FEM-DEM model: deformable blocks (CST), contact, external forces and
+// explicit central-difference time stepping. Model::advance() is the time step
+// of docs/model.md §3, one call per physical step.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "loads/boundary_conditions.hpp"
+#include "contact/contact.hpp"
+#include "element/cst_element.hpp"
+#include "model/energy.hpp"
+#include "model/step_sums.hpp"
+#include "loads/external_forces.hpp"
+#include "bonds/freeze_bonds.hpp"
+#include "element/material.hpp"
+#include "common/mesh_arrays.hpp"
+#include "model/time_step.hpp"
+
+namespace engine {
+
+// A run stopped because it went unstable (non-finite values, an inverted
+// element, or energy growing without a source). Python: icerubble._engine.InstabilityError.
+struct InstabilityError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Wall time spent in each part of the step [s], cumulative.
+struct StepTimings {
+  double elements = 0.0;           // element and body forces, gather onto nodes
+  double contact_detection = 0.0;  // as reported by the contact module
+  double contact_forces = 0.0;     // rest of the contact calls (normal + friction)
+  double bonds = 0.0;              // freeze-bond check and cohesive forces
+  double integration = 0.0;        // boundary conditions, update, energy, checks
+  double total = 0.0;
+  int64_t steps = 0;
+};
+
+class Model {
+ public:
+  // xy: 2 per node; tri: 3 node ids per triangle, counter-clockwise; body: per
+  // triangle, ids 0..n_bodies-1. Throws std::invalid_argument on bad input.
+  Model(const std::vector<double>& xy, const std::vector<int32_t>& tri,
+        const std::vector<int32_t>& body);
+
+  // --- parameters (each setter validates and names the valid range) ---
+  void set_material(int32_t body, const Material& m);
+  // An explicit time step [s]; switches a dt fraction off.
+  void set_dt(double dt);
+  // dt = f x the stable step of the model as prepared now (masses scaled,
+  // topology current), f in (0, 1]. It stays fixed afterwards (bond splits
+  // and later parameter changes do not move it), as a run's dt always has:
+  // call again to re-derive. dt_fraction() is 0 while an explicit dt is in force.
+  void set_dt_fraction(double f);
+  double dt_fraction() const { return dt_fraction_; }
+  void set_gravity(bool on, double g);
+  void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
+  // Which drag law acts when drag is on (external_forces.hpp); C_d >= 0 is
+  // the form drag coefficient of the quadratic law.
+  void set_drag_model(DragModel model, double C_d);
+  void set_contact(double penalty, double mu);
+  void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
+  void set_check_energy(bool on) { check_energy_ = on; }
+  void set_energy_tolerance(double tol);
+  // Local non-viscous damping (Cundall): each free force component is reduced
+  // by alpha |f| when it pushes along the velocity and raised when against it.
+  // For reaching rest (settling), not for physics; its work is booked as
+  // damping. 0 switches it off. Throws std::invalid_argument outside [0, 1).
+  void set_local_damping(double alpha);
+  void set_threads(int n);
+  // Selective mass scaling: raise the inertial mass of the nodes that limit the
+  // stable step (element or contact limit) until it is at least dt_target;
+  // weight stays physical (Nodes::mass_phys). 0 switches it off (default).
+  // Throws std::invalid_argument unless dt_target >= 0 and finite.
+  void set_mass_scaling(double dt_target);
+  double mass_scaling() const { return mass_scaling_dt_; }
+
+  // --- boundary conditions ---
+  void add_boundary_condition(const BoundaryCondition& bc);
+  void clear_boundary_conditions();
+  // Sum of the forces the boundary conditions exert on these nodes [N/m]
+  // (what the boundary pushes with), from the last step.
+  void reaction(const std::vector<int32_t>& nodes, double& rx, double& ry) const;
+  int32_t find_boundary_condition(const std::string& name) const;
+
+  // --- state ---
+  void set_positions(const std::vector<double>& x, const std::vector<double>& y);
+  void set_velocities(const std::vector<double>& vx, const std::vector<double>& vy);
+
+  // --- running ---
+  void step(int64_t n);  // n time steps (checks dt and inputs first)
+  // Forces (1)-(6) and boundary reactions at the current state, no update.
+  void evaluate();
+  StableStep stable_step();
+  void reset_energy();
+  // Continue the bookkeeping of a checkpointed run (after positions/velocities are set).
+  void restore_energy(const EnergyLedger& e) { energy_ = e; }
+  // Continue the clock of a checkpointed run. Throws std::invalid_argument
+  // unless time is finite and step_count >= 0.
+  void restore_clock(double time, int64_t step_count);
+
+  // --- topology editing for freeze-bond node splitting ---
+  int32_t add_node(double x, double y, double x0, double y0, double vx, double vy);
+  void set_triangle_node(int32_t tri, int corner, int32_t node);
+  // Masses, gather list, boundary nodes, surface triangles; call after edits.
+  void rebuild_topology();
+  // rebuild_topology + masses + constraint masks if anything changed
+  // (validates materials); step() and stable_step() call it.
+  void prepare_topology();
+  // Node splitting (freeze bonds): a new node at `node`'s place and velocity
+  // takes over the corners of `body`'s triangles at `node`, and joins every
+  // boundary condition holding `node` (a prescribed node stays prescribed on
+  // every side). Returns its id; prepare_topology() then rebuilds the rest.
+  int32_t split_off(int32_t node, int32_t body);
+  // Recompute one node's sum of this step's corner forces, gravity and drag
+  // (after a split gave it its own corners).
+  void regather_node(int32_t node);
+  // Some triangle of `body` has a corner at `node`.
+  bool node_touches_body(int32_t node, int32_t body) const;
+
+  // --- read access ---
+  Nodes& nodes() { return nodes_; }
+  const Nodes& nodes() const { return nodes_; }
+  Triangles& triangles() { return tris_; }
+  const Triangles& triangles() const { return tris_; }
+  // Node -> triangle corners, in the fixed order of every per-node sum.
+  const NodeGather& gather() const { return gather_; }
+  int threads() const { return threads_; }  // 0: OpenMP default
+  const std::vector<int32_t>& surface_triangles() const { return surface_tris_; }
+  const std::vector<uint8_t>& surface_nodes() const { return on_surface_; }
+  const EnergyLedger& energy() const { return energy_; }
+  const StepTimings& timings() const { return timings_; }
+  const std::vector<BoundaryCondition>& boundary_conditions() const { return bcs_; }
+  const std::vector<Material>& materials() const { return materials_; }
+  const std::vector<double>& body_area0() const { return body_area0_; }
+  ContactSolver& contact() { return contact_; }
+  int32_t n_bodies() const { return int32_t(materials_.size()); }
+  double time() const { return time_; }
+  int64_t step_count() const { return step_count_; }
+  double dt() const { return dt_; }
+  const ExternalParams& external() const { return ext_; }
+  const ContactParams& contact_params() const { return contact_params_; }
+  double energy_tolerance() const { return energy_tolerance_; }
+  bool check_stable_dt() const { return check_stable_dt_; }
+  int32_t touching_pairs() const { return contact_.touching_pairs(); }
+  size_t memory_bytes() const;
+
+  // --- freeze bonds (freeze_bonds.hpp; splitting edits the topology) ---
+  FreezeBonds& bonds() { return bonds_; }
+
+ private:
+  // Whether a force evaluation moves history on (bond splits, cohesive
+  // pairs' damage and events) or only looks at the current state.
+  enum class History { commit, leave };
+
+  // The time step, docs/model.md §3: compute_forces(commit), then the update.
+  void advance();
+  void compute_forces(History history);
+  // one node's sums of corner forces + gravity and drag (also after a split)
+  void gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g);
+  void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
+  void compute_contact_forces();    // (2) neighbour search, (3) normal contact
+  void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
+  void apply_cohesive_forces(History history);  // (5) hook: cohesive forces of opened bonds
+  void assemble_forces();           // total force before friction
+  void apply_friction();            // (3b) friction, once all other forces are known
+  void apply_boundary_conditions(); // fixed nodes, prescribed velocities
+  void update_positions();          // (7) central difference + work integration
+  void guard_stability();
+
+  bool use_threads() const;
+  void prepare();           // everything below + stable step + thread buffers
+  void compute_masses();
+  void scale_masses();  // the mass scaling part of compute_masses
+  void build_constraints();
+  ContactInput contact_input() const;
+  [[noreturn]] void fail(const std::string& what, int32_t node, int32_t tri) const;
+  int32_t body_of_node(int32_t node) const;
+
+  Nodes nodes_;
+  Triangles tris_;
+  NodeGather gather_;
+  std::vector<Material> materials_;
+  std::vector<ElementMaterial> elem_mat_;
+  std::vector<double> body_area0_;
+  std::vector<double> body_drag_;  // each body's drag constant this step [N s/m per m]
+  std::vector<uint8_t> on_surface_;  // node lies on its body's boundary
+  std::vector<int32_t> surface_tris_;
+  bool contact_possible_ = false;
+  bool any_damping_ = false;
+
+  std::vector<BoundaryCondition> bcs_;
+  ExternalParams ext_;
+  ContactParams contact_params_;
+  ContactSolver contact_;
+  double dt_ = 0.0;
+  double dt_fraction_ = 0.0;  // 0: dt_ was set explicitly (or not at all)
+  bool check_stable_dt_ = true;
+  bool check_energy_ = true;
+  double energy_tolerance_ = 0.1;
+  double local_damping_ = 0.0;
+  double mass_scaling_dt_ = 0.0;  // 0: off
+  double added_mass_ = 0.0;       // sum of mass - mass_phys [kg/m]
+  double total_mass_phys_ = 0.0;
+  int32_t scaled_nodes_ = 0;
+  int threads_ = 0;  // 0: OpenMP default
+
+  bool prepared_ = false;  // masses, stable step and constraints are current
+  StableStep stable_;
+  bool stable_current_ = false;
+
+  double time_ = 0.0;
+  int64_t step_count_ = 0;
+  EnergyLedger energy_;
+  double contact_work_step_ = 0.0;
+  int32_t first_inverted_ = -1;
+  StepTimings timings_;
+  std::vector<ThreadSums> partial_;  // per-thread sums, reduced in thread order
+  FreezeBonds bonds_;
+};
+
+}  // namespace engine

@@ -1,0 +1,82 @@
+// Boundary conditions on the model's nodes: registration, constraint masks,
+// the per-step reaction that lands a node on its prescribed velocity.
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <cmath>
+
+namespace engine {
+
+void Model::add_boundary_condition(const BoundaryCondition& bc) {
+  const std::string where = "boundary condition '" + bc.name + "'";
+  if (bc.nodes.empty()) bad(where + ": node set is empty");
+  for (int32_t id : bc.nodes)
+    if (id < 0 || id >= nodes_.size())
+      bad(where + ": node id " + std::to_string(id) + " out of range [0, " +
+          std::to_string(nodes_.size() - 1) + "]");
+  if (!bc.x && !bc.y) bad(where + ": constrains no component (x and y both off)");
+  if (!std::isfinite(bc.dir_x) || !std::isfinite(bc.dir_y)) bad(where + ": direction must be finite");
+  bc.history.validate(where);
+  for (const BoundaryCondition& other : bcs_) {
+    if (other.name == bc.name) bad(where + ": name already used");
+    for (int32_t a : bc.nodes)
+      for (int32_t b : other.nodes)
+        if (a == b && ((bc.x && other.x) || (bc.y && other.y)))
+          bad(where + ": node " + std::to_string(a) + " is already constrained by '" + other.name + "'");
+  }
+  bcs_.push_back(bc);
+  prepared_ = false;
+}
+
+void Model::clear_boundary_conditions() {
+  bcs_.clear();
+  prepared_ = false;
+}
+
+int32_t Model::find_boundary_condition(const std::string& name) const {
+  for (size_t i = 0; i < bcs_.size(); ++i)
+    if (bcs_[i].name == name) return int32_t(i);
+  return -1;
+}
+
+void Model::build_constraints() {
+  std::fill(nodes_.constrained.begin(), nodes_.constrained.end(), 0);
+  std::fill(nodes_.r_x.begin(), nodes_.r_x.end(), 0.0);
+  std::fill(nodes_.r_y.begin(), nodes_.r_y.end(), 0.0);
+  for (const BoundaryCondition& bc : bcs_)
+    for (int32_t id : bc.nodes) nodes_.constrained[id] |= (bc.x ? 1 : 0) | (bc.y ? 2 : 0);
+}
+
+void Model::reaction(const std::vector<int32_t>& ids, double& rx, double& ry) const {
+  rx = ry = 0.0;
+  for (int32_t id : ids) {
+    if (id < 0 || id >= nodes_.size())
+      bad("node id " + std::to_string(id) + " out of range [0, " + std::to_string(nodes_.size() - 1) + "]");
+    rx += nodes_.r_x[id];
+    ry += nodes_.r_y[id];
+  }
+}
+
+void Model::apply_boundary_conditions() {
+  // The boundary adds r = m (v_bc - v)/dt - f so that the update lands exactly
+  // on the prescribed velocity; r is what the boundary pushes with.
+  const double inv_dt = dt_ > 0.0 ? 1.0 / dt_ : 0.0;
+  const double t_half = time_ + 0.5 * dt_;
+  Nodes& N = nodes_;
+  for (const BoundaryCondition& bc : bcs_) {
+    const double s = bc.history.at(t_half);
+    const double ux = bc.dir_x * s, uy = bc.dir_y * s;
+    for (int32_t i : bc.nodes) {
+      if (bc.x) {
+        N.v_bc_x[i] = ux;
+        N.r_x[i] = N.mass[i] * (ux - N.vx[i]) * inv_dt - N.f_x[i];
+      }
+      if (bc.y) {
+        N.v_bc_y[i] = uy;
+        N.r_y[i] = N.mass[i] * (uy - N.vy[i]) * inv_dt - N.f_y[i];
+      }
+    }
+  }
+}
+
+}  // namespace engine

@@ -1,0 +1,47 @@
+// The state a caller may set or restore (positions, velocities, clock,
+// energy ledger) and the memory held.
+#include "common/input_errors.hpp"
+#include "model/model.hpp"
+
+#include <cmath>
+
+namespace engine {
+
+void Model::set_positions(const std::vector<double>& x, const std::vector<double>& y) {
+  if (int64_t(x.size()) != nodes_.size() || int64_t(y.size()) != nodes_.size())
+    bad("positions must have one row per node (" + std::to_string(nodes_.size()) + ")");
+  for (size_t i = 0; i < x.size(); ++i)
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i])) bad("positions must be finite");
+  nodes_.x = x;
+  nodes_.y = y;
+  reset_energy();
+}
+
+void Model::set_velocities(const std::vector<double>& vx, const std::vector<double>& vy) {
+  if (int64_t(vx.size()) != nodes_.size() || int64_t(vy.size()) != nodes_.size())
+    bad("velocities must have one row per node (" + std::to_string(nodes_.size()) + ")");
+  for (size_t i = 0; i < vx.size(); ++i)
+    if (!std::isfinite(vx[i]) || !std::isfinite(vy[i])) bad("velocities must be finite");
+  nodes_.vx = vx;
+  nodes_.vy = vy;
+  reset_energy();
+}
+
+void Model::reset_energy() { energy_ = EnergyLedger{}; }
+
+void Model::restore_clock(double time, int64_t step_count) {
+  if (!std::isfinite(time)) bad("time must be finite (got " + num(time) + ")");
+  if (step_count < 0) bad("step_count must be >= 0 (got " + std::to_string(step_count) + ")");
+  time_ = time;
+  step_count_ = step_count;
+}
+
+size_t Model::memory_bytes() const {
+  size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
+             surface_tris_.capacity() * sizeof(int32_t) + partial_.capacity() * sizeof(ThreadSums) +
+             bonds_.memory_bytes();
+  for (const BoundaryCondition& bc : bcs_) b += bc.nodes.capacity() * sizeof(int32_t);
+  return b;
+}
+
+}  // namespace engine
