@@ -4,6 +4,7 @@ The force record, mesh summary and bond-point table are read eagerly (they are
 small); the snapshots (u_y fields) are read on demand, one at a time, because a
 folder of runs would not fit in memory otherwise.
 """
+import enum
 import os
 from dataclasses import dataclass, field
 
@@ -19,6 +20,14 @@ REQUIRED_GROUPS = ("parameters", "pile", "mesh", "force", "bonds")
 
 # Body kinds (docs/conventions.md)
 BLOCK, LAYER, INDENTER = 0, 1, 2
+
+
+class FailureMode(enum.IntEnum):
+    """How a bond point failed, as /bonds/mode stores it (docs/results_format.md;
+    the engine's _engine.FailureMode, kept equal by a test)."""
+    none = 0
+    tensile = 1
+    shear = 2
 
 
 class ResultFileError(ValueError):

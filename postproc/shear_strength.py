@@ -10,6 +10,7 @@ depth h, the "cylindrical failure" in 2D). Three buoyant components F_b
 import numpy as np
 
 from .failure_plane import mean_sd
+from .results import FailureMode
 
 CYLINDRICAL_PLUG_FORCE = 11e3  # N/m, the paper's value for w_I = h = 4 m
 
@@ -35,8 +36,8 @@ def failure_mode_ratio(mode, y_I_fail=None):
     done = np.ones(mode.shape, dtype=bool)
     if y_I_fail is not None:
         done = np.isfinite(np.asarray(y_I_fail, dtype=float))
-    n_t = int(np.count_nonzero(done & (mode == 1)))
-    n_s = int(np.count_nonzero(done & (mode == 2)))
+    n_t = int(np.count_nonzero(done & (mode == FailureMode.tensile)))
+    n_s = int(np.count_nonzero(done & (mode == FailureMode.shear)))
     return n_t, n_s, (n_t / n_s if n_s > 0 else np.nan)
 
 

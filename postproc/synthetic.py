@@ -29,6 +29,8 @@ import numpy as np
 
 from icerubble.parameters import GRAVITY as G, RHO_I, RHO_W
 
+from .results import FailureMode
+
 H, W_I, T_C, DOMAIN = 4.0, 4.0, 1.0, 20.0
 DRAFT = RHO_I / RHO_W * T_C
 KEEL_TOP = -DRAFT
@@ -187,10 +189,11 @@ def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None
     r = nt_ns_target(tau_cr)
     n_t = int(round(len(idx) * r / (1 + r)))
     tens = rng.permutation(idx)[:n_t]
-    mode[idx] = 2
-    mode[tens] = 1
-    dn = np.where(mode == 1, 1.0e-3, np.where(mode == 2, 0.2e-3, np.nan))
-    dt_ = np.where(mode == 1, 0.4e-3, np.where(mode == 2, 1.0e-3, np.nan))
+    mode[idx] = FailureMode.shear
+    mode[tens] = FailureMode.tensile
+    tensile, shear = mode == FailureMode.tensile, mode == FailureMode.shear
+    dn = np.where(tensile, 1.0e-3, np.where(shear, 0.2e-3, np.nan))
+    dt_ = np.where(tensile, 0.4e-3, np.where(shear, 1.0e-3, np.nan))
 
     part = path + ".part"
     with h5py.File(part, "w") as f:

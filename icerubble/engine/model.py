@@ -638,7 +638,7 @@ class BondsView:
         y = np.full(P, np.nan)
         mode = np.zeros(P, dtype=np.int8)
         done = np.ones(P, dtype=bool)
-        np.logical_and.at(done, point, s["pair_state"] == 2)
+        np.logical_and.at(done, point, s["pair_state"] == int(_engine.PairState.failed))
         for k in np.argsort(s["t_fail"], kind="stable"):
             p = point[k]
             if done[p] and np.isfinite(s["t_fail"][k]):
