@@ -33,7 +33,7 @@ build: deps
 install:
 	@cd / && $(PY) -c "import icerubble, os, sys; sys.exit(os.path.dirname(os.path.dirname(icerubble.__file__)) != '$(CURDIR)')" 2>/dev/null \
 	  && command -v icerubble >/dev/null || \
-	  $(SUDO) $(PY) -m pip install --quiet --no-deps --no-build-isolation --break-system-packages --editable .
+	  $(SUDO) $(PY) -m pip install --quiet --no-deps --no-build-isolation --break-system-packages --editable "$(CURDIR)"
 
 test: build
 	$(PY) -m pytest -q tests
