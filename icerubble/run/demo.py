@@ -35,7 +35,7 @@ def main(argv=None):
     print(f"  ParaView fields:                      {out[:-3]}_fields/*.pvd")
     print(f"  figures:                              {os.path.dirname(figs[0])}")
     print(f"  all figures of the paper from a folder of runs: "
-          f"/usr/bin/python3 -m postproc.make_figures {a.out_dir}")
+          f"icerubble figures {a.out_dir}")
 
 
 if __name__ == "__main__":

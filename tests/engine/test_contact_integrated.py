@@ -190,3 +190,21 @@ def test_block_above_the_friction_angle_slides_at_the_coulomb_rate(theta, mu):
     # step vs midpoint, O(dt/t) ~ 1e-4 relative).
     assert e["friction_solver"] == pytest.approx(e["friction"], rel=1e-3)
     assert e["friction"] > 0.0
+
+
+@pytest.mark.parametrize("theta, mu", [(10.0, 0.3), (30.0, 0.3)])   # sticking, sliding
+def test_a_look_at_the_forces_changes_nothing_that_follows(theta, mu):
+    """evaluate() gives the forces of the current state and leaves the run as
+    it was: stepping on after it is bit for bit stepping on without it (the
+    friction stick forces and the energy ledger included)."""
+    runs = []
+    for look in (False, True):
+        m, dt, *_ = block_on_slope(theta, mu)
+        m.step(300)
+        if look:
+            m.evaluate()
+        m.step(300)
+        runs.append((m.positions, m.velocities, m.energies()))
+    (xa, va, ea), (xb, vb, eb) = runs
+    assert np.array_equal(xa, xb) and np.array_equal(va, vb)
+    assert ea == eb

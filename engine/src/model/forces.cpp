@@ -158,15 +158,27 @@ void Model::assemble_forces() {
   N.f_pre_y = N.f_y;
 }
 
-void Model::apply_friction() {
+void Model::apply_friction(History history) {
   if (!contact_possible_) return;
   const double t0 = omp_get_wtime();
   const double detection_before = contact_.timings().detection_s;
+  // The stick forces are the friction's history (the next step starts from
+  // them): a look at the forces (evaluate) puts them back as they were.
+  std::vector<uint64_t> keys;
+  std::vector<double> stick;
+  if (history == History::leave) {
+    keys = contact_.warm_start_keys();
+    stick = contact_.warm_start_forces();
+  }
   const double power = contact_.apply_friction(contact_params_, contact_input(), nodes_.f_x.data(), nodes_.f_y.data());
   const double detection = contact_.timings().detection_s - detection_before;
   timings_.contact_detection += detection;
   timings_.contact_forces += omp_get_wtime() - t0 - detection;
-  energy_.friction_solver += power * dt_;
+  if (history == History::commit) {
+    energy_.friction_solver += power * dt_;
+  } else {
+    contact_.set_warm_start(keys, stick);
+  }
 }
 
 }  // namespace engine

@@ -88,7 +88,7 @@ void Model::compute_forces(History history) {
     check_freeze_bonds();       // (4) bond stress check (eqs 5-7), node splitting
   apply_cohesive_forces(history);  // (5) cohesive forces of opened bonds (eqs 8-12)
   assemble_forces();            // total of (1)-(6)
-  apply_friction();             // (3b) Coulomb friction (eq 4), needs all forces above
+  apply_friction(history);      // (3b) Coulomb friction (eq 4), needs all forces above
   apply_boundary_conditions();  // fixed nodes, prescribed velocities, reactions
 }
 

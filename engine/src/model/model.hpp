@@ -164,7 +164,7 @@ class Model {
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
   void apply_cohesive_forces(History history);  // (5) hook: cohesive forces of opened bonds
   void assemble_forces();           // total force before friction
-  void apply_friction();            // (3b) friction, once all other forces are known
+  void apply_friction(History history);  // (3b) friction, once all other forces are known
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
   void update_positions();          // (7) central difference + work integration
   void guard_stability();
