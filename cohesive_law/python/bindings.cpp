@@ -113,6 +113,18 @@ Arr elementwise(const Broadcast& b, F&& f) {
   return out;
 }
 
+// What a step of the initially-elastic bond points returns to Python.
+py::dict elastic_result(const Arr& fn, const Arr& ft, const Arr& dis,
+                        const py::array_t<std::int8_t>& ini, const py::array_t<std::int8_t>& failed) {
+  py::dict r;
+  r["f_n"] = fn;
+  r["f_t"] = ft;
+  r["dissipation"] = dis;
+  r["initiated"] = ini.attr("astype")("bool");
+  r["failed"] = failed.attr("astype")("bool");
+  return r;
+}
+
 PYBIND11_MODULE(_cohesive_law, m) {
   m.doc() = "Freeze-bond cohesive law (Polojärvi & Tuhkuri 2013, eqs 5-12): mixed-mode "
             "criterion, linear softening, initially elastic variant. See docs/cohesive_law.md.";
@@ -361,11 +373,7 @@ PYBIND11_MODULE(_cohesive_law, m) {
              py::array_t<std::int8_t> ini(n), failed(n);
              b.step(a.data(), c.data(), fn.mutable_data(), ft.mutable_data(), dis.mutable_data(),
                     ini.mutable_data(), failed.mutable_data());
-             py::dict r;
-             r["f_n"] = fn; r["f_t"] = ft; r["dissipation"] = dis;
-             r["initiated"] = ini.attr("astype")("bool");
-             r["failed"] = failed.attr("astype")("bool");
-             return r;
+             return elastic_result(fn, ft, dis, ini, failed);
            },
            py::arg("delta_n"), py::arg("delta_t"))
       .def("run_path",
@@ -379,11 +387,7 @@ PYBIND11_MODULE(_cohesive_law, m) {
                b.step(a.data() + t * N, c.data() + t * N, fn.mutable_data() + t * N,
                       ft.mutable_data() + t * N, dis.mutable_data() + t * N,
                       ini.mutable_data() + t * N, failed.mutable_data() + t * N);
-             py::dict r;
-             r["f_n"] = fn; r["f_t"] = ft; r["dissipation"] = dis;
-             r["initiated"] = ini.attr("astype")("bool");
-             r["failed"] = failed.attr("astype")("bool");
-             return r;
+             return elastic_result(fn, ft, dis, ini, failed);
            },
            py::arg("delta_n"), py::arg("delta_t"))
       .def("stored_energy",
