@@ -67,7 +67,16 @@ PARAMETERS = {
                            "its work is booked as damping"),
     "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
                              "that limit the stable step so that it is >= this [s]; 0 = off, >= 0"),
+    "sleeping": (False, "sleeping far field on/off: nodes at rest are held and the triangles among "
+                        "them not computed (docs/model.md §3.6)"),
+    "sleep_velocity": (1e-4, "a node is at rest below this speed [m/s], >= 0"),
+    "sleep_force": (1e-3, "... and below this out-of-balance force, a fraction of its weight m g, "
+                          ">= 0; an asleep node wakes above it"),
+    "sleep_quiet_steps": (100, "... for this many steps in a row, >= 1"),
 }
+
+
+SLEEP_PARAMETERS = ("sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps")
 
 
 def _ids(name, ids, n):
@@ -180,16 +189,17 @@ class Model:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)}; valid: {sorted(PARAMETERS)}")
         p = dict(self._params)
         for k, v in params.items():
-            if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy"):
+            if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy", "sleeping"):
                 p[k] = _flag(k, v)
             elif k == "drag_model":
                 if v not in DRAG_MODELS:
                     raise ValueError(f"drag_model={v!r} is invalid: valid values are "
                                      + ", ".join(repr(d) for d in DRAG_MODELS))
                 p[k] = v
-            elif k == "threads":
-                if not isinstance(v, numbers.Integral) or v < 0:
-                    raise ValueError(f"threads must be an integer >= 0 (got {v!r})")
+            elif k in ("threads", "sleep_quiet_steps"):
+                low = 0 if k == "threads" else 1
+                if not isinstance(v, numbers.Integral) or isinstance(v, bool) or v < low:
+                    raise ValueError(f"{k} must be an integer >= {low} (got {v!r})")
                 p[k] = int(v)
             elif k == "mass_scaling_dt":
                 p[k] = _number(k, v)
@@ -221,6 +231,8 @@ class Model:
             self._m.set_local_damping(p["local_damping"])
         if "mass_scaling_dt" in params:
             self._m.set_mass_scaling(p["mass_scaling_dt"])
+        if params.keys() & set(SLEEP_PARAMETERS):
+            self._m.set_sleeping(p["sleeping"], p["sleep_velocity"], p["sleep_force"], p["sleep_quiet_steps"])
         # after everything that moves the stable step (masses, materials, penalty)
         if "dt_fraction" in params:
             self._m.set_dt_fraction(p.pop("dt_fraction"))
@@ -443,8 +455,14 @@ class Model:
         return self._m.energy()
 
     def timings(self):
-        """Cumulative wall time [s] of the parts of the step, and the step count."""
+        """Cumulative wall time [s] of the parts of the step, the step count and
+        the element-steps (triangles computed, summed over the steps)."""
         return self._m.timings()
+
+    def sleep_counts(self):
+        """Sleeping far field now: nodes asleep, triangles the next step computes, of all."""
+        return dict(asleep_nodes=self._m.asleep_nodes(), awake_triangles=self._m.awake_triangles(),
+                    nodes=self.n_nodes, triangles=len(self.triangles))
 
     @property
     def surface_triangles(self):
@@ -552,6 +570,8 @@ class Model:
             "energy": self._m.energy(),
             "contact_warm_start": {k: np.asarray(v) for k, v in
                                    zip(("keys", "forces"), self._m.contact_warm_start())},
+            "sleep_state": dict(self._m.sleep_state(),
+                                **{k: self._params[k] for k in SLEEP_PARAMETERS}),
         }
 
     @classmethod
@@ -582,6 +602,12 @@ class Model:
             w = cp["contact_warm_start"]
             self._m.set_contact_warm_start(np.asarray(w["keys"], dtype=np.uint64),
                                            np.asarray(w["forces"], dtype=float))
+        if "sleep_state" in cp:  # after positions and velocities, which wake every node
+            z = cp["sleep_state"]
+            self.set(sleeping=bool(np.asarray(z["sleeping"])), sleep_velocity=float(z["sleep_velocity"]),
+                     sleep_force=float(z["sleep_force"]), sleep_quiet_steps=int(z["sleep_quiet_steps"]))
+            self._m.restore_sleep_state(np.asarray(z["sleep"], dtype=np.uint8),
+                                        np.asarray(z["quiet"], dtype=np.int32))
 
 
 class BondsView:

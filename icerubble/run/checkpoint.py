@@ -13,7 +13,7 @@ from .recorder import ENERGY_TERMS
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
 DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
-                 "settle_max_speed", "settle_max_block_move")
+                 "settle_max_speed", "settle_max_block_move", "load_steps", "load_element_steps")
 
 
 def save(run, path):

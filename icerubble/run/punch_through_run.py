@@ -14,6 +14,7 @@ A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
 the run is complete.
 """
+import json
 import math
 import os
 import time
@@ -57,7 +58,7 @@ class RunOptions:
     def __init__(self, settle_max_time=5.0, settle_min_time=0.05, settle_velocity=1e-4,
                  settle_accel=1e-3, settle_hold_time=0.02,
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
-                 stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None):
+                 stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None):
         if settle_max_time <= 0:
             raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
         if not 0 <= settle_min_time <= settle_max_time:
@@ -85,6 +86,29 @@ class RunOptions:
         if mass_scaling_dt is not None and not mass_scaling_dt > 0.0:
             raise ValueError(f"mass_scaling_dt={mass_scaling_dt} must be > 0 s (or None: no mass scaling)")
         self.mass_scaling_dt = mass_scaling_dt     # selective mass scaling target step
+        self.sleep = check_sleep(sleep)            # sleeping far field while loading (None: off)
+
+
+SLEEP_KEYS = {"velocity": "m/s", "force": "fraction of a node's weight", "quiet_time": "s"}
+
+
+def check_sleep(sleep):
+    """The sleeping far field of a run (engine sleeping.hpp), checked: None
+    (off) or a dict with velocity [m/s] and force [fraction of the node's
+    weight] >= 0 and quiet_time [s] > 0."""
+    if sleep is None:
+        return None
+    if not isinstance(sleep, dict) or set(sleep) != set(SLEEP_KEYS):
+        raise ValueError(f"sleep={sleep!r} must be None or a dict with keys {sorted(SLEEP_KEYS)}")
+    out = {}
+    for k, v in sleep.items():
+        v = float(v)
+        low_ok = v > 0.0 if k == "quiet_time" else v >= 0.0
+        if not (low_ok and math.isfinite(v)):
+            raise ValueError(f"sleep {k}={v!r} must be {'> 0' if k == 'quiet_time' else '>= 0'} "
+                             f"and finite ({SLEEP_KEYS[k]})")
+        out[k] = v
+    return out
 
 
 class PunchThrough:
@@ -151,6 +175,8 @@ class PunchThrough:
         self.y_top0 = None          # indenter top at rest
         self.F_at_rest = math.nan
         self.t_settle = None        # model time when settling started
+        self.load_steps = 0         # steps of the load phase ...
+        self.load_element_steps = 0  # ... and the triangles they computed (sleeping far field)
         self.vtu_entries = []
         self.model = m
 
@@ -188,6 +214,13 @@ class PunchThrough:
         m = self.model
         loading = self.phase == "load"
         m.set(drag=loading, local_damping=0.0 if loading else SETTLE_LOCAL_DAMPING)
+        # the far field sleeps while loading only: settling must see every node come to rest
+        z = self.options.sleep
+        if loading and z is not None:
+            m.set(sleeping=True, sleep_velocity=z["velocity"], sleep_force=z["force"],
+                  sleep_quiet_steps=max(1, math.ceil(z["quiet_time"] / m.dt)))
+        else:
+            m.set(sleeping=False)
         m.clear_boundary_conditions()
         m.fix("layer_top")
         if self.phase == "load":
@@ -308,7 +341,10 @@ class PunchThrough:
         w_prev, y_prev = m.energies()["work_boundary"], self.travel()
         b_prev = self.scene.indenter_net_buoyancy()
         while True:
+            e0 = m.timings()["element_steps"]
             m.step(chunk)
+            self.load_steps += chunk
+            self.load_element_steps += m.timings()["element_steps"] - e0
             y_I = self.travel()
             t_rel = m.time - self.t_load
             F_now = self.scene.indenter_force()
@@ -375,7 +411,10 @@ class PunchThrough:
     def write(self):
         self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
                                   settle_max_speed=self.settle_max_speed,
-                                  settle_max_block_move=self.settle_max_block_move)
+                                  settle_max_block_move=self.settle_max_block_move,
+                                  load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
+                                  load_element_steps=int(self.load_element_steps),
+                                  sleep=json.dumps(self.options.sleep))
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)
         if self.options.vtu and self.vtu_entries:

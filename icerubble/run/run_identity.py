@@ -61,13 +61,17 @@ def _json_default(v):
 def identity(params, mesh, options):
     """The run's identity: validated request parameters, mesh digest, the
     numerical options that change the result, and the physics version."""
-    return {
+    ident = {
         "physics_version": PHYSICS_VERSION,
         "parameters": {k: _plain(v) for k, v in sorted(params.items())},
         "mesh_sha256": mesh_digest(mesh),
         "dt_fraction": _plain(getattr(options, "dt_fraction", None)),
         "mass_scaling_dt": _plain(getattr(options, "mass_scaling_dt", None)),
     }
+    sleep = getattr(options, "sleep", None)
+    if sleep is not None:  # absent: off (the identity of runs made before it existed)
+        ident["sleep"] = {k: _plain(v) for k, v in sorted(sleep.items())}
+    return ident
 
 
 def to_json(ident):

@@ -31,7 +31,8 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     if options is None:
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
         fraction = None if "dt" in (overrides or {}) else sc.get("dt_fraction")
-        options = RunOptions(dt_fraction=fraction, mass_scaling_dt=sc.get("mass_scaling_dt"))
+        options = RunOptions(dt_fraction=fraction, mass_scaling_dt=sc.get("mass_scaling_dt"),
+                             sleep=sc.get("sleep"))
     ident = RI.identity(params, read_mesh(mesh_path), options)
     rid = RI.run_id(ident)
     if os.path.exists(out):

@@ -161,6 +161,29 @@ void bind_model(py::module_& m) {
       .def("set_local_damping", &Model::set_local_damping)
       .def("set_threads", &Model::set_threads)
       .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
+      .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),
+           py::arg("quiet_steps"),
+           "Sleeping far field (engine/src/model/sleeping.hpp): nodes at rest for quiet_steps updates\n"
+           "(speed < velocity [m/s], force < force x weight) are held and their triangles not computed.")
+      .def("sleeping", [](const Model& M) {
+        const SleepParams& p = M.sleeping();
+        py::dict d;
+        d["on"] = p.on;
+        d["velocity"] = p.velocity;
+        d["force"] = p.force;
+        d["quiet_steps"] = p.quiet_steps;
+        return d;
+      })
+      .def("wake_all", &Model::wake_all)
+      .def("asleep_nodes", &Model::asleep_nodes)
+      .def("awake_triangles", &Model::awake_triangles)
+      .def("sleep_state", [](const Model& M) {
+        py::dict d;
+        d["sleep"] = py::array_t<uint8_t>(M.nodes().sleep.size(), M.nodes().sleep.data());
+        d["quiet"] = py::array_t<int32_t>(M.nodes().quiet.size(), M.nodes().quiet.data());
+        return d;
+      })
+      .def("restore_sleep_state", &Model::restore_sleep_state, py::arg("sleep"), py::arg("quiet"))
       .def("add_boundary_condition",
            [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
               double dir_y, const std::string& kind, double value, double ramp_time, DArray t, DArray v) {
@@ -247,6 +270,7 @@ void bind_model(py::module_& m) {
         d["integration"] = t.integration;
         d["total"] = t.total;
         d["steps"] = t.steps;
+        d["element_steps"] = t.element_steps;
         return d;
       })
       .def("node_array", &node_view)

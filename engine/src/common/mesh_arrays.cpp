@@ -13,10 +13,12 @@ void Nodes::resize(int32_t n) {
                   &f_x, &f_y, &f_pre_x, &f_pre_y, &r_x, &r_y, &v_bc_x, &v_bc_y})
     v->resize(n, 0.0);
   constrained.resize(n, 0);
+  sleep.resize(n, 0);
+  quiet.resize(n, 0);
 }
 
 size_t Nodes::bytes() const {
-  size_t b = cap_bytes(constrained);
+  size_t b = cap_bytes(constrained) + cap_bytes(sleep) + cap_bytes(quiet);
   for (auto* v : {&x, &y, &x0, &y0, &vx, &vy, &mass, &mass_phys, &f_int_x, &f_int_y, &f_visc_x,
                   &f_visc_y, &f_con_x, &f_con_y, &f_coh_x, &f_coh_y, &f_buoy_y, &drag_k,
                   &f_x, &f_y, &f_pre_x, &f_pre_y, &r_x, &r_y, &v_bc_x, &v_bc_y})
@@ -27,7 +29,7 @@ size_t Nodes::bytes() const {
 void Triangles::resize(int32_t m) {
   node.resize(3 * size_t(m), 0);
   body.resize(m, 0);
-  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri}) v->resize(m, 0.0);
+  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri, &energy}) v->resize(m, 0.0);
   stress.resize(3 * size_t(m), 0.0);
   f_corner.resize(6 * size_t(m), 0.0);
   f_visc_corner.resize(6 * size_t(m), 0.0);
@@ -36,7 +38,7 @@ void Triangles::resize(int32_t m) {
 
 size_t Triangles::bytes() const {
   size_t b = cap_bytes(node) + cap_bytes(body);
-  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri, &stress, &f_corner,
+  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri, &energy, &stress, &f_corner,
                   &f_visc_corner, &f_buoy_corner})
     b += cap_bytes(*v);
   return b;

@@ -40,6 +40,11 @@ struct Nodes {
   std::vector<double> r_x, r_y;            // force the boundary conditions add
   std::vector<uint8_t> constrained;        // bit 0: x prescribed, bit 1: y
   std::vector<double> v_bc_x, v_bc_y;      // prescribed velocity at t + dt/2
+  // Sleeping far field (model/sleeping.hpp): 0 awake, 1 fell asleep at the
+  // last update, 2 asleep since an earlier one; and how many updates in a row
+  // an awake node has been at rest.
+  std::vector<uint8_t> sleep;
+  std::vector<int32_t> quiet;
 
   int32_t size() const { return static_cast<int32_t>(x.size()); }
   // Grows (or shrinks) every array; new entries are zero.
@@ -63,6 +68,7 @@ struct Triangles {
   std::vector<double> f_visc_corner;  // 6 per triangle: the viscous part
   std::vector<double> f_buoy_corner;  // 3 per triangle: buoyancy fy per corner
   std::vector<double> drag_k_tri;     // drag coefficient for each of its corners
+  std::vector<double> energy;         // strain energy A0 W(E) of the last evaluation [J/m]
 
   int32_t size() const { return static_cast<int32_t>(body.size()); }
   void resize(int32_t m);

@@ -50,7 +50,8 @@ inline void corner_forces(double P11, double P12, double P21, double P22, double
 }  // namespace
 
 void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat,
-                    bool damping, int32_t begin, int32_t end, ElementSweep& out) {
+                    bool damping, int32_t begin, int32_t end, ElementSweep& out,
+                    const int32_t* list) {
   const double* __restrict x = nodes.x.data();
   const double* __restrict y = nodes.y.data();
   const double* __restrict vx = nodes.vx.data();
@@ -65,11 +66,13 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
   double* __restrict sig = tris.stress.data();
   double* __restrict fc = tris.f_corner.data();
   double* __restrict fvc = tris.f_visc_corner.data();
+  double* __restrict W = tris.energy.data();
   const ElementMaterial* __restrict em = mat.data();
 
   double energy = 0.0;
   int32_t inverted = -1;
-  for (int32_t t = begin; t < end; ++t) {
+  for (int32_t j = begin; j < end; ++j) {
+    const int32_t t = list ? list[j] : j;
     const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
     const double b00 = B00[t], b01 = B01[t], b10 = B10[t], b11 = B11[t];
     const double a0 = A0[t];
@@ -84,7 +87,9 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
     const double S11 = m.lambda * trE + 2.0 * m.shear_modulus * E11;
     const double S22 = m.lambda * trE + 2.0 * m.shear_modulus * E22;
     const double S12 = 2.0 * m.shear_modulus * E12;
-    energy += a0 * (0.5 * m.lambda * trE * trE + m.shear_modulus * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
+    const double w = a0 * (0.5 * m.lambda * trE * trE + m.shear_modulus * (E11 * E11 + E22 * E22 + 2.0 * E12 * E12));
+    W[t] = w;
+    energy += w;
 
     // First Piola-Kirchhoff stress of the elastic part, P = F S.
     const double P11 = k.F11 * S11 + k.F12 * S12, P12 = k.F11 * S12 + k.F12 * S22;

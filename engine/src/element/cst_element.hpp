@@ -26,10 +26,13 @@ struct ElementSweep {
   int32_t inverted = -1;        // first triangle with det F <= 0 in the range
 };
 
-// Internal forces, elastic Cauchy stress and strain energy of triangles
-// [begin, end). Velocities (t - dt/2) enter only through the damping stress.
+// Internal forces, elastic Cauchy stress and strain energy (also kept per
+// triangle, Triangles::energy) of triangles [begin, end), or of
+// list[begin..end) when a list is given (the awake triangles of a sleeping
+// far field). Velocities (t - dt/2) enter only through the damping stress.
 void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat,
-                    bool damping, int32_t begin, int32_t end, ElementSweep& out);
+                    bool damping, int32_t begin, int32_t end, ElementSweep& out,
+                    const int32_t* list = nullptr);
 
 // Strain energy of one triangle at the current positions [J/m] (diagnostics).
 double element_strain_energy(const Nodes& nodes, const Triangles& tris,

@@ -43,7 +43,8 @@ Submerged submerged_part(double ax, double ay, double bx, double by, double cx, 
 
 double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
                                  const std::vector<double>& body_area0,
-                                 const std::vector<double>& body_drag, int32_t begin, int32_t end) {
+                                 const std::vector<double>& body_drag, int32_t begin, int32_t end,
+                                 const int32_t* list) {
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
   const int32_t* tn = tris.node.data();
@@ -51,7 +52,8 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
   double* kd = tris.drag_k_tri.data();
   const double weight = p.rho_w * p.g;
   double submerged = 0.0;
-  for (int32_t t = begin; t < end; ++t) {
+  for (int32_t k = begin; k < end; ++k) {
+    const int32_t t = list ? list[k] : k;
     const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
     const double ax = x[i0], ay = y[i0], bx = x[i1], by = y[i1], cx = x[i2], cy = y[i2];
     fb[3 * t] = fb[3 * t + 1] = fb[3 * t + 2] = 0.0;

@@ -57,7 +57,8 @@ Submerged submerged_part(double ax, double ay, double bx, double by, double cx, 
 // constants body_drag (N s/m per m width). Returns the submerged area.
 double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
                                  const std::vector<double>& body_area0,
-                                 const std::vector<double>& body_drag, int32_t begin, int32_t end);
+                                 const std::vector<double>& body_drag, int32_t begin, int32_t end,
+                                 const int32_t* list = nullptr);
 
 // Every body's drag constant c_b for the current velocities (see above);
 // quadratic drag needs each body's mean velocity (area weighted, from the

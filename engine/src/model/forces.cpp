@@ -61,18 +61,33 @@ void Model::compute_body_forces() {
   const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
   const double g = ext_.gravity ? ext_.g : 0.0;
   if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_);
+  // Sleeping far field: only the listed triangles are computed; the others
+  // keep their stored (exact, frozen) forces and energies.
+  const bool sleeping = sleep_.on && !compute_all_next_;
+  compute_all_next_ = false;
+  if (sleeping) rebuild_awake_triangles();
+  const int32_t* list = sleeping ? awake_tris_.data() : nullptr;
+  const int32_t n_computed = sleeping ? int32_t(awake_tris_.size()) : m;
+  timings_.element_steps += n_computed;
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
     int32_t b, e;
-    block(m, tid, team, b, e);
+    block(n_computed, tid, team, b, e);
     // (1) element forces and (6) water forces, per triangle.
     ElementSweep sweep;
-    element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep);
-    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e);
+    element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep, list);
+    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e, list);
     partial_[tid].s.elastic = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
     #pragma omp barrier
+    if (sleeping) {
+      // the strain energy of every triangle, the sleeping ones' as stored
+      block(m, tid, team, b, e);
+      double u = 0.0;
+      for (int32_t t = b; t < e; ++t) u += tris_.energy[t];
+      partial_[tid].s.elastic = u;
+    }
     // Gather corner forces onto nodes in the fixed gather order, add gravity
     // and drag: the total of everything but contact, bonds and friction.
     Nodes& N = nodes_;

@@ -99,6 +99,10 @@ void Model::update_positions() {
   const double dt = dt_;
   const double g = ext_.gravity ? ext_.g : 0.0;
   const double alpha = local_damping_;
+  const bool sleeping = sleep_.on;
+  const SleepParams sp = sleep_;
+  // the sleep force is a fraction of the weight at the set g, also with gravity off
+  const double g_sleep = ext_.g;
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     Nodes& N = nodes_;
@@ -108,11 +112,26 @@ void Model::update_positions() {
     double kinetic2_new = 0.0, kinetic2_old = 0.0, viscous = 0.0, local_damping = 0.0;
     double contact = 0.0, friction = 0.0, cohesive = 0.0, gravity = 0.0, buoyancy = 0.0;
     double drag = 0.0, boundary = 0.0, elastic_new = 0.0, elastic_old = 0.0;
+    double sleep_loss = 0.0, sleep_changes = 0.0;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       const double m = N.mass[i];
       const double vox = N.vx[i], voy = N.vy[i];
       const uint8_t c = N.constrained[i];
+      if (sleeping && N.sleep[i]) {
+        // held in place (v = 0: no work, no kinetic energy) unless pushed
+        // harder than the sleep force; then it moves on in this very step
+        if (!wakes(sp, N.f_x[i], N.f_y[i], N.mass_phys[i] * g_sleep)) {
+          if (N.sleep[i] == 1) {
+            N.sleep[i] = 2;
+            sleep_changes += 1.0;
+          }
+          continue;
+        }
+        N.sleep[i] = 0;
+        N.quiet[i] = 0;
+        sleep_changes += 1.0;
+      }
       double dfx = 0.0, dfy = 0.0;  // local damping force
       if (alpha > 0.0) {
         const double fx = N.f_x[i], fy = N.f_y[i];
@@ -125,6 +144,13 @@ void Model::update_positions() {
       N.vy[i] = vny;
       N.x[i] += dt * vnx;
       N.y[i] += dt * vny;
+      if (sleeping && !c && falls_asleep(sp, vnx, vny, N.f_x[i], N.f_y[i], N.mass_phys[i] * g_sleep, N.quiet[i])) {
+        // it has moved this step with vn; from now on it rests
+        N.sleep[i] = 1;
+        N.vx[i] = N.vy[i] = 0.0;
+        sleep_loss += m * (vnx * vnx + vny * vny);
+        sleep_changes += 1.0;
+      }
       // Midpoint-rule power of each force with v(t) = (v^{n-1/2} + v^{n+1/2})/2.
       const double bx = 0.5 * (vox + vnx), by = 0.5 * (voy + vny);
       const double elx = N.f_int_x[i] - N.f_visc_x[i], ely = N.f_int_y[i] - N.f_visc_y[i];
@@ -143,6 +169,8 @@ void Model::update_positions() {
       elastic_old += elx * vox + ely * voy;
     }
     StepSums& p = partial_[omp_get_thread_num()].s;
+    p.sleep_loss2 = sleep_loss;
+    p.sleep_changes = sleep_changes;
     p.kinetic2_new = kinetic2_new;
     p.kinetic2_old = kinetic2_old;
     p.viscous = viscous;
@@ -169,8 +197,11 @@ void Model::update_positions() {
     E.initial = 0.5 * s.kinetic2_old + E.elastic + 0.5 * dt * s.elastic_old;
     E.started = true;
   }
-  E.kinetic = 0.5 * s.kinetic2_new;
+  // a node falling asleep gives up its (tiny) kinetic energy: booked as damping
+  E.kinetic = 0.5 * (s.kinetic2_new - s.sleep_loss2);
   E.damping -= dt * (s.viscous + s.local_damping);
+  E.damping += 0.5 * s.sleep_loss2;
+  if (s.sleep_changes > 0.0) awake_current_ = false;
   E.contact -= dt * s.contact;
   E.friction -= dt * s.friction;
   E.cohesive -= dt * s.cohesive;

@@ -120,6 +120,7 @@ int32_t Model::add_node(double x, double y, double x0, double y0, double vx, dou
   nodes_.vx[id] = vx;
   nodes_.vy[id] = vy;
   prepared_ = false;
+  awake_current_ = false;
   return id;
 }
 
@@ -129,6 +130,7 @@ void Model::set_triangle_node(int32_t tri, int corner, int32_t node) {
   if (node < 0 || node >= nodes_.size()) bad("node must be in [0, " + std::to_string(nodes_.size() - 1) + "]");
   tris_.node[3 * tri + corner] = node;
   prepared_ = false;
+  awake_current_ = false;
 }
 
 int32_t Model::split_off(int32_t node, int32_t body) {
@@ -140,6 +142,9 @@ int32_t Model::split_off(int32_t node, int32_t body) {
   }
   for (BoundaryCondition& bc : bcs_)
     if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
+  // a bond event wakes the bond point (both its sides): its forces change
+  nodes_.sleep[node] = nodes_.sleep[id] = 0;
+  nodes_.quiet[node] = nodes_.quiet[id] = 0;
   return id;
 }
 

@@ -16,6 +16,7 @@
 #include "bonds/freeze_bonds.hpp"
 #include "element/material.hpp"
 #include "common/mesh_arrays.hpp"
+#include "model/sleeping.hpp"
 #include "model/time_step.hpp"
 
 namespace engine {
@@ -35,6 +36,7 @@ struct StepTimings {
   double integration = 0.0;        // boundary conditions, update, energy, checks
   double total = 0.0;
   int64_t steps = 0;
+  int64_t element_steps = 0;       // triangles computed, summed over steps
 };
 
 class Model {
@@ -75,6 +77,19 @@ class Model {
   // Throws std::invalid_argument unless dt_target >= 0 and finite.
   void set_mass_scaling(double dt_target);
   double mass_scaling() const { return mass_scaling_dt_; }
+  // The sleeping far field (sleeping.hpp): off by default. Throws
+  // std::invalid_argument unless velocity >= 0, force >= 0 (finite) and
+  // quiet_steps >= 1. Switching it on or off wakes every node.
+  void set_sleeping(bool on, double velocity, double force, int32_t quiet_steps);
+  const SleepParams& sleeping() const { return sleep_; }
+  // Every node awake, quiet counters reset.
+  void wake_all();
+  // Restore Nodes::sleep and Nodes::quiet (a checkpoint). Throws
+  // std::invalid_argument on a size or value out of range.
+  void restore_sleep_state(const std::vector<uint8_t>& sleep, const std::vector<int32_t>& quiet);
+  int32_t asleep_nodes() const;
+  // Triangles the next force evaluation computes (all of them unless sleeping).
+  int32_t awake_triangles();
 
   // --- boundary conditions ---
   void add_boundary_condition(const BoundaryCondition& bc);
@@ -168,6 +183,7 @@ class Model {
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
   void update_positions();          // (7) central difference + work integration
   void guard_stability();
+  void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
@@ -205,6 +221,12 @@ class Model {
   double total_mass_phys_ = 0.0;
   int32_t scaled_nodes_ = 0;
   int threads_ = 0;  // 0: OpenMP default
+  SleepParams sleep_;
+  std::vector<int32_t> awake_tris_;  // computed triangles while sleeping is on
+  bool awake_current_ = false;       // awake_tris_ matches the nodes' sleep states
+  // A restored model has no stored forces yet: its first evaluation computes
+  // every triangle (the sleeping ones at their frozen place, as before).
+  bool compute_all_next_ = false;
 
   bool prepared_ = false;  // masses, stable step and constraints are current
   StableStep stable_;

@@ -25,6 +25,11 @@ void Model::add_boundary_condition(const BoundaryCondition& bc) {
           bad(where + ": node " + std::to_string(a) + " is already constrained by '" + other.name + "'");
   }
   bcs_.push_back(bc);
+  for (int32_t id : bc.nodes) {  // held nodes never sleep
+    nodes_.sleep[id] = 0;
+    nodes_.quiet[id] = 0;
+  }
+  awake_current_ = false;
   prepared_ = false;
 }
 

@@ -14,6 +14,7 @@ void Model::set_positions(const std::vector<double>& x, const std::vector<double
     if (!std::isfinite(x[i]) || !std::isfinite(y[i])) bad("positions must be finite");
   nodes_.x = x;
   nodes_.y = y;
+  wake_all();  // stored forces of sleeping triangles no longer hold
   reset_energy();
 }
 
@@ -24,6 +25,7 @@ void Model::set_velocities(const std::vector<double>& vx, const std::vector<doub
     if (!std::isfinite(vx[i]) || !std::isfinite(vy[i])) bad("velocities must be finite");
   nodes_.vx = vx;
   nodes_.vy = vy;
+  wake_all();
   reset_energy();
 }
 
