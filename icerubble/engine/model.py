@@ -68,7 +68,7 @@ PARAMETERS = {
     "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
                              "that limit the stable step so that it is >= this [s]; 0 = off, >= 0"),
     "sleeping": (False, "sleeping far field on/off: nodes at rest are held and the triangles among "
-                        "them not computed (docs/model.md §3.6)"),
+                        "them not computed (docs/model.md §3.5)"),
     "sleep_velocity": (1e-4, "a node is at rest below this speed [m/s], >= 0"),
     "sleep_force": (1e-3, "... and below this out-of-balance force, a fraction of its weight m g, "
                           ">= 0; an asleep node wakes above it"),

@@ -1,4 +1,4 @@
-"""The sleeping far field (engine/src/model/sleeping.hpp, docs/model.md §3.6):
+"""The sleeping far field (engine/src/model/sleeping.hpp, docs/model.md §3.5):
 nodes at rest are held and the triangles among them skipped, without
 changing what the run computes beyond the stated sleep force."""
 import numpy as np

@@ -1,4 +1,4 @@
-// The sleeping far field (docs/model.md §3.6): nodes at rest in equilibrium
+// The sleeping far field (docs/model.md §3.5): nodes at rest in equilibrium
 // are held where they are and the triangles among them are not computed.
 //
 // Most of a 50 m punch-through domain barely moves, yet every triangle costs
