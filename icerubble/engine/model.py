@@ -67,6 +67,9 @@ PARAMETERS = {
                            "its work is booked as damping"),
     "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
                              "that limit the stable step so that it is >= this [s]; 0 = off, >= 0"),
+    "contact_reach": (float("inf"), "the contact stable step counts only the boundaries within this "
+                                    "distance of each edge [m], > 0; inf = the whole mesh (re-checked "
+                                    "as nodes move, docs/engine_api.md)"),
     "sleeping": (False, "sleeping far field on/off: nodes at rest are held and the triangles among "
                         "them not computed (docs/model.md §3.5)"),
     "sleep_velocity": (1e-4, "a node is at rest below this speed [m/s], >= 0"),
@@ -231,6 +234,8 @@ class Model:
             self._m.set_local_damping(p["local_damping"])
         if "mass_scaling_dt" in params:
             self._m.set_mass_scaling(p["mass_scaling_dt"])
+        if "contact_reach" in params:
+            self._m.set_contact_reach(p["contact_reach"])
         if params.keys() & set(SLEEP_PARAMETERS):
             self._m.set_sleeping(p["sleeping"], p["sleep_velocity"], p["sleep_force"], p["sleep_quiet_steps"])
         # after everything that moves the stable step (masses, materials, penalty)

@@ -190,9 +190,13 @@ class PunchThrough:
             print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
                   f"phase {self.phase}", flush=True)
         self._last_ckpt = time.perf_counter()
+        t0 = time.perf_counter()
         if self.phase == "settle":
             self.settle()
+        t1 = time.perf_counter()
         self.load()
+        # wall times of this process (a resumed run: from its resume)
+        self.recorder.meta.update(wall_settle_s=t1 - t0, wall_load_s=time.perf_counter() - t1)
         self.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)

@@ -138,7 +138,8 @@ void bind_contact(py::module_& m) {
 
   m.def(
       "contact_critical_dt",
-      [](DArr x, DArr y, DArr mass, IArr tri, double penalty, std::optional<IArr> body_in) {
+      [](DArr x, DArr y, DArr mass, IArr tri, double penalty, std::optional<IArr> body_in, double reach) {
+        if (!(reach > 0.0)) throw std::invalid_argument("reach must be > 0 m (inf: the whole mesh)");
         const py::ssize_t n = x.size();
         DArr zero(n);
         std::fill(zero.mutable_data(), zero.mutable_data() + n, 0.0);
@@ -151,7 +152,7 @@ void bind_contact(py::module_& m) {
           std::fill(body.mutable_data(), body.mutable_data() + body.size(), 0);
         }
         InputHolder h = make_input(x, y, zero, zero, mass, tri, body, surface, 0.0);
-        const ContactStableStep s = contact_critical_dt(validated_contact_params(penalty, 0.0), h.in);
+        const ContactStableStep s = contact_critical_dt(validated_contact_params(penalty, 0.0), h.in, nullptr, reach);
         py::dict d;
         d["dt"] = s.dt;
         d["node"] = s.node;
@@ -160,9 +161,10 @@ void bind_contact(py::module_& m) {
         return d;
       },
       py::arg("x"), py::arg("y"), py::arg("mass"), py::arg("tri"), py::arg("penalty"),
-      py::arg("body") = py::none(),
+      py::arg("body") = py::none(), py::arg("reach") = INFINITY,
       "Critical time step of the contact penalty (no safety factor), see contact.hpp.\n"
-      "body: body id per triangle (default: one body; disjoint meshes still have boundaries).");
+      "body: body id per triangle (default: one body; disjoint meshes still have boundaries).\n"
+      "reach: count only other bodies' boundaries within this distance of each edge [m].");
 
   py::class_<ContactSolver>(m, "ContactSolver",
                             "Broad phase, potential contact and Coulomb friction on flat arrays.")

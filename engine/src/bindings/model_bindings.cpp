@@ -161,6 +161,8 @@ void bind_model(py::module_& m) {
       .def("set_local_damping", &Model::set_local_damping)
       .def("set_threads", &Model::set_threads)
       .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
+      .def("set_contact_reach", &Model::set_contact_reach, py::arg("reach"))
+      .def_property_readonly("contact_reach", &Model::contact_reach)
       .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),
            py::arg("quiet_steps"),
            "Sleeping far field (engine/src/model/sleeping.hpp): nodes at rest for quiet_steps updates\n"

@@ -9,6 +9,7 @@
 //      dynamic Coulomb friction (eq 4) on the pairs of pass 1, regularised at
 //      zero slip so that a block below the friction angle stays at rest.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -110,8 +111,13 @@ struct ContactStableStep {
 // bodies of k_i scaled to the node's whole mass (k_i x node area / that body's
 // area around it), so that node n's limit is sqrt(2 mass[n] / node_stiffness[n]);
 // 0 for an interior node. For mass scaling (Model::set_mass_scaling).
+// reach (m, > 0; infinite: the whole mesh): an edge counts only the other
+// bodies' boundary it can meet, the stretches within reach of it now (see
+// contact_time_step.cpp); valid while no node has moved farther than reach/2
+// relative to that (Model::set_contact_reach keeps it so).
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
-                                      std::vector<double>* node_stiffness = nullptr);
+                                      std::vector<double>* node_stiffness = nullptr,
+                                      double reach = INFINITY);
 
 class ContactSolver {
  public:

@@ -27,9 +27,17 @@ namespace {
 // Tiny elements sit at junctions of blocks, so an edge can rest on two bodies
 // (or bridge a notch of one) at once: the returned bound is
 // T2(l) = max over l1 of T(l1) + T(l - l1), which is T(l) on a regular mesh.
+// With a finite reach R, an edge e only counts the stretches of other bodies'
+// boundaries it can meet: those starting at a vertex within R + l_e of it
+// (a stretch of length l_e that comes within R of the edge starts there).
+// Every window is read from the vertex it starts at, so T is kept per start
+// vertex and maximised over the vertices near each edge (a grid of cells of
+// size R + the longest edge).
 std::vector<double> target_terms(const std::vector<double>& len, const std::vector<double>& alt,
                                  const std::vector<int32_t>& ea, const std::vector<int32_t>& eb,
-                                 const std::vector<int32_t>& ebody) {
+                                 const std::vector<int32_t>& ebody, const double* x, const double* y,
+                                 double reach) {
+  const bool local = std::isfinite(reach);
   const size_t n = len.size();
   // boundary edges at each (body, node), for the walk
   struct End {
@@ -63,6 +71,8 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   while (grid.back() < l_hi) grid.push_back(std::min(grid.back() * 1.1, l_hi));
   const size_t n_grid = grid.size();
   std::vector<double> T(n_grid, 0.0);
+  const size_t n_vert = first.size() - 1;
+  std::vector<double> W(local ? n_vert * n_grid : 0, 0.0);  // per start vertex: T of its windows
 
   // Depth-first walk: edge f entered at its end c, c0 the length walked so far,
   // s0 the integral so far, g the first grid length above c0.
@@ -75,13 +85,14 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   std::vector<Frame> stack;
   for (size_t e = 0; e < n; ++e)
     for (int c = 0; c < 2; ++c) {
+      double* Tv = local ? W.data() + at_end[2 * e + c] * n_grid : T.data();
       stack.push_back({int32_t(e), c, 0.0, 0.0, 0});
       while (!stack.empty()) {
         const Frame fr = stack.back();
         stack.pop_back();
         const double d = 1.0 / alt[fr.f], c1 = fr.c0 + len[fr.f];
         size_t g = fr.g;
-        for (; g < n_grid && grid[g] <= c1; ++g) T[g] = std::max(T[g], fr.s0 + (grid[g] - fr.c0) * d);
+        for (; g < n_grid && grid[g] <= c1; ++g) Tv[g] = std::max(Tv[g], fr.s0 + (grid[g] - fr.c0) * d);
         if (g >= n_grid) continue;  // reached the longest length
         const double s1 = fr.s0 + len[fr.f] * d;
         const size_t k = at_end[2 * size_t(fr.f) + (1 - fr.c)];  // leave through the far end
@@ -97,20 +108,77 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   // than L times the largest density 1/a' (short lengths below the grid)
   double d_max = 0.0;
   for (double a : alt) d_max = std::max(d_max, 1.0 / a);
-  auto T_up = [&](double L) {
-    if (!(L > 0.0)) return 0.0;
-    const size_t g = std::lower_bound(grid.begin(), grid.end(), L) - grid.begin();
-    return std::min(T[std::min(g, n_grid - 1)], L * d_max);
+  // T2 at grid index g from a T function (grid values)
+  auto T2_at = [&](const double* Tf, size_t g) {
+    auto T_up = [&](double L) {
+      if (!(L > 0.0)) return 0.0;
+      const size_t h = std::lower_bound(grid.begin(), grid.end(), L) - grid.begin();
+      return std::min(Tf[std::min(h, n_grid - 1)], L * d_max);
+    };
+    double t2 = Tf[g];
+    for (size_t i = 0; i < g; ++i) t2 = std::max(t2, Tf[i] + T_up(grid[g] - grid[i]));
+    return t2;
   };
-  std::vector<double> T2(n_grid);
-  for (size_t g = 0; g < n_grid; ++g) {
-    T2[g] = T[g];
-    for (size_t i = 0; i < g; ++i) T2[g] = std::max(T2[g], T[i] + T_up(grid[g] - grid[i]));
-  }
+  auto grid_index = [&](double l) {
+    return std::min(size_t(std::lower_bound(grid.begin(), grid.end(), l) - grid.begin()), n_grid - 1);
+  };
   std::vector<double> out(n);
+  if (!local) {
+    std::vector<double> T2(n_grid);
+    for (size_t g = 0; g < n_grid; ++g) T2[g] = T2_at(T.data(), g);
+    for (size_t e = 0; e < n; ++e) out[e] = T2[grid_index(len[e])];
+    return out;
+  }
+  // Start vertices in cells of size R + l_hi: an edge's search disc (radius
+  // R + l_e around the segment) lies in the 3 x 3 cells around each end.
+  const double cell = reach + l_hi;
+  struct Entry {
+    int64_t key;
+    size_t k;  // start vertex (index into first)
+  };
+  auto key_of = [&](double px, double py) {
+    const int64_t ix = int64_t(std::floor(px / cell)), iy = int64_t(std::floor(py / cell));
+    return (ix + (int64_t(1) << 31)) * (int64_t(1) << 32) + (iy + (int64_t(1) << 31));
+  };
+  std::vector<Entry> cells(n_vert);
+  for (size_t k = 0; k < n_vert; ++k) {
+    const int32_t node = ends[first[k]].node;
+    cells[k] = {key_of(x[node], y[node]), k};
+  }
+  std::sort(cells.begin(), cells.end(),
+            [](const Entry& a, const Entry& b) { return a.key != b.key ? a.key < b.key : a.k < b.k; });
+  std::vector<double> Tl(n_grid);
+  std::vector<int64_t> seen;
   for (size_t e = 0; e < n; ++e) {
-    const size_t g = std::lower_bound(grid.begin(), grid.end(), len[e]) - grid.begin();
-    out[e] = T2[std::min(g, n_grid - 1)];
+    const size_t ge = grid_index(len[e]);
+    std::fill(Tl.begin(), Tl.begin() + ge + 1, 0.0);
+    const double ax = x[ea[e]], ay = y[ea[e]], bx = x[eb[e]], by = y[eb[e]];
+    const double r = reach + len[e];
+    const double ex = bx - ax, ey = by - ay, ll = ex * ex + ey * ey;
+    seen.clear();
+    for (int end = 0; end < 2; ++end) {
+      const double px = end ? bx : ax, py = end ? by : ay;
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int64_t key = key_of(px + dx * cell, py + dy * cell);
+          if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+          seen.push_back(key);
+          auto it = std::lower_bound(cells.begin(), cells.end(), key,
+                                     [](const Entry& a, int64_t kk) { return a.key < kk; });
+          for (; it != cells.end() && it->key == key; ++it) {
+            const End& v = ends[first[it->k]];
+            if (v.body == ebody[e]) continue;  // a body does not touch itself
+            // distance from the vertex to the segment
+            double u = ll > 0.0 ? ((x[v.node] - ax) * ex + (y[v.node] - ay) * ey) / ll : 0.0;
+            u = std::min(1.0, std::max(0.0, u));
+            const double qx = ax + u * ex - x[v.node], qy = ay + u * ey - y[v.node];
+            if (qx * qx + qy * qy > r * r) continue;
+            const double* Wv = W.data() + it->k * n_grid;
+            for (size_t g = 0; g <= ge; ++g) Tl[g] = std::max(Tl[g], Wv[g]);
+          }
+        }
+    }
+    out[e] = T2_at(Tl.data(), ge);
   }
   return out;
 }
@@ -118,7 +186,7 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
 }  // namespace
 
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
-                                      std::vector<double>* node_stiffness) {
+                                      std::vector<double>* node_stiffness, double reach) {
   if (node_stiffness) node_stiffness->assign(in.n_nodes, 0.0);
   ContactStableStep out;
   out.dt = INFINITY;
@@ -173,7 +241,7 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
     i = j;
   }
   if (len.empty()) return out;
-  const std::vector<double> target = target_terms(len, alt, ea, eb, ebody);
+  const std::vector<double> target = target_terms(len, alt, ea, eb, ebody, in.x, in.y, reach);
   for (size_t e = 0; e < len.size(); ++e) {
     const double ke = 1.5 * p.penalty * (len[e] / alt[e] + target[e]);
     shares.push_back({ea[e], ebody[e], ke, 0.0});

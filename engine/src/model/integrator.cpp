@@ -14,6 +14,8 @@
 
 namespace engine {
 
+constexpr int64_t kReachCheckEvery = 64;
+
 void Model::prepare_topology() {
   if (prepared_) return;
   rebuild_topology();  // node splitting may have appended nodes or moved corners
@@ -26,8 +28,11 @@ void Model::prepare_topology() {
 StableStep Model::stable_step() {
   prepare_topology();
   if (!stable_current_) {
-    const ContactStableStep contact =
-        contact_possible_ ? contact_critical_dt(contact_params_, contact_input()) : ContactStableStep{};
+    const ContactStableStep contact = contact_possible_
+        ? contact_critical_dt(contact_params_, contact_input(), nullptr, contact_reach_)
+        : ContactStableStep{};
+    reach_x_ = nodes_.x;
+    reach_y_ = nodes_.y;
     stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
     stable_.mass_scaling_dt = mass_scaling_dt_;
     stable_.added_mass = added_mass_;
@@ -68,6 +73,31 @@ void Model::advance() {
   compute_forces(History::commit);
   update_positions();           // (7) central difference, work integration
   guard_stability();
+  if (contact_possible_ && std::isfinite(contact_reach_) && step_count_ % kReachCheckEvery == 0)
+    guard_contact_reach();
+}
+
+// The contact step bound with a finite reach holds while no node has moved
+// more than reach/2 since it was taken (two nodes closing in from both sides
+// close the gap by reach). Checked every kReachCheckEvery steps: a node moves
+// far less than a millimetre in that time.
+void Model::guard_contact_reach() {
+  const double half = 0.5 * contact_reach_;
+  double worst = 0.0;
+  for (int32_t i = 0; i < nodes_.size(); ++i) {
+    const double dx = nodes_.x[i] - reach_x_[i], dy = nodes_.y[i] - reach_y_[i];
+    worst = std::max(worst, dx * dx + dy * dy);
+  }
+  if (worst <= half * half) return;
+  stable_current_ = false;
+  const StableStep s = stable_step();  // at the current positions; takes them as the new reference
+  if (check_stable_dt_ && dt_ > s.dt)
+    throw InstabilityError(
+        "at step " + std::to_string(step_count_) + " (t = " + num(time_) + " s) the blocks have moved " +
+        "within contact reach of stiffer boundaries: dt = " + num17(dt_) + " s now exceeds the stable step " +
+        num17(s.dt) + " s (by " + num(100.0 * (dt_ / s.dt - 1.0)) + " %): " + s.describe(tris_.body) +
+        ". Use a larger contact_reach (it bounds the step for every boundary within reach at the start) " +
+        "or a smaller dt / larger mass_scaling_dt.");
 }
 
 void Model::evaluate() {

@@ -77,6 +77,15 @@ class Model {
   // Throws std::invalid_argument unless dt_target >= 0 and finite.
   void set_mass_scaling(double dt_target);
   double mass_scaling() const { return mass_scaling_dt_; }
+  // How far (m) a boundary edge looks for the boundaries it can meet when the
+  // contact stable step is bounded (contact_critical_dt); infinite (default):
+  // the whole mesh. With a finite reach the step is re-checked whenever a node
+  // has moved more than reach/2 since the last bound, and a run whose dt no
+  // longer holds stops with an InstabilityError saying so. Throws
+  // std::invalid_argument unless reach > 0.
+  void set_contact_reach(double reach);
+  double contact_reach() const { return contact_reach_; }
+
   // The sleeping far field (sleeping.hpp): off by default. Throws
   // std::invalid_argument unless velocity >= 0, force >= 0 (finite) and
   // quiet_steps >= 1. Switching it on or off wakes every node.
@@ -184,6 +193,7 @@ class Model {
   void update_positions();          // (7) central difference + work integration
   void guard_stability();
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
+  void guard_contact_reach();      // re-bound the contact step after large moves
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
@@ -222,6 +232,8 @@ class Model {
   int32_t scaled_nodes_ = 0;
   int threads_ = 0;  // 0: OpenMP default
   SleepParams sleep_;
+  double contact_reach_ = INFINITY;
+  std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
   std::vector<int32_t> awake_tris_;  // computed triangles while sleeping is on
   bool awake_current_ = false;       // awake_tris_ matches the nodes' sleep states
   // A restored model has no stored forces yet: its first evaluation computes

@@ -87,4 +87,10 @@ void Model::set_threads(int n) {
   threads_ = n;
 }
 
+void Model::set_contact_reach(double reach) {
+  if (!(reach > 0.0)) bad("contact_reach must be > 0 m (infinite: the whole mesh) (got " + num(reach) + ")");
+  contact_reach_ = reach;
+  prepared_ = false;  // the mass scaling and the stable step depend on it
+}
+
 }  // namespace engine
