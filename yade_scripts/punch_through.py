@@ -5,8 +5,10 @@
     YADE_BATCH=data/study_paper.table:4 yade -j2 -n -x yade_scripts/punch_through.py   # one line
 
 Every column of a table is a parameter below: ``ridge`` (the pile's seed),
-``scene`` (demo | small | paper: pile size, mesh, dt, penalty, travel; see
-icerubble/run/presets.py) and any Table 1 parameter (icerubble/parameters.py),
+``scene`` (demo | small | paper: pile size, mesh, penalty, travel; see
+icerubble/run/presets.py), ``numerics`` (paper | balanced | fast: the scene's
+numerical preset, default paper: time step, mass scaling, contact reach,
+sleeping far field) and any Table 1 parameter (icerubble/parameters.py),
 e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel.
 Piles and meshes are made on first use and cached in OUT_DIR/scenes; the
 result is OUT_DIR/<description>.h5 (docs/results_format.md) with ParaView
@@ -33,7 +35,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
                                                         else __file__)))
 
 # Table 1 parameters default to None: "the scene's value, else Table 1".
-utils.readParamsFromTable(ridge=1, scene="demo", out_dir=os.path.join(_ROOT, "runs"), resume=True,
+utils.readParamsFromTable(ridge=1, scene="demo", numerics="", out_dir=os.path.join(_ROOT, "runs"), resume=True,
                           noTableOk=True, **{k: None for k in P.TABLE_1})
 from yade.params import table
 from yade.wrapper import O
@@ -44,7 +46,7 @@ overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not
 description = O.tags["description"] if "description" in O.tags.keys() else ""
 try:
     run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=table.out_dir,
-            description=description, resume=bool(table.resume))
+            description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
 except ValueError as e:
     sys.exit(f"punch_through: error: {e}")
 utils.waitIfBatch()

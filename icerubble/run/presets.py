@@ -36,24 +36,63 @@ SCENES = {
         pile=dict(domain_width=50.0, keel_depth=4.0, mu_settle=PILE_FRICTION),
         element_size=0.085,
         params=dict(penalty=2e11, target_travel=0.3),
-        dt_fraction=0.8,
-        mass_scaling_dt=2e-7,
     ),
     "small": dict(
         pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
         element_size=0.15,
         params=dict(penalty=5e9, target_travel=0.03),
-        dt_fraction=0.8,
-        mass_scaling_dt=3e-6,
+    ),
+    # a 30 m keel at the demo's resolution: wide enough for a far field that
+    # barely moves (where the sleeping far field pays; bench/runtime_vs_error.py)
+    "wide": dict(
+        pile=dict(domain_width=30.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
+        element_size=0.15,
+        params=dict(penalty=5e9, target_travel=0.03, ramp_time=0.5),
     ),
     "demo": dict(
         pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
         element_size=0.15,
         params=dict(penalty=5e9, target_travel=0.03, ramp_time=0.5),
-        dt_fraction=0.8,
-        mass_scaling_dt=3e-6,
     ),
 }
+
+
+# Numerical presets of each scene (a table's `numerics` column): how much
+# accuracy to trade for speed. "paper" is the scene's faithful setting (the
+# default); "balanced" bounds the contact step locally (contact_reach: a
+# larger step, and on the paper scene a larger mass-scaling target for the
+# same added mass); "fast" also runs at 0.95 of the stable step (at 1.0 the
+# step recomputed after a bond split could differ from it in the last digits).
+# What each costs in accuracy is measured by bench/runtime_vs_error.py
+# (bench/results/runtime_vs_error.json; README "Speed against accuracy").
+# The sleeping far field (RunOptions sleep) is in no preset: on the demo scene
+# its per-node thresholds let < 3 % of the element work sleep (block
+# vibrations keep node forces at 0.1-0.3 of the node weight across the whole
+# 10 m keel), which costs more than it saves.
+NUMERICS = {
+    "paper": {
+        "paper": dict(dt_fraction=0.8, mass_scaling_dt=2e-7),
+        "balanced": dict(dt_fraction=0.8, mass_scaling_dt=9e-7, contact_reach=0.1),
+        "fast": dict(dt_fraction=0.95, mass_scaling_dt=1.2e-6, contact_reach=0.1),
+    },
+}
+for _name in ("small", "wide", "demo"):
+    NUMERICS[_name] = {
+        "paper": dict(dt_fraction=0.8, mass_scaling_dt=3e-6),
+        "balanced": dict(dt_fraction=0.8, mass_scaling_dt=3e-6, contact_reach=0.1),
+        "fast": dict(dt_fraction=0.95, mass_scaling_dt=3e-6, contact_reach=0.1),
+    }
+DEFAULT_NUMERICS = "paper"
+
+
+def numerics(scene_name, name=None):
+    """The numerical settings of preset `name` (default DEFAULT_NUMERICS) of a scene."""
+    name = name or DEFAULT_NUMERICS
+    scene(scene_name)  # a known scene
+    presets = NUMERICS[scene_name]
+    if name not in presets:
+        raise ValueError(f"numerics={name!r} is unknown: valid values are {', '.join(sorted(presets))}")
+    return dict(presets[name])
 
 
 def scene(name):

@@ -58,7 +58,8 @@ class RunOptions:
     def __init__(self, settle_max_time=5.0, settle_min_time=0.05, settle_velocity=1e-4,
                  settle_accel=1e-3, settle_hold_time=0.02,
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
-                 stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None):
+                 stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None,
+                 contact_reach=math.inf, numerics=""):
         if settle_max_time <= 0:
             raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
         if not 0 <= settle_min_time <= settle_max_time:
@@ -87,6 +88,17 @@ class RunOptions:
             raise ValueError(f"mass_scaling_dt={mass_scaling_dt} must be > 0 s (or None: no mass scaling)")
         self.mass_scaling_dt = mass_scaling_dt     # selective mass scaling target step
         self.sleep = check_sleep(sleep)            # sleeping far field while loading (None: off)
+        if not contact_reach > 0.0:
+            raise ValueError(f"contact_reach={contact_reach} must be > 0 m (inf: the whole mesh)")
+        self.contact_reach = float(contact_reach)  # local contact step bound (engine set(contact_reach))
+        self.numerics = str(numerics)              # the preset these came from, for the record
+
+    @classmethod
+    def from_numerics(cls, settings, name="", **kw):
+        """Options from a scene's numerical preset (presets.numerics)."""
+        return cls(dt_fraction=settings.get("dt_fraction"), mass_scaling_dt=settings.get("mass_scaling_dt"),
+                   sleep=settings.get("sleep"), contact_reach=settings.get("contact_reach", math.inf),
+                   numerics=name, **kw)
 
 
 SLEEP_KEYS = {"velocity": "m/s", "force": "fraction of a node's weight", "quiet_time": "s"}
@@ -132,6 +144,12 @@ class PunchThrough:
                            indenter_thickness=sc.indenter_thickness,
                            layer_thickness=sc.layer_thickness,
                            domain_width=float(self.mesh["attrs"]["domain_width"]))
+        if math.isfinite(self.options.contact_reach):
+            # before the mass scaling, which bounds the contact step with it
+            self.scene.model.set(contact_reach=self.options.contact_reach)
+            self.meta.update(contact_reach=self.options.contact_reach)
+        if self.options.numerics:
+            self.meta.update(numerics=self.options.numerics)
         if self.options.mass_scaling_dt is not None:
             # the few light nodes of tiny elements get inertial mass (never
             # weight) so that the stable step reaches this target; recorded
@@ -373,7 +391,11 @@ class PunchThrough:
 
     def _bond_text(self):
         c = self.model.bonds.counts
-        return f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
+        text = f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
+        if self.phase == "load" and self.options.sleep is not None:
+            z = self.model.sleep_counts()
+            text += f"  triangles awake {100.0 * z['awake_triangles'] / z['triangles']:.0f} %"
+        return text
 
     def bond_events(self):
         """The engine's bond event log with times from the start of loading

@@ -10,6 +10,7 @@ named, never answered with another run's result.
 """
 import hashlib
 import json
+import math
 import os
 import socket
 
@@ -68,6 +69,9 @@ def identity(params, mesh, options):
         "dt_fraction": _plain(getattr(options, "dt_fraction", None)),
         "mass_scaling_dt": _plain(getattr(options, "mass_scaling_dt", None)),
     }
+    reach = getattr(options, "contact_reach", math.inf)
+    if math.isfinite(reach):  # absent: the whole mesh
+        ident["contact_reach"] = _plain(reach)
     sleep = getattr(options, "sleep", None)
     if sleep is not None:  # absent: off (the identity of runs made before it existed)
         ident["sleep"] = {k: _plain(v) for k, v in sorted(sleep.items())}

@@ -10,7 +10,7 @@ from .. import parameters as P
 from . import run_identity as RI
 from .punch_through_run import PunchThrough, RunOptions
 from .scene_cache import scene_files
-from .presets import scene
+from .presets import DEFAULT_NUMERICS, numerics, scene
 
 
 def run_name(scene_name, ridge, params):
@@ -19,9 +19,11 @@ def run_name(scene_name, ridge, params):
 
 
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
-            resume=True, options=None):
-    """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path."""
+            resume=True, options=None, numerics_name=None):
+    """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
+    numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS)."""
     sc = scene(scene_name)
+    settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})))   # fail before any work
     if not description or description == "default":
         description = run_name(scene_name, ridge, params)
@@ -30,9 +32,9 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     out = os.path.join(out_dir, description + ".h5")
     if options is None:
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
-        fraction = None if "dt" in (overrides or {}) else sc.get("dt_fraction")
-        options = RunOptions(dt_fraction=fraction, mass_scaling_dt=sc.get("mass_scaling_dt"),
-                             sleep=sc.get("sleep"))
+        if "dt" in (overrides or {}):
+            settings["dt_fraction"] = None
+        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS)
     ident = RI.identity(params, read_mesh(mesh_path), options)
     rid = RI.run_id(ident)
     if os.path.exists(out):

@@ -17,10 +17,10 @@ import difflib
 import re
 
 from .. import parameters as P
-from .presets import SCENES
+from .presets import NUMERICS, SCENES
 
 # Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
-DRIVER_COLUMNS = {"ridge", "scene", "out_dir", "resume", "description"}
+DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description"}
 
 
 def read_table(path):
@@ -113,6 +113,10 @@ def _check_line(n, row, known):
     ridge = values.pop("ridge", 1)
     if not (isinstance(ridge, int) and ridge >= 0):
         problems.append(f"line {n}, column ridge: {ridge!r} must be a whole number >= 0 (it seeds the pile)")
+    preset = values.pop("numerics", None)
+    if preset is not None and preset not in NUMERICS[scene_name]:
+        problems.append(f"line {n}, column numerics: {preset!r} is not a preset of scene {scene_name}; "
+                        f"valid: {', '.join(sorted(NUMERICS[scene_name]))}")
     for c in ("out_dir", "resume"):
         values.pop(c, None)
     for c, v in values.items():

@@ -70,7 +70,7 @@ def test_a_run_whose_step_no_longer_holds_stops_with_the_reason():
     m, na = run_towards(gap=0.12, dt_factor=0.99)
     with pytest.raises(_engine.InstabilityError, match="contact reach") as err:
         m.step(int(0.03 / m.dt))
-    assert "exceeds the stable step" in str(err.value)
+    assert "exceeds the contact stable step" in str(err.value)
     assert m.touching_pairs == 0
     moved = m.positions[:na, 0] - m.reference_positions[:na, 0]
     assert 0.05 <= moved.max() < 0.07

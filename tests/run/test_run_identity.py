@@ -136,5 +136,22 @@ def test_a_dt_column_is_the_step_used_not_replaced(folder, monkeypatch, over, dt
     with pytest.raises(RuntimeError, match="captured"):
         study.run_one("small", 1, overrides=over, out_dir=str(folder))
     if fraction == "scene":
-        fraction = study.scene("small")["dt_fraction"]
+        fraction = study.numerics("small")["dt_fraction"]
     assert seen == dict(dt=dt, fraction=fraction)
+
+
+def test_each_numerical_preset_is_its_own_run():
+    """The presets change the result (sleeping, contact reach, step): they are
+    part of the identity, and the faithful one is the identity of before."""
+    params, mesh = P.validate({}), fake_mesh()
+    ids = {name: RI.run_id(RI.identity(params, mesh, RunOptions.from_numerics(study.numerics("small", name),
+                                                                               name=name)))
+           for name in ("paper", "balanced", "fast")}
+    assert len(set(ids.values())) == 3
+    assert ids["paper"] == RI.run_id(RI.identity(params, mesh, OPTIONS))
+
+
+def test_an_unknown_preset_is_refused_before_any_work(tmp_path):
+    with pytest.raises(ValueError, match="numerics='quick' is unknown: valid values are balanced, fast, paper"):
+        study.run_one("small", 1, out_dir=str(tmp_path), numerics_name="quick")
+    assert os.listdir(tmp_path) == []

@@ -23,7 +23,7 @@ from icerubble.geometry import pile
 from icerubble.files.h5io import open_complete
 from icerubble.run.punch_through_run import PunchThrough, RunOptions
 from icerubble.run.scene_cache import scene_files
-from icerubble.run.presets import PILE_FRICTION, scene
+from icerubble.run.presets import PILE_FRICTION, numerics, scene
 from tests.paths import ROOT
 
 SCENE, RIDGE = "demo", 1           # demo = small's pile with a 0.5 s ramp: loading starts fast
@@ -45,7 +45,7 @@ def runs(files, tmp_path_factory):
     for mu in STUDY_MU:
         path = tmp_path_factory.mktemp(f"mu{mu}") / "run.h5"
         run = PunchThrough(mesh_path, path, params=dict(sc["params"], mu=mu, target_travel=TRAVEL),
-                           options=RunOptions(threads=1, dt_fraction=sc["dt_fraction"], vtu=False,
+                           options=RunOptions(threads=1, dt_fraction=numerics(SCENE)["dt_fraction"], vtu=False,
                                               progress_every_s=1e9))
         run.run()
         out[mu] = (run, path)

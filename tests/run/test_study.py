@@ -30,9 +30,14 @@ def test_run_names_tell_the_study_apart():
 
 def test_every_scene_has_valid_parameters():
     from icerubble import parameters as P
+    from icerubble.run.presets import NUMERICS
+    from icerubble.run.punch_through_run import RunOptions
     for name, sc in SCENES.items():
         P.validate(sc["params"])
-        assert 0 < sc.get("dt_fraction", 1.0) <= 1.0
+        assert set(NUMERICS[name]) == {"paper", "balanced", "fast"}
+        for preset, settings in NUMERICS[name].items():
+            assert 0 < settings["dt_fraction"] <= 1.0
+            RunOptions.from_numerics(settings, name=preset)  # checks the sleep thresholds, reach
 
 
 def test_yade_script_reports_a_bad_table_value(tmp_path):

@@ -28,6 +28,8 @@ CASES = [
     ("duplicate description", HEAD + GOOD + "r1 2 0.3 5e3 'small'\n",
      "line 3, column description: 'r1' also on line 2"),
     ("'=' on the first line", HEAD + "r1 1 = 5e3 'small'\n", "line 2, column mu: '=' but no line above"),
+    ("unknown numerical preset", "description scene numerics\nr1 'small' 'fastest'\n",
+     "line 2, column numerics: 'fastest' is not a preset of scene small; valid: balanced, fast, paper"),
     ("a law's constant without the law", "description c_w\nr1 1e4\n",
      "line 2: parameter c_w=10000.0 is used only with drag_model='linear'"),
     ("line numbers count comments and blank lines", "# a study\n\n" + HEAD + "\n# next\nr1 1 0.3 0 'small'\n",

@@ -106,22 +106,28 @@ void body_drag_constants(const Nodes& nodes, const Triangles& tris, const Extern
     Vx[b] += w * (vx[i0] + vx[i1] + vx[i2]);
     Vy[b] += w * (vy[i0] + vy[i1] + vy[i2]);
   }
-  // Width across the velocity: extent of the body's corners along n = V-perp.
-  std::vector<double> lo(nb, 0.0), hi(nb, 0.0);
-  std::vector<uint8_t> seen(nb, 0);
+  // Width across the velocity: extent of the body's corners along n = V-perp
+  // (the direction once per body: a hypot per triangle cost a third of the step).
+  std::vector<double> lo(nb, 0.0), hi(nb, 0.0), Nx(nb, 0.0), Ny(nb, 0.0);
+  std::vector<uint8_t> seen(nb, 0), moving(nb, 0);
   for (size_t b = 0; b < nb; ++b) {
     if (body_area0[b] > 0.0) {
       Vx[b] /= body_area0[b];
       Vy[b] /= body_area0[b];
+    }
+    const double speed = std::hypot(Vx[b], Vy[b]);
+    if (speed > 0.0) {
+      moving[b] = 1;
+      Nx[b] = -Vy[b] / speed;
+      Ny[b] = Vx[b] / speed;
     }
   }
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
   for (int32_t t = 0; t < m; ++t) {
     const int32_t b = tris.body[t];
-    const double speed = std::hypot(Vx[b], Vy[b]);
-    if (!(speed > 0.0)) continue;
-    const double nx = -Vy[b] / speed, ny = Vx[b] / speed;
+    if (!moving[b]) continue;
+    const double nx = Nx[b], ny = Ny[b];
     for (int k = 0; k < 3; ++k) {
       const int32_t i = tn[3 * t + k];
       const double s = x[i] * nx + y[i] * ny;

@@ -1,0 +1,119 @@
+"""The paper scene's cost (not a test): stable step, added mass, time per
+step and the projected wall time of a full 300 mm run and of its first 20 mm,
+for each numerical preset of icerubble/run/presets.py (NUMERICS), on this
+machine. Writes bench/results/paper_cost.json.
+
+    /usr/bin/python3 bench/paper_cost.py [--ridge 1] [--steps 300] [--threads 2]
+
+The per-step cost is measured on the paper mesh in the load phase's
+configuration (water, drag, contact, held layer top, driven indenter) from
+rest; the sleeping far field cannot be measured from rest (everything would
+sleep), so its effect is projected from the element share of the step and the
+fraction of element-steps the small scene's sleeping runs computed
+(bench/results/runtime_vs_error.json), and marked as a projection.
+"""
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+from icerubble import parameters as P
+from icerubble.files.mesh_file import read_mesh
+from icerubble.run.presets import NUMERICS, scene
+from icerubble.run.punch_through_run import smooth_ramp_table
+from icerubble.run.scene import Scene
+from icerubble.run.scene_cache import scene_files
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "bench", "results", "paper_cost.json")
+RVE = os.path.join(ROOT, "bench", "results", "runtime_vs_error.json")
+SETTLE_TIME = 1.0  # s simulated to bring the scene to rest (0.5-1.2 s on the small ridges)
+
+
+def time_to_travel(travel, v_final, ramp_time):
+    """Simulated time for the indenter to travel this far on the smooth ramp [s]."""
+    t, v = smooth_ramp_table(0.0, v_final, ramp_time)
+    y = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    if travel <= y[-1]:
+        return float(np.interp(travel, y, t))
+    return float(t[-1] + (travel - y[-1]) / v_final)
+
+
+def element_fraction_of(sleep):
+    """Measured fraction of element-steps a small-scene run with this sleep setting computed."""
+    if sleep is None or not os.path.exists(RVE):
+        return None
+    for row in json.load(open(RVE))["runs"]:
+        if row.get("sleep") == sleep and row.get("dt_fraction") and "element_fraction" in row:
+            return float(row["element_fraction"])
+    return None
+
+
+def measure(mesh, params, numerics, steps, threads):
+    s = Scene(mesh, params, threads=threads)
+    m = s.model
+    m.set(contact_reach=numerics.get("contact_reach", float("inf")),
+          mass_scaling_dt=numerics.get("mass_scaling_dt", 0.0) or 0.0)
+    m.set(dt_fraction=numerics["dt_fraction"])
+    m.fix("layer_top")
+    t, v = smooth_ramp_table(0.0, params["v_final"], params["ramp_time"])
+    m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, v))
+    st = m.stable_time_step()
+    m.step(20)
+    t0 = m.timings()
+    w0 = time.perf_counter()
+    m.step(steps)
+    wall = (time.perf_counter() - w0) / steps
+    t1 = m.timings()
+    share = (t1["elements"] - t0["elements"]) / max(t1["total"] - t0["total"], 1e-30)
+    return dict(dt=m.dt, stable_dt=st["dt"], added_mass_fraction=st["added_mass_fraction"],
+                scaled_nodes=st["scaled_nodes"], s_per_step=wall, element_share=share,
+                n_triangles=m.n_triangles, n_nodes=m.n_nodes)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--ridge", type=int, default=1)
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--quick", action="store_true", help="50 steps per preset (make bench --quick)")
+    a = ap.parse_args(argv)
+    if a.quick:
+        a.steps = 50
+    sc = scene("paper")
+    _, mesh_path = scene_files("paper", a.ridge)
+    mesh = read_mesh(mesh_path)
+    params = P.validate(dict(sc["params"]))
+    rows = []
+    for name, numerics in NUMERICS["paper"].items():
+        r = measure(mesh, params, numerics, a.steps, a.threads)
+        f_el = element_fraction_of(numerics.get("sleep"))
+        per_step = r["s_per_step"]
+        if f_el is not None:  # projected: only the element work shrinks
+            per_step_load = per_step * (1.0 - r["element_share"] * (1.0 - f_el))
+        else:
+            per_step_load = per_step
+        out = dict(preset=name, numerics=numerics, **r, sleep_element_fraction_small_scene=f_el,
+                   s_per_step_load_projected=per_step_load)
+        for mm in (20, 300):
+            t_load = time_to_travel(mm * 1e-3, params["v_final"], params["ramp_time"])
+            steps = (SETTLE_TIME + t_load) / r["dt"]
+            out[f"steps_{mm}mm"] = steps
+            out[f"hours_{mm}mm"] = (SETTLE_TIME / r["dt"] * per_step + t_load / r["dt"] * per_step_load) / 3600
+        rows.append(out)
+        print(f"{name:9s} dt {r['dt']:.2e} s (+{100 * r['added_mass_fraction']:.2f} % mass on {r['scaled_nodes']} "
+              f"nodes), {1e3 * per_step:.2f} ms/step ({100 * r['element_share']:.0f} % elements)"
+              + (f", sleeping projected {1e3 * per_step_load:.2f} ms/step (small scene: "
+                 f"{100 * f_el:.0f} % of element-steps)" if f_el is not None else "")
+              + f": first 20 mm {out['hours_20mm']:.1f} h, 300 mm {out['hours_300mm']:.1f} h", flush=True)
+    os.makedirs(os.path.dirname(OUT), exist_ok=True)
+    with open(OUT, "w") as f:
+        json.dump(dict(ridge=a.ridge, threads=a.threads, settle_time_s=SETTLE_TIME,
+                       load_average=os.getloadavg()[0], rows=rows), f, indent=1)
+    print(f"wrote {OUT}")
+
+
+if __name__ == "__main__":
+    main()
