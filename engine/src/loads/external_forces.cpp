@@ -85,7 +85,8 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
 }
 
 void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
-                         const std::vector<double>& body_area0, std::vector<double>& body_drag) {
+                         const std::vector<double>& body_area0, std::vector<double>& body_drag,
+                         const std::vector<int32_t>* surface) {
   const size_t nb = body_area0.size();
   body_drag.assign(nb, 0.0);
   if (!p.drag_on()) return;
@@ -124,7 +125,10 @@ void body_drag_constants(const Nodes& nodes, const Triangles& tris, const Extern
   }
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
-  for (int32_t t = 0; t < m; ++t) {
+  // a body's extremes lie on its boundary: its surface triangles' corners suffice
+  const int32_t n_scan = surface ? int32_t(surface->size()) : m;
+  for (int32_t j = 0; j < n_scan; ++j) {
+    const int32_t t = surface ? (*surface)[j] : j;
     const int32_t b = tris.body[t];
     if (!moving[b]) continue;
     const double nx = Nx[b], ny = Ny[b];

@@ -63,8 +63,11 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
 // Every body's drag constant c_b for the current velocities (see above);
 // quadratic drag needs each body's mean velocity (area weighted, from the
 // triangles, so shared bond nodes count for both bodies) and its width across
-// that velocity. Serial: two passes over the triangles.
+// that velocity. Serial: a pass over the triangles for the velocities, one
+// over `surface` (the triangles with a corner on their body's boundary; all
+// triangles if null) for the widths.
 void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
-                         const std::vector<double>& body_area0, std::vector<double>& body_drag);
+                         const std::vector<double>& body_area0, std::vector<double>& body_drag,
+                         const std::vector<int32_t>* surface = nullptr);
 
 }  // namespace engine

@@ -60,7 +60,7 @@ void Model::compute_body_forces() {
   const bool water = ext_.water();
   const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
   const double g = ext_.gravity ? ext_.g : 0.0;
-  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_);
+  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, &surface_tris_);
   // Sleeping far field: only the listed triangles are computed; the others
   // keep their stored (exact, frozen) forces and energies.
   const bool sleeping = sleep_.on && !compute_all_next_;
