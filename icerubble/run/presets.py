@@ -1,25 +1,25 @@
-"""Named scenes: pile, mesh and numerical settings that go together.
+"""Named scenes: pile, mesh and the numerical settings that go with them.
 
-``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel, an
-element size giving ~150,000 dof and the paper's penalty. The paper's time
-step (1 µs) is above the stable step of the potential contact at that penalty
-(~0.7 µs for 0.05 m elements, see docs/engine_api.md), and the few tiny
-elements of a real pile's mesh bring the stable step down to ~3e-8 s; so
-the paper scene uses selective mass scaling to a 2e-7 s step (on the
-665-block pile: 0.04 % added inertial mass on ~700 nodes; weight stays
-physical) and runs at 0.8 x the resulting stable step.
+``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel, the
+paper's element size class and penalty (ridge 1: 419 blocks, 90,950
+triangles). At that penalty the few tiny elements of a real pile's mesh bring
+the stable step down to ~1e-8 s, so the paper scene scales the inertial mass
+of the nodes that limit it (weight stays physical): to 2e-7 s with the
+faithful numerics (0.02 % added mass), 9e-7 s with the local contact step
+bound of ``balanced`` (0.79 %); see NUMERICS below and README "Speed against
+accuracy".
 ``small`` and ``demo`` are a 10 m wide, ~1.8 m deep keel on a coarser mesh
-that runs in minutes on a workstation. To afford a larger time step they use
-a 40x softer contact penalty (5e9 Pa: contact overlaps stay of the order of
-micrometres at these loads) and a time step of 0.8 x the stable step of their
-mesh (``dt_fraction``); the demo also ramps the indenter up in 0.5 s instead
-of 2 s. Their meshes' stable steps are 3.7e-6 s on a clean mesh (small ridge
-1) but 4e-8 to 1.1e-7 s where the pile leaves a 2-4 mm element at a block
-junction (ridges 2-4; the block viscosity makes such an element's limit fall
-as its size squared), so they also scale the masses of those few nodes to a
-3e-6 s step: 0.1-0.8 % added inertial mass on 40-260 nodes (weight stays
-physical; recorded in the result). Everything else is Table 1. Deviations are recorded in every result
-file's /parameters.
+that runs in minutes on a workstation; ``wide`` is the same at 30 m (a far
+field). To afford a larger time step they use a 40x softer contact penalty
+(5e9 Pa: contact overlaps stay of the order of micrometres at these loads);
+the demo and wide scenes also ramp the indenter up in 0.5 s instead of 2 s.
+Their meshes' stable steps are 3.7e-6 s on a clean mesh (small ridge 1) but
+4e-8 to 1.1e-7 s where the pile leaves a 2-4 mm element at a block junction
+(ridges 2-4; the block viscosity makes such an element's limit fall as its
+size squared), so they scale the masses of those few nodes to a 3e-6 s step:
+0.1-0.8 % added inertial mass on 40-260 nodes (recorded in the result).
+Everything else is Table 1. Deviations are recorded in every result file's
+/parameters.
 
 Every scene's pile is settled in phase 1 at PILE_FRICTION = 0.05, the lowest
 friction coefficient of the paper's study (mu = 0.05 and 0.3): a ridge's pile
