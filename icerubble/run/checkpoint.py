@@ -6,9 +6,10 @@ always a complete one; a run killed while writing keeps the previous one.
 """
 import json
 
+import h5py
 import numpy as np
 
-from ..files.h5io import AtomicH5, open_complete, read_tree, write_tree
+from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
 from .recorder import ENERGY_TERMS
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
@@ -43,8 +44,54 @@ def save(run, path):
             g2.create_dataset("u_node", data=un)
 
 
+def check(f):
+    """Everything restore() reads, checked before any of it is used: groups,
+    shapes, dtypes, finiteness and ids in range. Raises ValueError naming the
+    file and the dataset or attribute (a checkpoint is written atomically, so
+    this catches files from elsewhere: another version, another run, damage)."""
+    what = "checkpoint"
+    where = f"{what} {f.filename!r}"
+    for g in ("driver", "engine", "recorder", "engine/node_sets", "engine/bond_state", "engine/bond_input"):
+        if g not in f or not isinstance(f[g], h5py.Group):
+            raise ValueError(f"{where}: group {g!r} missing")
+    d = f["driver"]
+    for k in ("phase", "params", "vtu_entries"):
+        if k not in d.attrs:
+            raise ValueError(f"{where}: attribute driver/{k} missing")
+    phase = d.attrs["phase"]
+    phase = phase.decode() if isinstance(phase, bytes) else str(phase)
+    if phase not in ("settle", "load"):
+        raise ValueError(f"{where}: driver/phase is {phase!r}, expected 'settle' or 'load'")
+    for k in ("params", "vtu_entries"):
+        try:
+            json.loads(d.attrs[k])
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"{where}: driver/{k} is not JSON ({e})") from None
+    x0 = read_checked(f, "engine/reference_positions", shape=(None, 2), what=what)
+    n = len(x0)
+    read_checked(f, "engine/positions", shape=(n, 2), what=what)
+    read_checked(f, "engine/velocities", shape=(n, 2), what=what)
+    tri = read_checked(f, "engine/triangles", shape=(None, 3), kind="i", what=what)
+    read_checked(f, "engine/body", shape=(len(tri),), kind="i", what=what)
+    if tri.size and (tri.min() < 0 or tri.max() >= n):
+        raise ValueError(f"{where}, dataset 'engine/triangles': node ids {tri.min()}..{tri.max()} "
+                         f"outside [0, {n - 1}]")
+    for name in f["engine/node_sets"]:
+        ids = read_checked(f, f"engine/node_sets/{name}", shape=(None,), kind="i", what=what)
+        if ids.size and (ids.min() < 0 or ids.max() >= n):
+            raise ValueError(f"{where}, dataset 'engine/node_sets/{name}': node ids outside [0, {n - 1}]")
+    clock = f["engine/clock"].attrs if "engine/clock" in f else f["engine/bond_state"].attrs
+    t, steps = clock.get("time"), clock.get("step_count")
+    if t is None or not np.isfinite(t) or steps is None or int(steps) < 0:
+        raise ValueError(f"{where}: engine/clock time={t!r}, step_count={steps!r}: expected a finite "
+                         "time and a step count >= 0")
+    read_checked(f, "recorder/force_rows", shape=(None, 4), what=what)
+    read_checked(f, "recorder/energy_rows", shape=(None, 1 + len(ENERGY_TERMS)), what=what)
+
+
 def restore(run, path):
     with open_complete(path, CHECKPOINT_FORMAT) as f:
+        check(f)
         d = f["driver"]
         saved = json.loads(d.attrs["params"])
         if saved != run.params:
