@@ -354,7 +354,8 @@ class PunchThrough:
         dt = self.model.dt
         chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
         prog = Progress(p["target_travel"], every_s=o.progress_every_s)
-        k = 0
+        # force samples so far: a resumed run samples the energy at the same ones
+        k = len(self.recorder.force_rows)
         # F is sampled as the mean force over each interval, work done on the
         # indenter / travel: the rubble rattles at its contact frequencies
         # (~1 kHz on the small scene), far above the sampling rate, and an

@@ -122,6 +122,10 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
         np.testing.assert_array_equal(b["force/y_I"][:], a["force/y_I"][:])
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(np.isfinite(b["bonds/t_split"][:]), np.isfinite(a["bonds/t_split"][:]))
+        # the energy record too, sampled at the same times (issue 11: it was
+        # sampled every ENERGY_EVERY force samples counted from the resume)
+        np.testing.assert_array_equal(b["energy/t"][:], a["energy/t"][:])
+        np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
     assert not (tmp_path / "run.checkpoint.h5").exists()
 
 
