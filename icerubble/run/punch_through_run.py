@@ -354,8 +354,9 @@ class PunchThrough:
         dt = self.model.dt
         chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
         prog = Progress(p["target_travel"], every_s=o.progress_every_s)
-        # force samples so far: a resumed run samples the energy at the same ones
-        k = len(self.recorder.force_rows)
+        # force samples of the load loop so far (the first row is the rest
+        # force of settle): a resumed run samples the energy at the same ones
+        k = len(self.recorder.force_rows) - 1
         # F is sampled as the mean force over each interval, work done on the
         # indenter / travel: the rubble rattles at its contact frequencies
         # (~1 kHz on the small scene), far above the sampling rate, and an
