@@ -129,9 +129,10 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
     for (size_t e = 0; e < n; ++e) out[e] = T2[grid_index(len[e])];
     return out;
   }
-  // Start vertices in cells of size R + l_hi: an edge's search disc (radius
-  // R + l_e around the segment) lies in the 3 x 3 cells around each end.
-  const double cell = reach + l_hi;
+  // Start vertices in cells of size R + 1.5 l_hi: a point within R + l_e of
+  // the edge is within R + 1.5 l_e of its nearer end (every point of the
+  // edge is within l_e/2 of one), so it lies in the 3 x 3 cells around that end.
+  const double cell = reach + 1.5 * l_hi;
   struct Entry {
     int64_t key;
     size_t k;  // start vertex (index into first)
