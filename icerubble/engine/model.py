@@ -467,7 +467,7 @@ class Model:
     def sleep_counts(self):
         """Sleeping far field now: nodes asleep, triangles the next step computes, of all."""
         return dict(asleep_nodes=self._m.asleep_nodes(), awake_triangles=self._m.awake_triangles(),
-                    nodes=self.n_nodes, triangles=len(self.triangles))
+                    nodes=self.n_nodes, triangles=self.n_triangles)
 
     @property
     def surface_triangles(self):

@@ -162,21 +162,10 @@ void bind_model(py::module_& m) {
       .def("set_threads", &Model::set_threads)
       .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
       .def("set_contact_reach", &Model::set_contact_reach, py::arg("reach"))
-      .def_property_readonly("contact_reach", &Model::contact_reach)
       .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),
            py::arg("quiet_steps"),
            "Sleeping far field (engine/src/model/sleeping.hpp): nodes at rest for quiet_steps updates\n"
            "(speed < velocity [m/s], force < force x weight) are held and their triangles not computed.")
-      .def("sleeping", [](const Model& M) {
-        const SleepParams& p = M.sleeping();
-        py::dict d;
-        d["on"] = p.on;
-        d["velocity"] = p.velocity;
-        d["force"] = p.force;
-        d["quiet_steps"] = p.quiet_steps;
-        return d;
-      })
-      .def("wake_all", &Model::wake_all)
       .def("asleep_nodes", &Model::asleep_nodes)
       .def("awake_triangles", &Model::awake_triangles)
       .def("sleep_state", [](const Model& M) {

@@ -128,6 +128,16 @@ ContactInput Model::contact_input() const {
   return in;
 }
 
+// The same in the reference configuration: the stable step and the mass
+// scaling are taken there, so they depend on the mesh (and its splits) alone,
+// not on when they are computed (a resumed run gets the same).
+ContactInput Model::reference_contact_input() const {
+  ContactInput in = contact_input();
+  in.x = nodes_.x0.data();
+  in.y = nodes_.y0.data();
+  return in;
+}
+
 void Model::compute_contact_forces() {
   contact_work_step_ = 0.0;
   if (!contact_possible_) return;

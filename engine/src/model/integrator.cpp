@@ -32,14 +32,12 @@ void Model::prepare_topology() {
 StableStep Model::stable_step() {
   prepare_topology();
   if (!stable_current_) {
-    // The mesh's stable step, in its reference configuration (as the mass
-    // scaling): strains are small, and it is then the same before and after
-    // bond points split (per-body shares), up to round-off.
-    ContactInput in = contact_input();
-    in.x = nodes_.x0.data();
-    in.y = nodes_.y0.data();
+    // The mesh's stable step, in its reference configuration: strains are
+    // small, and it is then the same before and after bond points split
+    // (per-body shares), up to round-off.
     const ContactStableStep contact =
-        contact_possible_ ? contact_critical_dt(contact_params_, in, nullptr, contact_reach_) : ContactStableStep{};
+        contact_possible_ ? contact_critical_dt(contact_params_, reference_contact_input(), nullptr, contact_reach_)
+                          : ContactStableStep{};
     // where the reach guard measures moves from (a split node starts from its
     // reference place: an earlier re-check at most)
     for (size_t i = reach_x_.size(); i < size_t(nodes_.size()); ++i) {

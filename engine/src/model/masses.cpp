@@ -72,13 +72,8 @@ void Model::scale_masses() {
   }
   if (contact_possible_) {
     std::vector<double> k;
-    // In the reference configuration: the masses then depend on the mesh
-    // (and its splits) alone, not on when they are computed, so a resumed
-    // run gets the masses of the run it continues.
-    ContactInput in = contact_input();
-    in.x = nodes_.x0.data();
-    in.y = nodes_.y0.data();
-    contact_critical_dt(contact_params_, in, &k, contact_reach_);
+    // in the reference configuration: a resumed run gets the masses of the run it continues
+    contact_critical_dt(contact_params_, reference_contact_input(), &k, contact_reach_);
     for (int32_t i = 0; i < nodes_.size(); ++i)
       if (k[i] > 0.0) M[i] = std::max(M[i], 0.5 * k[i] * need * need * margin);
   }

@@ -84,13 +84,11 @@ class Model {
   // longer holds stops with an InstabilityError saying so. Throws
   // std::invalid_argument unless reach > 0.
   void set_contact_reach(double reach);
-  double contact_reach() const { return contact_reach_; }
 
   // The sleeping far field (sleeping.hpp): off by default. Throws
   // std::invalid_argument unless velocity >= 0, force >= 0 (finite) and
   // quiet_steps >= 1. Switching it on or off wakes every node.
   void set_sleeping(bool on, double velocity, double force, int32_t quiet_steps);
-  const SleepParams& sleeping() const { return sleep_; }
   // Every node awake, quiet counters reset.
   void wake_all();
   // Restore Nodes::sleep and Nodes::quiet (a checkpoint). Throws
@@ -201,6 +199,7 @@ class Model {
   void scale_masses();  // the mass scaling part of compute_masses
   void build_constraints();
   ContactInput contact_input() const;
+  ContactInput reference_contact_input() const;
   [[noreturn]] void fail(const std::string& what, int32_t node, int32_t tri) const;
   int32_t body_of_node(int32_t node) const;
 
