@@ -35,13 +35,13 @@ install:
 	  && command -v icerubble >/dev/null || \
 	  $(SUDO) $(PY) -m pip install --quiet --no-deps --no-build-isolation --break-system-packages --editable "$(CURDIR)"
 
-test: build
+test: deps build
 	$(PY) -m pytest -q tests
 
 bench: build
 	$(PY) bench/run_all.py
 
-demo: build
+demo: deps build
 	$(PY) -m icerubble.cli demo
 
 # Figs. 6-20 and Tables 2-3 from a folder of run results (docs/postproc.md)

@@ -7,10 +7,7 @@ machine. Writes bench/results/paper_cost.json.
 
 The per-step cost is measured on the paper mesh in the load phase's
 configuration (water, drag, contact, held layer top, driven indenter) from
-rest; the sleeping far field cannot be measured from rest (everything would
-sleep), so its effect is projected from the element share of the step and the
-fraction of element-steps the small scene's sleeping runs computed
-(bench/results/runtime_vs_error.json), and marked as a projection.
+rest. No preset uses the sleeping far field (docs/model.md §3.5).
 """
 import argparse
 import json
@@ -28,7 +25,6 @@ from icerubble.run.scene_cache import scene_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "bench", "results", "paper_cost.json")
-RVE = os.path.join(ROOT, "bench", "results", "runtime_vs_error.json")
 SETTLE_TIME = 1.0  # s simulated to bring the scene to rest (0.5-1.2 s on the small ridges)
 
 
@@ -39,16 +35,6 @@ def time_to_travel(travel, v_final, ramp_time):
     if travel <= y[-1]:
         return float(np.interp(travel, y, t))
     return float(t[-1] + (travel - y[-1]) / v_final)
-
-
-def element_fraction_of(sleep):
-    """Measured fraction of element-steps a small-scene run with this sleep setting computed."""
-    if sleep is None or not os.path.exists(RVE):
-        return None
-    for row in json.load(open(RVE))["runs"]:
-        if row.get("sleep") == sleep and row.get("dt_fraction") and "element_fraction" in row:
-            return float(row["element_fraction"])
-    return None
 
 
 def measure(mesh, params, numerics, steps, threads):
@@ -89,25 +75,15 @@ def main(argv=None):
     rows = []
     for name, numerics in NUMERICS["paper"].items():
         r = measure(mesh, params, numerics, a.steps, a.threads)
-        f_el = element_fraction_of(numerics.get("sleep"))
-        per_step = r["s_per_step"]
-        if f_el is not None:  # projected: only the element work shrinks
-            per_step_load = per_step * (1.0 - r["element_share"] * (1.0 - f_el))
-        else:
-            per_step_load = per_step
-        out = dict(preset=name, numerics=numerics, **r, sleep_element_fraction_small_scene=f_el,
-                   s_per_step_load_projected=per_step_load)
+        out = dict(preset=name, numerics=numerics, **r)
         for mm in (20, 300):
             t_load = time_to_travel(mm * 1e-3, params["v_final"], params["ramp_time"])
-            steps = (SETTLE_TIME + t_load) / r["dt"]
-            out[f"steps_{mm}mm"] = steps
-            out[f"hours_{mm}mm"] = (SETTLE_TIME / r["dt"] * per_step + t_load / r["dt"] * per_step_load) / 3600
+            out[f"steps_{mm}mm"] = (SETTLE_TIME + t_load) / r["dt"]
+            out[f"hours_{mm}mm"] = out[f"steps_{mm}mm"] * r["s_per_step"] / 3600
         rows.append(out)
         print(f"{name:9s} dt {r['dt']:.2e} s (+{100 * r['added_mass_fraction']:.2f} % mass on {r['scaled_nodes']} "
-              f"nodes), {1e3 * per_step:.2f} ms/step ({100 * r['element_share']:.0f} % elements)"
-              + (f", sleeping projected {1e3 * per_step_load:.2f} ms/step (small scene: "
-                 f"{100 * f_el:.0f} % of element-steps)" if f_el is not None else "")
-              + f": first 20 mm {out['hours_20mm']:.1f} h, 300 mm {out['hours_300mm']:.1f} h", flush=True)
+              f"nodes), {1e3 * r['s_per_step']:.2f} ms/step ({100 * r['element_share']:.0f} % elements): "
+              f"first 20 mm {out['hours_20mm']:.1f} h, 300 mm {out['hours_300mm']:.1f} h", flush=True)
     os.makedirs(os.path.dirname(OUT), exist_ok=True)
     with open(OUT, "w") as f:
         json.dump(dict(ridge=a.ridge, threads=a.threads, settle_time_s=SETTLE_TIME,
