@@ -3,6 +3,7 @@
     icerubble demo [--ridge N]          pile -> mesh -> punch-through -> figures (make demo)
     icerubble mesh PILE MESH [...]      mesh a settled pile with gmsh
     icerubble study check TABLE         a yade-batch table checked line by line before it runs
+    icerubble study run TABLE           the table run here (yade-batch), then each line's outcome
     icerubble figures RESULTS [-o DIR]  every figure and table of the paper from a folder of runs
     icerubble run-figures RESULT        F-y_I record and u_y field of one run
     icerubble summary RESULTS           one line per run: peaks, alpha, n_t/n_s

@@ -5,11 +5,13 @@
     YADE_BATCH=data/study_paper.table:4 yade -j2 -n -x yade_scripts/punch_through.py   # one line
 
 Every column of a table is a parameter below: ``ridge`` (the pile's seed),
-``scene`` (demo | small | paper: pile size, mesh, penalty, travel; see
+``scene`` (demo | small | wide | paper | tiny: pile size, mesh, penalty, travel; see
 icerubble/run/presets.py), ``numerics`` (paper | balanced | fast: the scene's
 numerical preset, default paper: time step, mass scaling, contact reach,
 sleeping far field) and any Table 1 parameter (icerubble/parameters.py),
 e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel.
+OUT_DIR is the out_dir column, else $ICERUBBLE_OUT_DIR (set by `icerubble
+study run --out`), else runs/ in this checkout.
 Piles and meshes are made on first use and cached in OUT_DIR/scenes; the
 result is OUT_DIR/<description>.h5 (docs/results_format.md) with ParaView
 fields in OUT_DIR/<description>_fields/. An interrupted run resumes from its
@@ -35,18 +37,21 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
                                                         else __file__)))
 
 # Table 1 parameters default to None: "the scene's value, else Table 1".
-utils.readParamsFromTable(ridge=1, scene="demo", numerics="", out_dir=os.path.join(_ROOT, "runs"), resume=True,
+_OUT = os.environ.get("ICERUBBLE_OUT_DIR") or os.path.join(_ROOT, "runs")
+utils.readParamsFromTable(ridge=1, scene="demo", numerics="", out_dir=_OUT, resume=True,
                           noTableOk=True, **{k: None for k in P.TABLE_1})
 from yade.params import table
 from yade.wrapper import O
 
 from icerubble.run.study import run_one
+from icerubble.run.study_outcome import RESULT_MARK
 
 overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not None}
 description = O.tags["description"] if "description" in O.tags.keys() else ""
 try:
-    run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=table.out_dir,
-            description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
-except ValueError as e:
+    out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=table.out_dir,
+                  description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
+except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability
     sys.exit(f"punch_through: error: {e}")
+print(RESULT_MARK + os.path.abspath(out), flush=True)   # what `icerubble study` reads as done
 utils.waitIfBatch()

@@ -1,0 +1,90 @@
+"""What became of each line of a study table: done, failed (and why) or not run.
+
+yade-batch prints each line's exit status as it ends but itself exits 0
+whatever its lines did, and a zero exit does not mean a result: a line may
+stop early and leave no file, or a partial one. So the outcome of a line is
+read from what it left behind: its log (one per table line, ``line<N>.log``
+in the study's log folder) names the result file the driver wrote
+(RESULT_MARK), and that file must be complete.
+"""
+import os
+
+from ..files.h5io import open_complete
+from .table_check import read_table
+
+# Printed by yade_scripts/punch_through.py once a line's result is complete.
+RESULT_MARK = "punch_through: result "
+# yade-batch appends this block to each line's log when the line ends.
+BATCH_SUMMARY = "=================== JOB SUMMARY"
+
+
+def log_path(log_dir, line):
+    return os.path.join(log_dir, f"line{line}.log")
+
+
+def batch_log_pattern(log_dir):
+    """yade-batch's --log format for log_path ('%' is the line number)."""
+    return os.path.join(log_dir, "line%.log")
+
+
+def line_outcomes(table, log_dir):
+    """[{line, label, state, result, why}] for every line of `table`, state one
+    of "done", "failed", "not run"."""
+    _, rows = read_table(table)
+    out = []
+    for n, row, error in rows:
+        label = _label(row)
+        entry = dict(line=n, label=label, state="not run", result=None, why="")
+        if error:
+            entry.update(state="failed", why=error)
+        else:
+            entry.update(_from_log(log_path(log_dir, n)))
+        out.append(entry)
+    return out
+
+
+def _label(row):
+    if row is None:
+        return "?"
+    if "description" in row:
+        return row["description"]
+    return " ".join(f"{c}={v}" for c, v in row.items())
+
+
+def _from_log(path):
+    if not os.path.exists(path):
+        return dict(state="not run")
+    with open(path, errors="replace") as f:
+        lines = f.read().splitlines()
+    ended = any(ln.startswith(BATCH_SUMMARY) for ln in lines)
+    body = lines[:next((i for i, ln in enumerate(lines) if ln.startswith(BATCH_SUMMARY)), len(lines))]
+    results = [ln[len(RESULT_MARK):].strip() for ln in body if ln.startswith(RESULT_MARK)]
+    if results:
+        try:
+            open_complete(results[-1], what="result").close()
+            return dict(state="done", result=results[-1])
+        except ValueError as e:
+            return dict(state="failed", result=results[-1], why=str(e))
+    if not ended:
+        return dict(state="running", why=_tail(body))
+    return dict(state="failed", why=_tail(body))
+
+
+def _tail(lines, n=3):
+    """The lines that say why: the driver's error line if there is one, else the last few."""
+    errors = [ln for ln in lines if "error:" in ln or "Error" in ln]
+    keep = errors[-n:] if errors else [ln for ln in lines if ln.strip()][-n:]
+    return " | ".join(ln.strip() for ln in keep)
+
+
+def summary(outcomes):
+    """Text lines, one per table line, and a count line."""
+    rows = []
+    for o in outcomes:
+        what = o["result"] if o["state"] == "done" else o["why"]
+        rows.append(f"line {o['line']:>3}  {o['state']:<8} {o['label']}: {what}")
+    counts = {}
+    for o in outcomes:
+        counts[o["state"]] = counts.get(o["state"], 0) + 1
+    rows.append(", ".join(f"{k} {v}" for k, v in sorted(counts.items())) + f" of {len(outcomes)} lines")
+    return rows

@@ -1,0 +1,74 @@
+"""`icerubble study run`: a table run here ends with each line's outcome and a
+non-zero exit when any line did not finish (yade-batch itself exits 0)."""
+import os
+import subprocess
+
+import h5py
+
+from icerubble.files.h5io import open_complete
+from icerubble.run import study_outcome as SO
+
+
+def _study(*args, cwd):
+    return subprocess.run(["icerubble", "study", *args], cwd=cwd, capture_output=True, text=True,
+                          timeout=600)
+
+
+def test_a_table_run_reports_each_line_and_fails_when_one_line_fails(tmp_path):
+    """Two good lines and one whose step is far above the stable step (a
+    mistake the table check cannot see: the stable step needs the mesh)."""
+    table = tmp_path / "three.table"
+    table.write_text("description scene mu tau_cr dt\n"
+                     "strong 'tiny' 0.3 50e3 None\n"
+                     "weak 'tiny' 0.3 5e3 None\n"
+                     "toolarge 'tiny' 0.3 50e3 1e-3\n")
+    out = tmp_path / "out"
+    r = _study("run", str(table), "--out", str(out), "--job-threads", "1", cwd=tmp_path)
+    text = r.stdout + r.stderr
+    assert r.returncode == 1, text
+    assert "Traceback" not in text
+    summary = [ln.strip() for ln in text.splitlines() if ln.strip().startswith("line ")]
+    assert len(summary) == 3, text
+    assert summary[0].split()[2] == "done" and summary[1].split()[2] == "done", text
+    assert summary[2].split()[2] == "failed" and "dt" in summary[2] and "stable step" in summary[2], text
+    assert "done 2, failed 1 of 3 lines" in text
+    for name in ("strong", "weak"):
+        with open_complete(out / f"{name}.h5") as f:
+            assert f["force/y_I"][-1] >= 0.002   # the tiny scene's whole travel
+    assert not (out / "toolarge.h5").exists()
+
+
+def test_a_bad_table_runs_no_line(tmp_path):
+    table = tmp_path / "bad.table"
+    table.write_text("description scene mu_typo\nx 'tiny' 0.3\n")
+    r = _study("run", str(table), "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert r.returncode == 1
+    assert "line 1, column mu_typo" in r.stdout and "did you mean 'mu'" in r.stdout
+    assert not (tmp_path / "out").exists()
+
+
+def _log(tmp_path, line, text):
+    (tmp_path / f"line{line}.log").write_text(text)
+
+
+def test_outcomes_are_read_from_what_each_line_left(tmp_path):
+    table = tmp_path / "t.table"
+    table.write_text("description mu\nfinished 0.3\npartial 0.3\nstopped 0.3\nkilled 0.3\nqueued 0.3\n")
+    complete, partial = tmp_path / "finished.h5", tmp_path / "partial.h5"
+    with h5py.File(complete, "w") as f:
+        f.attrs["complete"] = 1
+    with h5py.File(partial, "w") as f:
+        f.attrs["complete"] = 0
+    end = f"\n{SO.BATCH_SUMMARY}\nstatus  : 0 (OK)\n"
+    _log(tmp_path, 2, f"settling\n{SO.RESULT_MARK}{complete}\n{end}")
+    _log(tmp_path, 3, f"{SO.RESULT_MARK}{partial}\n{end}")
+    _log(tmp_path, 4, f"settling\npunch_through: error: the scene did not come to rest\n{end}")
+    _log(tmp_path, 5, "settling\n[punch-through] step 100\n")   # no summary: still running, or killed
+    got = {o["label"]: o for o in SO.line_outcomes(str(table), str(tmp_path))}
+    assert got["finished"]["state"] == "done" and got["finished"]["result"] == str(complete)
+    assert got["partial"]["state"] == "failed" and "incomplete" in got["partial"]["why"]
+    assert got["stopped"]["state"] == "failed" and "did not come to rest" in got["stopped"]["why"]
+    assert got["killed"]["state"] == "running"
+    assert got["queued"]["state"] == "not run"
+    assert SO.summary(list(got.values()))[-1] == "done 1, failed 2, not run 1, running 1 of 5 lines"
+    assert os.path.basename(SO.log_path(str(tmp_path), 7)) == "line7.log"
