@@ -41,11 +41,11 @@ def main(argv=None):
         return 2
     module = importlib.import_module(COMMANDS[name])
     try:
-        module.main(rest)
+        status = module.main(rest)
     except ValueError as e:   # bad input: one line naming it, not a traceback
         print(f"icerubble {name}: error: {e}", file=sys.stderr)
         return 2
-    return 0
+    return status or 0   # a command that reports its own error returns its status
 
 
 if __name__ == "__main__":

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
-from icerubble.files.h5io import open_complete
+from icerubble.files.h5io import open_complete, read_checked
 
 FORMAT_NAME = "icerubble-run"
 FORMAT_VERSION = 1
@@ -173,28 +173,37 @@ def load(path):
         if "porosity" not in pile:
             raise ResultFileError(f"{path}: /pile lacks attr 'porosity'")
 
-        y = np.asarray(f["force/y_I"][...], dtype=float)
-        F = np.asarray(f["force/F"][...], dtype=float)
-        if y.shape != F.shape or y.ndim != 1 or y.size < 2:
-            raise ResultFileError(f"{path}: /force/y_I and /force/F must be equal 1-D arrays of >= 2 samples")
-        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(F))):
-            raise ResultFileError(f"{path}: /force contains non-finite values")
+        # each dataset checked before use: present, shaped, finite, in SI units
+        # (a damaged file is named with its dataset, never a KeyError traceback)
+        def read(name, shape, kind="f", units=None):
+            try:
+                return read_checked(f, name, shape=shape, kind=kind, units=units, what="result file")
+            except ValueError as exc:
+                raise ResultFileError(str(exc)) from None
 
-        bonds = {k: np.asarray(v[...]) for k, v in f["bonds"].items()}
+        y = read("force/y_I", (None,), units="m")
+        F = read("force/F", (len(y),), units="N/m")
+        if y.size < 2:
+            raise ResultFileError(f"{path}: /force/y_I and /force/F must hold >= 2 samples (found {y.size})")
+
         for key in ("position", "y_I_fail", "y_I_split", "mode"):
-            if key not in bonds:
+            if key not in f["bonds"] or not isinstance(f["bonds"][key], h5py.Dataset):
                 raise ResultFileError(f"{path}: /bonds lacks dataset {key!r}")
+        bonds = {k: np.asarray(v[...]) for k, v in f["bonds"].items() if isinstance(v, h5py.Dataset)}
 
-        mesh = f["mesh"]
-        body = np.asarray(mesh["body"][...])
-        body_kind = np.asarray(mesh["body_kind"][...])
-        area = np.asarray(mesh["area"][...], dtype=float)
-        centroid = np.asarray(mesh["centroid"][...], dtype=float)
+        body_kind = read("mesh/body_kind", (None,), kind="i")
+        body = read("mesh/body", (None,), kind="i")
+        if body.size and (body.min() < 0 or body.max() >= len(body_kind)):
+            raise ResultFileError(f"{path}: /mesh/body ids must lie in [0, {len(body_kind)})")
+        area = read("mesh/area", (len(body),), units="m^2")
+        centroid = read("mesh/centroid", (len(body), 2), units="m")
 
         missing = {}
         snapshots = []
         if "snapshots" in f:
             for name, g in sorted(f["snapshots"].items()):
+                if "t" not in g.attrs or "y_I" not in g.attrs:
+                    raise ResultFileError(f"{path}: /snapshots/{name} lacks its attribute t or y_I")
                 snapshots.append(Snapshot(name, float(g.attrs["t"]), float(g.attrs["y_I"])))
             if not snapshots:
                 missing["snapshots"] = "/snapshots is empty: no u_y fields (Figs. 16-20 need them)"

@@ -4,6 +4,7 @@
 """
 import argparse
 import csv
+import os
 import sys
 
 import numpy as np
@@ -95,6 +96,8 @@ def main(argv=None):
     ap.add_argument("--plug-force", type=float, default=shear_strength.CYLINDRICAL_PLUG_FORCE,
                     help="F_b of tau^(2) [N/m] (default 11e3)")
     args = ap.parse_args(argv)
+    if not os.path.isdir(args.results_dir):
+        raise ValueError(f"RESULTS_DIR {args.results_dir!r} is not a folder")
     files, partial = results.find_results(args.results_dir)
     rows = []
     for p in partial:
@@ -104,6 +107,9 @@ def main(argv=None):
             rows.append(summarize(results.load(path), args.plug_force))
         except results.ResultFileError as exc:
             print(f"skipped: {exc}", file=sys.stderr)
+    if not rows:   # an empty table would look like a summary of nothing
+        raise ValueError(f"no result files to summarise under {args.results_dir!r} "
+                         f"({len(files)} .h5 file(s) skipped, {len(partial)} still being written)")
     write_csv(rows, args.output)
     print(f"{len(rows)} run(s) -> {args.output}")
     return 0

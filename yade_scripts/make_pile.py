@@ -25,6 +25,7 @@ extruded 1 m in z, motion in the x-y plane only):
   FEM-DEM settle and was still going). The pile file records it as `friction`.
 Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
 """
+import sys
 import time
 
 import numpy as np
@@ -275,5 +276,8 @@ def main():
           flush=True)
 
 
-main()
+try:
+    main()
+except ValueError as e:   # a bad parameter: one line naming it, not a traceback
+    sys.exit(f"make_pile: error: {e}")
 utils.waitIfBatch()

@@ -25,8 +25,11 @@ DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "descriptio
 
 def read_table(path):
     """(columns, rows): rows as (line number, {column: text}) with '=' resolved."""
-    with open(path) as f:
-        raw = f.read().split("\n")
+    try:
+        with open(path) as f:
+            raw = f.read().split("\n")
+    except OSError as e:
+        raise ValueError(f"table {path!r} cannot be read: {e.strerror}") from None
     lines = [(i + 1, re.sub(r"\s*#.*", "", text)) for i, text in enumerate(raw)]
     lines = [(n, text) for n, text in lines if text.strip()]
     if not lines:

@@ -3,15 +3,14 @@ shape, non-finite values, ids outside the arrays or another unit is refused
 with one message naming the file, the dataset and what was expected (never a
 KeyError traceback, never millimetres read as metres)."""
 import os
-import shutil
 
-import h5py
 import numpy as np
 import pytest
 
 from icerubble.files.mesh_file import read_mesh
 from icerubble.files.pile_file import read_pile
 from icerubble.geometry.meshing import mesh_pile_file
+from tests.h5_edits import broken, replace
 from tests.paths import DATA
 
 PILE = os.path.join(DATA, "demo_pile.h5")
@@ -22,26 +21,6 @@ def mesh_path(tmp_path_factory):
     path = str(tmp_path_factory.mktemp("mesh") / "demo_mesh.h5")
     mesh_pile_file(PILE, path, element_size=0.15)
     return path
-
-
-def broken(src, tmp_path, edit):
-    """A copy of src with edit(h5py.File) applied."""
-    dst = str(tmp_path / os.path.basename(src))
-    shutil.copy(src, dst)
-    with h5py.File(dst, "r+") as f:
-        edit(f)
-    return dst
-
-
-def replace(name, data, units=None):
-    def edit(f):
-        old_units = f[name].attrs.get("units")
-        del f[name]
-        d = f.create_dataset(name, data=data)
-        u = old_units if units is None else units
-        if u is not None:
-            d.attrs["units"] = u
-    return edit
 
 
 def test_the_intact_files_read(mesh_path):

@@ -1,0 +1,435 @@
+"""Malformed input, entry point by entry point: the commands a user types
+(`icerubble ...`, the YADE scripts), the Python API, and every file the
+project reads (pile, mesh, checkpoint, result, table, measured record).
+
+Each case must be refused with a message that names what is wrong, before any
+work: a command exits non-zero with no traceback, the API raises ValueError,
+and no file that looks complete is left behind (no new HDF5 file that opens as
+complete, no mesh, no result, no figure). The readers' own tests
+(tests/files/test_readers.py, tests/run/test_checkpoint_reader.py,
+tests/run/test_table_check.py) go through each dataset; this catalogue goes
+through each door.
+"""
+import os
+import re
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+from icerubble.files.h5io import open_complete
+from tests.h5_edits import broken, replace
+from tests.paths import DATA, ROOT
+
+PILE = os.path.join(DATA, "demo_pile.h5")
+QUICK = dict(penalty=2e10, target_travel=0.001, ramp_time=0.05)
+
+CASES = {}
+
+
+def case(door, message):
+    """Register a case: `door` is "cli" (the function returns icerubble's
+    arguments), "yade" (returns (script, table text)) or "api" (returns a
+    callable that must raise ValueError); `message` a regex the refusal must match."""
+    def register(fn):
+        CASES[fn.__name__] = (door, message, fn)
+        return fn
+    return register
+
+
+@pytest.fixture(scope="module")
+def good(tmp_path_factory):
+    """Intact inputs: the demo pile, a one-row bonded mesh, a complete result
+    and the checkpoint of a run stopped while loading."""
+    from icerubble.geometry import meshing
+    from icerubble.run.punch_through_run import PunchThrough, RunOptions
+    from tests.run.punch_through_scenes import brick_pile
+    d = tmp_path_factory.mktemp("good")
+    brick_pile(d / "pile.h5", width=6.0, rows=1)
+    meshing.mesh_pile_file(str(d / "pile.h5"), str(d / "mesh.h5"), element_size=0.3)
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    PunchThrough(d / "mesh.h5", d / "result.h5", params=QUICK, options=RunOptions(**opts)).run()
+    stopped = PunchThrough(d / "mesh.h5", d / "stopped.h5", params=QUICK,
+                           options=RunOptions(stop_after_steps=8000, **opts))
+    with pytest.raises(KeyboardInterrupt):
+        stopped.run()
+    return dict(pile=PILE, mesh=str(d / "mesh.h5"), result=str(d / "result.h5"),
+                checkpoint=str(d / "stopped.checkpoint.h5"))
+
+
+def _text(d, name, text):
+    p = os.path.join(str(d), name)
+    with open(p, "w") as f:
+        f.write(text)
+    return p
+
+
+def _table(d, text):
+    return _text(d, "study.table", text)
+
+
+# ---- icerubble (command lines) -------------------------------------------
+
+@case("cli", "unknown command 'punch'")
+def cli_unknown_command(d, g):
+    return ["punch"]
+
+
+@case("cli", r"pile file .*missing\.h5.* does not exist")
+def cli_mesh_of_a_missing_pile(d, g):
+    return ["mesh", os.path.join(d, "missing.h5"), os.path.join(d, "mesh.h5")]
+
+
+@case("cli", r"pile file .*'blocks/corners': missing")
+def cli_mesh_of_a_pile_without_corners(d, g):
+    return ["mesh", broken(g["pile"], d, lambda f: f.__delitem__("blocks/corners")), os.path.join(d, "mesh.h5")]
+
+
+@case("cli", r"'blocks/corners': units 'mm', expected 'm'")
+def cli_mesh_of_a_pile_in_millimetres(d, g):
+    return ["mesh", broken(g["pile"], d, lambda f: f["blocks/corners"].attrs.__setitem__("units", "mm")),
+            os.path.join(d, "mesh.h5")]
+
+
+@case("cli", "not an HDF5 file")
+def cli_mesh_of_a_text_file(d, g):
+    return ["mesh", _text(d, "pile.h5", "corners 0 0 1 1\n"), os.path.join(d, "mesh.h5")]
+
+
+@case("cli", "element_size")
+def cli_mesh_with_a_negative_element_size(d, g):
+    return ["mesh", g["pile"], os.path.join(d, "mesh.h5"), "--element-size", "-0.1"]
+
+
+@case("cli", "indenter_width")
+def cli_mesh_with_an_indenter_wider_than_the_domain(d, g):
+    return ["mesh", g["pile"], os.path.join(d, "mesh.h5"), "--indenter-width", "50"]
+
+
+@case("cli", "has format 'icerubble-mesh', expected 'icerubble-pile'")
+def cli_mesh_of_a_mesh(d, g):
+    return ["mesh", g["mesh"], os.path.join(d, "mesh.h5")]
+
+
+@case("cli", r"result .*missing\.h5.* does not exist")
+def cli_run_figures_of_a_missing_result(d, g):
+    return ["run-figures", os.path.join(d, "missing.h5"), "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "format 'icerubble-mesh'")
+def cli_run_figures_of_a_mesh(d, g):
+    return ["run-figures", g["mesh"], "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "incomplete")
+def cli_run_figures_of_an_incomplete_result(d, g):
+    return ["run-figures", broken(g["result"], d, lambda f: f.attrs.__setitem__("complete", 0)),
+            "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "'force/F'")
+def cli_run_figures_of_a_result_without_its_force_record(d, g):
+    return ["run-figures", broken(g["result"], d, lambda f: f.__delitem__("force/F")),
+            "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "non-finite")
+def cli_run_figures_of_a_result_with_nan_forces(d, g):
+    def nan(f):
+        F = f["force/F"][...]
+        F[3] = np.nan
+        replace("force/F", F)(f)
+    return ["run-figures", broken(g["result"], d, nan), "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "no result files to summarise")
+def cli_summary_of_an_empty_folder(d, g):
+    os.makedirs(os.path.join(d, "runs"))
+    return ["summary", os.path.join(d, "runs"), "-o", os.path.join(d, "summary.csv")]
+
+
+@case("cli", "is not a folder")
+def cli_figures_of_a_missing_folder(d, g):
+    return ["figures", os.path.join(d, "no_such_runs"), "-o", os.path.join(d, "fig")]
+
+
+@case("cli", "no complete run results under")
+def cli_compare_of_a_missing_folder(d, g):
+    return ["compare", os.path.join(d, "no_such_runs")]
+
+
+def _measured(d, text, *extra):
+    return ["measured", _text(d, "record.csv", text), "--keel-depth", "4", "--indenter-width", "4",
+            "--porosity", "0.3", "-o", os.path.join(d, "report"), *extra]
+
+
+@case("cli", "data row 1: negative displacement")
+def cli_measured_negative_travel(d, g):
+    return _measured(d, "y_I [mm],F [kN/m]\n-5,9\n0,0\n1,1\n")
+
+
+@case("cli", "decreases at data row 3")
+def cli_measured_travel_going_back(d, g):
+    return _measured(d, "y_I [mm],F [kN/m]\n0,0\n2,1\n1,3\n")
+
+
+@case("cli", "row 2")
+def cli_measured_a_word_for_a_force(d, g):
+    return _measured(d, "y_I [mm],F [kN/m]\n0,0\n1,x\n")
+
+
+@case("cli", "--porosity")
+def cli_measured_porosity_above_one(d, g):
+    return _measured(d, "y_I [mm],F [kN/m]\n0,0\n1,1\n", "--porosity", "1.2")
+
+
+@case("cli", r"line 1, column mu_typo: not a parameter; did you mean 'mu'")
+def cli_study_check_unknown_column(d, g):
+    return ["study", "check", _table(d, "description mu_typo\na 0.3\n")]
+
+
+@case("cli", r"line 2, column mu: abc does not parse")
+def cli_study_check_unquoted_word(d, g):
+    return ["study", "check", _table(d, "description mu\na abc\n")]
+
+
+@case("cli", r"line 3, column description: 'a' also on line 2")
+def cli_study_check_duplicate_description(d, g):
+    return ["study", "check", _table(d, "description mu\na 0.3\na 0.05\n")]
+
+
+@case("cli", r"line 2, column tau_cr: .*valid range")
+def cli_study_run_out_of_range_value(d, g):
+    return ["study", "run", _table(d, "description scene tau_cr\na 'tiny' -5e3\n"), "--out", os.path.join(d, "out")]
+
+
+@case("cli", r"--jobs = 0")
+def cli_study_run_zero_jobs(d, g):
+    return ["study", "run", _table(d, "description scene\na 'tiny'\n"), "--out", os.path.join(d, "out"),
+            "--jobs", "0"]
+
+
+@case("cli", r"table .*no_such\.table.* cannot be read: No such file")
+def cli_study_check_missing_table(d, g):
+    return ["study", "check", os.path.join(d, "no_such.table")]
+
+
+@case("cli", "ridge")
+def cli_demo_negative_ridge(d, g):
+    return ["demo", "--ridge", "-1", "--out-dir", os.path.join(d, "demo")]
+
+
+@case("cli", "travel")
+def cli_demo_negative_travel(d, g):
+    return ["demo", "--travel-mm", "-3", "--out-dir", os.path.join(d, "demo")]
+
+
+# ---- the YADE scripts ------------------------------------------------------
+
+@case("yade", r"line 1, column mu_typo: not a parameter; did you mean 'mu'")
+def yade_punch_through_unknown_column(d, g):
+    return "punch_through.py", f"description scene mu_typo out_dir\na 'tiny' 0.3 '{d}'\n"
+
+
+@case("yade", r"line 2, column numerics: 'turbo' is not a preset")
+def yade_punch_through_unknown_preset(d, g):
+    return "punch_through.py", f"description scene numerics out_dir\na 'tiny' 'turbo' '{d}'\n"
+
+
+@case("yade", r"domain_width")
+def yade_make_pile_negative_width(d, g):
+    return "make_pile.py", f"seed domain_width out\n1 -10.0 '{os.path.join(d, 'pile.h5')}'\n"
+
+
+# ---- the Python API ----------------------------------------------------------
+
+@case("api", r"mu.*valid range")
+def api_validate_negative_friction(d, g):
+    from icerubble import parameters as P
+    return lambda: P.validate(dict(mu=-0.1))
+
+
+@case("api", r"unknown parameter\(s\) tau; known:")
+def api_validate_unknown_parameter(d, g):
+    from icerubble import parameters as P
+    return lambda: P.validate(dict(tau=5e3))
+
+
+@case("api", "c_w")
+def api_validate_drag_constant_without_its_law(d, g):
+    from icerubble import parameters as P
+    return lambda: P.validate(dict(c_w=1e3, drag_model="quadratic"))
+
+
+@case("api", r"dt_fraction=2 must be in \(0, 1\]")
+def api_run_options_step_above_stable(d, g):
+    from icerubble.run.punch_through_run import RunOptions
+    return lambda: RunOptions(dt_fraction=2)
+
+
+@case("api", r"must end in \.h5")
+def api_result_not_h5(d, g):
+    from icerubble.run.punch_through_run import PunchThrough
+    return lambda: PunchThrough(g["mesh"], os.path.join(d, "result.txt"), params=QUICK)
+
+
+@case("api", "has format 'icerubble-pile', expected 'icerubble-mesh'")
+def api_run_on_a_pile(d, g):
+    from icerubble.run.punch_through_run import PunchThrough
+    return lambda: PunchThrough(g["pile"], os.path.join(d, "r.h5"), params=QUICK)
+
+
+@case("api", r"'triangles': missing")
+def api_run_on_a_mesh_without_triangles(d, g):
+    from icerubble.run.punch_through_run import PunchThrough
+    mesh = broken(g["mesh"], d, lambda f: f.__delitem__("triangles"))
+    return lambda: PunchThrough(mesh, os.path.join(d, "r.h5"), params=QUICK)
+
+
+@case("api", r"'nodes': units 'mm', expected 'm'")
+def api_run_on_a_mesh_in_millimetres(d, g):
+    from icerubble.run.punch_through_run import PunchThrough
+
+    def mm(f):
+        f["nodes"][...] = f["nodes"][...] * 1e3
+        f["nodes"].attrs["units"] = "mm"
+    mesh = broken(g["mesh"], d, mm)
+    return lambda: PunchThrough(mesh, os.path.join(d, "r.h5"), params=QUICK)
+
+
+@case("api", r"'triangles': ids must lie in")
+def api_run_on_a_mesh_with_a_node_id_past_the_end(d, g):
+    from icerubble.run.punch_through_run import PunchThrough
+    mesh = broken(g["mesh"], d, lambda f: f["triangles"].__setitem__((0, 0), len(f["nodes"])))
+    return lambda: PunchThrough(mesh, os.path.join(d, "r.h5"), params=QUICK)
+
+
+@case("api", r"checkpoint .*'engine/velocities'.*non-finite")
+def api_resume_from_a_checkpoint_with_nan_velocities(d, g):
+    from icerubble.run.punch_through_run import PunchThrough, RunOptions
+
+    def nan(f):
+        v = f["engine/velocities"][...]
+        v[3, 0] = np.nan
+        replace("engine/velocities", v)(f)
+    broken(g["checkpoint"], d, nan, name="stopped.checkpoint.h5")
+    run = PunchThrough(g["mesh"], os.path.join(d, "stopped.h5"), params=QUICK,
+                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8))
+    return lambda: run.run(resume=True)
+
+
+@case("api", r"checkpoint .*'engine/positions'.*missing")
+def api_resume_from_a_checkpoint_without_positions(d, g):
+    from icerubble.run.punch_through_run import PunchThrough, RunOptions
+    broken(g["checkpoint"], d, lambda f: f.__delitem__("engine/positions"), name="stopped.checkpoint.h5")
+    run = PunchThrough(g["mesh"], os.path.join(d, "stopped.h5"), params=QUICK,
+                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8))
+    return lambda: run.run(resume=True)
+
+
+@case("api", "scene='huge' is unknown")
+def api_study_unknown_scene(d, g):
+    from icerubble.run.study import run_one
+    return lambda: run_one("huge", 1, out_dir=os.path.join(d, "runs"))
+
+
+@case("api", "numerics='turbo' is unknown")
+def api_study_unknown_preset(d, g):
+    from icerubble.run.study import run_one
+    return lambda: run_one("tiny", 1, out_dir=os.path.join(d, "runs"), numerics_name="turbo")
+
+
+@case("api", "ridge=-2")
+def api_study_negative_ridge(d, g):
+    from icerubble.run.study import run_one
+    return lambda: run_one("tiny", -2, out_dir=os.path.join(d, "runs"))
+
+
+@case("api", "element_size")
+def api_mesh_zero_element_size(d, g):
+    from icerubble.geometry import meshing
+    return lambda: meshing.mesh_pile_file(g["pile"], os.path.join(d, "mesh.h5"), element_size=0.0)
+
+
+@case("api", r"sigma_cr_top must be finite and > 0")
+def api_cohesive_law_negative_strength(d, g):
+    from icerubble import cohesive_law
+    return lambda: cohesive_law.strength_at_depth(np.array([0.5]), 2.0, -1.0, 5e3, 15.0)
+
+
+def _square_model():
+    from icerubble.engine import Model, rectangle_mesh
+    nodes, tris = rectangle_mesh(2, 2, 0.5)
+    return Model(nodes, tris, np.zeros(len(tris), dtype=np.int32), [dict(E=2e9, rho=920.0)])
+
+
+@case("api", "penalty")
+def api_engine_negative_penalty(d, g):
+    m = _square_model()
+    return lambda: m.set(penalty=-1.0)
+
+
+@case("api", r"nodes must be finite")
+def api_engine_nan_node(d, g):
+    from icerubble.engine import Model, rectangle_mesh
+    nodes, tris = rectangle_mesh(2, 2, 0.5)
+    nodes[4, 1] = np.nan
+    return lambda: Model(nodes, tris, np.zeros(len(tris), dtype=np.int32), [dict(E=2e9, rho=920.0)])
+
+
+@case("api", r"'force/y_I'")
+def api_results_reader_without_travel(d, g):
+    from postproc import results
+    path = broken(g["result"], d, lambda f: f.__delitem__("force/y_I"))
+    return lambda: results.load(path)
+
+
+# ---- the checks -------------------------------------------------------------
+
+def _files(d):
+    return {os.path.join(r, n) for r, _, ns in os.walk(d) for n in ns}
+
+
+def _looks_complete(path):
+    if not path.endswith(".h5"):
+        return path.endswith((".png", ".pdf", ".csv", ".md", ".pvd", ".vtu"))
+    try:
+        open_complete(path).close()
+        return True
+    except ValueError:
+        return False
+
+
+def test_the_catalogue_covers_every_door_with_at_least_40_cases():
+    doors = {door for door, _, _ in CASES.values()}
+    assert len(CASES) >= 40 and doors == {"cli", "yade", "api"}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_malformed_input_is_refused_clearly_before_any_work(name, good, tmp_path):
+    door, message, make = CASES[name]
+    d = str(tmp_path)
+    what = make(d, good)
+    before = _files(d)
+    if door == "api":
+        with pytest.raises(ValueError) as e:
+            what()
+        text = str(e.value)
+    else:
+        if door == "cli":
+            cmd, env = ["icerubble", *what], os.environ
+        else:
+            script, table = what
+            env = dict(os.environ, YADE_BATCH=_table(d, table) + ":2")
+            before = _files(d)
+            cmd = ["yade", "-n", "-x", os.path.join(ROOT, "yade_scripts", script)]
+        r = subprocess.run(cmd, env=env, cwd=d, capture_output=True, text=True, timeout=300)
+        text = r.stdout + r.stderr
+        assert r.returncode != 0, f"{name}: exit 0\n{text}"
+        assert "Traceback" not in text, f"{name}: a traceback\n{text}"
+    assert re.search(message, text), f"{name}: the message does not say {message!r}:\n{text}"
+    made = sorted(p for p in _files(d) - before if _looks_complete(p))
+    assert not made, f"{name}: left files that look complete: {made}"
+    with h5py.File(good["result"], "r") as f:   # the intact inputs are untouched
+        assert int(f.attrs["complete"]) == 1
