@@ -4,14 +4,15 @@ BUILD   := build
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEBS    := yade gmsh python3-gmsh python3-numpy python3-scipy python3-matplotlib \
            python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make \
-           python3-pip python3-setuptools python3-wheel
+           python3-pip python3-setuptools python3-wheel slurm-wlm munge
 STAMP   := $(BUILD)/.built
 
 .PHONY: setup deps build install test bench demo figures clean
 
 setup: deps build
 
-# Debian packages only: YADE and the modules it sees live in /usr/bin/python3.
+# Debian packages only: YADE and the modules it sees live in /usr/bin/python3;
+# slurm-wlm and munge for the cluster tests (a one-node SLURM started by the tests).
 deps:
 	@missing=$$(for p in $(DEBS); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
 	if [ -n "$$missing" ]; then \

@@ -43,14 +43,18 @@ utils.readParamsFromTable(ridge=1, scene="demo", numerics="", out_dir=_OUT, resu
 from yade.params import table
 from yade.wrapper import O
 
+from icerubble.run.punch_through_run import RunInterrupted
 from icerubble.run.study import run_one
-from icerubble.run.study_outcome import RESULT_MARK
+from icerubble.run.study_outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESULT_MARK
 
 overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not None}
 description = O.tags["description"] if "description" in O.tags.keys() else ""
 try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=table.out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
+except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written, a rerun resumes
+    print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
+    sys.exit(EXIT_INTERRUPTED)
 except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability
     sys.exit(f"punch_through: error: {e}")
 print(RESULT_MARK + os.path.abspath(out), flush=True)   # what `icerubble study` reads as done

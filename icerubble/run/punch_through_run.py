@@ -12,11 +12,15 @@
 
 A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
-the run is complete.
+the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
+before it stops a job) writes its checkpoint at once and stops with
+RunInterrupted.
 """
 import json
 import math
 import os
+import signal
+import threading
 import time
 
 import numpy as np
@@ -40,6 +44,17 @@ RAMP_SAMPLES = 2001        # points of the tabulated indenter ramp
 # ~1e-15 m, positions' round-off) the mean force work/travel is meaningless:
 # such samples take the instantaneous force; 1 nm keeps the round-off < 1e-6.
 MEAN_FORCE_MIN_TRAVEL = 1e-9
+
+
+# What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
+# node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
+# and SIGUSR1 (sbatch --signal, some minutes before the time limit).
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1)
+
+
+class RunInterrupted(RuntimeError):
+    """The run stopped on a signal after writing its checkpoint: running it
+    again with resume=True continues it, bit for bit."""
 
 
 def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
@@ -191,6 +206,7 @@ class PunchThrough:
         self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
+        self._stop_signal = None    # set by SIGTERM / SIGUSR1 while running
         self.F_at_rest = math.nan
         self.t_settle = None        # model time when settling started
         self.load_steps = 0         # steps of the load phase ...
@@ -203,6 +219,21 @@ class PunchThrough:
         return self.y_top0 - self.scene.indenter_top_y()
 
     def run(self, resume=False):
+        # a signal only sets a flag: the run stops at the end of its chunk of
+        # steps (< 1 s), where the state is whole, after writing its checkpoint
+        self._stop_signal = None
+        catch = threading.current_thread() is threading.main_thread()
+        previous = {s: signal.signal(s, self._on_stop_signal) for s in STOP_SIGNALS} if catch else {}
+        try:
+            return self._run(resume)
+        finally:
+            for s, h in previous.items():
+                signal.signal(s, h)
+
+    def _on_stop_signal(self, signum, frame):
+        self._stop_signal = signum
+
+    def _run(self, resume):
         if resume and os.path.exists(self.ckpt_path):
             ckpt.restore(self, self.ckpt_path)
             print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
@@ -225,6 +256,14 @@ class PunchThrough:
         if force or now - self._last_ckpt >= self.options.checkpoint_every_s:
             ckpt.save(self, self.ckpt_path)
             self._last_ckpt = now
+        if self._stop_signal is not None:
+            ckpt.save(self, self.ckpt_path)
+            m = self.model
+            raise RunInterrupted(
+                f"stopped by {signal.Signals(self._stop_signal).name} at step {m.step_count} (phase "
+                f"{self.phase}, t = {m.time:.4f} s"
+                + (f", y_I = {1e3 * self.travel():.3f} mm" if self.y_top0 is not None else "") + "); "
+                f"checkpoint {self.ckpt_path}: run it again to resume")
         stop = self.options.stop_after_steps
         if stop is not None and self.model.step_count >= stop:
             ckpt.save(self, self.ckpt_path)

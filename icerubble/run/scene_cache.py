@@ -7,8 +7,13 @@ under ``root/scenes``: a second run on the same ridge reuses them. The cache
 key is the scene, the ridge and the friction the pile was settled at
 (``<scene>_ridge<N>_pilemu<mu_settle>_pile.h5`` and ``..._mesh.h5``): a pile
 made at another friction is never picked up, and a reused pile whose recorded
-friction is not the scene's is refused.
+friction is not the scene's is refused. Runs of one ridge started together
+(the lines of a study on a cluster) make its files once: the first takes a
+lock (``..._scene.lock``, an advisory file lock), the others wait for it and
+then find the files made.
 """
+import contextlib
+import fcntl
 import os
 import subprocess
 import sys
@@ -59,14 +64,42 @@ def scene_files(name, ridge, root="runs", threads=1):
     mu = float(sc["pile"]["mu_settle"])
     base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")
     pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
-    if not os.path.exists(pile_path):
-        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} ...",
-              flush=True)
-        run_phase1(pile_path, ridge, sc["pile"], threads=threads)
+    if os.path.exists(pile_path) and os.path.exists(mesh_path):
+        _check_friction(pile_path, name, mu)
+        return pile_path, mesh_path
+    with _scene_lock(base + "_scene.lock"):
+        _make(name, sc, ridge, mu, pile_path, mesh_path, threads)
+    return pile_path, mesh_path
+
+
+@contextlib.contextmanager
+def _scene_lock(path):
+    with open(path, "a") as f:
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            print(f"[scene] waiting for another run making the same scene ({path})", flush=True)
+            fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def _check_friction(pile_path, name, mu):
     recorded = float(read_pile(pile_path)["meta"].get("friction", float("nan")))
     if recorded != mu:
         raise ValueError(f"{pile_path} was settled at friction {recorded:g}, the {name} scene's piles at "
                          f"{mu:g}: remove it (and its mesh) to make it again")
+
+
+def _make(name, sc, ridge, mu, pile_path, mesh_path, threads):
+    """The pile (phase 1, YADE) and its mesh, each unless it exists."""
+    if not os.path.exists(pile_path):
+        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} ...",
+              flush=True)
+        run_phase1(pile_path, ridge, sc["pile"], threads=threads)
+    _check_friction(pile_path, name, mu)
     if not os.path.exists(mesh_path):
         t0 = time.perf_counter()
         # block edges shorter than a fifth of the element size are collapsed: they
@@ -77,7 +110,6 @@ def scene_files(name, ridge, root="runs", threads=1):
         print(f"[scene] mesh: {len(m['nodes'])} nodes, {len(m['triangles'])} triangles, "
               f"{len(m['bond_edges'])} bond edges, porosity {m['porosity']:.3f}, min angle "
               f"{q['min_angle_deg']:.1f} deg ({time.perf_counter() - t0:.1f} s)", flush=True)
-    return pile_path, mesh_path
 
 
 if __name__ == "__main__":

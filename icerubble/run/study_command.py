@@ -2,23 +2,35 @@
 
     icerubble study check TABLE     every line checked before any runs: exit 1 and
                                     'line N, column C: ...' for each problem
-    icerubble study run TABLE [--out DIR] [--jobs N] [--job-threads T]
-                                    the table's lines here, through yade-batch; results
-                                    in DIR (default runs/), one log per line in
-                                    DIR/logs/<table>/; ends with each line's outcome
-                                    and exit 1 when any line did not finish
+    icerubble study run TABLE [--local] [--out DIR] [--jobs N] [--job-threads T]
+                                    the table's lines here, through yade-batch; ends
+                                    with each line's outcome, exit 1 if any did not finish
+    icerubble study submit TABLE --slurm [--out DIR] [--cpus-per-task N] [--time T]
+                                    [--partition P] [--account A] [--sbatch-arg ARG ...]
+                                    one SLURM job-array task per line; prints the job id
+    icerubble study status [DIR]    each line of each study in DIR: done (its result),
+                                    failed (why), interrupted, running, pending, not run
+    icerubble study resubmit [DIR]  sends again, as one job array per study, only the
+                                    lines without a complete result that are not queued;
+                                    an interrupted line resumes from its checkpoint
+
+Results go to DIR (default runs/ in this checkout; a table's out_dir column
+overrides it); each study keeps its table, its job scripts and one log per line
+in DIR/logs/<table>/ (icerubble/run/study_folder.py).
 """
 import argparse
 import os
 import shutil
 import subprocess
-import sys
 
+from . import slurm
 from . import study_outcome as SO
 from .scene_cache import ROOT
+from .study_folder import load_study, open_study, studies, table_of
 from .table_check import check_table
 
 PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")
+DEFAULT_OUT = os.path.join(ROOT, "runs")
 
 
 def main(argv=None):
@@ -29,15 +41,41 @@ def main(argv=None):
     c.add_argument("table")
     r = sub.add_parser("run", help="run a table here through yade-batch, then report each line")
     r.add_argument("table")
-    r.add_argument("--out", default=os.path.join(ROOT, "runs"),
-                   help="folder of the results (a table's out_dir column overrides it)")
+    r.add_argument("--local", action="store_true", help="run here (the only way `run` runs)")
+    r.add_argument("--out", default=DEFAULT_OUT, help="folder of the results (default runs/)")
     r.add_argument("--jobs", type=int, default=1, help="lines run at once (default 1)")
     r.add_argument("--job-threads", type=int, default=2, help="threads of each line (default 2)")
+    s = sub.add_parser("submit", help="submit a table to SLURM as a job array")
+    s.add_argument("table")
+    s.add_argument("--slurm", action="store_true", required=True, help="the scheduler (SLURM)")
+    s.add_argument("--out", default=DEFAULT_OUT, help="folder of the results (default runs/)")
+    s.add_argument("--cpus-per-task", type=int, default=2, help="threads of each run (default 2)")
+    s.add_argument("--time", help="time limit of each task, e.g. 24:00:00")
+    s.add_argument("--partition")
+    s.add_argument("--account")
+    s.add_argument("--sbatch-arg", action="append", default=[], metavar="ARG",
+                   help="any further sbatch option, e.g. --sbatch-arg=--mem=8G (repeatable)")
+    st = sub.add_parser("status", help="each line's state")
+    st.add_argument("out", nargs="?", default=DEFAULT_OUT)
+    rs = sub.add_parser("resubmit", help="send the lines without a complete result again")
+    rs.add_argument("out", nargs="?", default=DEFAULT_OUT)
     a = ap.parse_args(argv)
-    if not check(a.table):
-        sys.exit(1)
+    if a.action in ("check", "run", "submit") and not check(a.table):
+        return 1
     if a.action == "run":
-        sys.exit(run_local(a.table, a.out, a.jobs, a.job_threads))
+        return run_local(a.table, a.out, a.jobs, a.job_threads)
+    if a.action == "submit":
+        job, log_dir = slurm.submit(a.table, a.out, PUNCH_THROUGH, sbatch_options=dict(
+            cpus_per_task=a.cpus_per_task, time=a.time, partition=a.partition, account=a.account,
+            extra=a.sbatch_arg))
+        print(f"[study] submitted {a.table} as SLURM job {job} (logs in {log_dir})")
+        print(job)
+        return 0
+    if a.action == "status":
+        return status(a.out)
+    if a.action == "resubmit":
+        return resubmit(a.out)
+    return 0
 
 
 def check(table):
@@ -49,10 +87,6 @@ def check(table):
     return not problems
 
 
-def study_log_dir(out, table):
-    return os.path.join(out, "logs", os.path.splitext(os.path.basename(table))[0])
-
-
 def run_local(table, out, jobs=1, job_threads=2):
     """Every line of `table` through yade-batch on this machine; prints each
     line's outcome and returns the exit status (1 if any line did not finish)."""
@@ -61,18 +95,62 @@ def run_local(table, out, jobs=1, job_threads=2):
             raise ValueError(f"--{name} = {value}: must be a whole number >= 1")
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
-    logs = study_log_dir(out, table)
-    os.makedirs(logs, exist_ok=True)
-    for name in os.listdir(logs):   # a line's old log must not speak for this run
+    log_dir, study = open_study(table, out, "local")
+    for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):
-            os.remove(os.path.join(logs, name))
+            os.remove(os.path.join(log_dir, name))
     cmd = ["yade-batch", f"--job-threads={job_threads}", "-j", str(jobs * job_threads),
-           "--disable-pynotify", "--log", SO.batch_log_pattern(logs), os.path.abspath(table), PUNCH_THROUGH]
-    env = dict(os.environ, ICERUBBLE_OUT_DIR=os.path.abspath(out))
+           "--disable-pynotify", "--log", SO.batch_log_pattern(log_dir), table_of(log_dir, study),
+           PUNCH_THROUGH]
+    env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"])
     print("[study] " + " ".join(cmd), flush=True)
-    subprocess.run(cmd, env=env, cwd=logs)   # its exit status says nothing about the lines
-    outcomes = SO.line_outcomes(table, logs)
-    print(f"[study] {table}: each line's outcome (logs in {logs})")
+    subprocess.run(cmd, env=env, cwd=log_dir)   # its exit status says nothing about the lines
+    outcomes = SO.line_outcomes(table_of(log_dir, study), log_dir)
+    _print(table, log_dir, outcomes)
+    return 0 if all(o["state"] == "done" for o in outcomes) else 1
+
+
+def _print(name, log_dir, outcomes):
+    print(f"[study] {name}: each line's outcome (logs in {log_dir})")
     for row in SO.summary(outcomes):
         print("  " + row)
-    return 0 if all(o["state"] == "done" for o in outcomes) else 1
+
+
+def _outcomes(log_dir):
+    study = load_study(log_dir)
+    q = None
+    if study["scheduler"] == "slurm":
+        q = slurm.queue([j["id"] for j in study["jobs"]])
+    return study, SO.line_outcomes(table_of(log_dir, study), log_dir, queue=q)
+
+
+def _studies(out):
+    found = studies(out)
+    if not found:
+        raise ValueError(f"no study in {out!r} (a study is made by `icerubble study run` or `submit`, "
+                         f"which keep it in {os.path.join(out, 'logs')})")
+    return found
+
+
+def status(out):
+    for log_dir in _studies(out):
+        study, outcomes = _outcomes(log_dir)
+        jobs = ", ".join(j["id"] for j in study["jobs"])
+        _print(f"{study['table']} ({study['scheduler']}{': jobs ' + jobs if jobs else ''})", log_dir, outcomes)
+    return 0
+
+
+def resubmit(out):
+    for log_dir in _studies(out):
+        study, outcomes = _outcomes(log_dir)
+        if study["scheduler"] != "slurm":
+            print(f"[study] {study['table']}: run here, not submitted: `icerubble study run` runs it again "
+                  "(a complete result is kept, an interrupted one resumes)")
+            continue
+        lines = [o["line"] for o in outcomes if o["state"] in ("failed", "interrupted", "not run")]
+        if not lines:
+            print(f"[study] {study['table']}: nothing to resubmit (every line done, running or pending)")
+            continue
+        job = slurm.send(log_dir, study, lines)
+        print(f"[study] {study['table']}: resubmitted lines {', '.join(map(str, lines))} as SLURM job {job}")
+    return 0
