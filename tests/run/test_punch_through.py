@@ -1,12 +1,15 @@
 """The punch-through run on a tiny constructed scene (two rows of bonded
 blocks under the consolidated layer, ~700 triangles): rest state, F(y_I),
 where the bonds fail first, energy balance, checkpoint/resume, bad input."""
+import os
+import signal
+
 import h5py
 import numpy as np
 import pytest
 
 from icerubble.files.h5io import open_complete
-from icerubble.run.punch_through_run import MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunOptions
+from icerubble.run.punch_through_run import MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions
 from tests.run.punch_through_scenes import brick_mesh
 
 # A short, fast punch: a 0.2 s ramp and 3 mm of travel. Coarse (0.2 m)
@@ -127,6 +130,36 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
         np.testing.assert_array_equal(b["energy/t"][:], a["energy/t"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
     assert not (tmp_path / "run.checkpoint.h5").exists()
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGUSR1])
+def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh_path, tmp_path, finished,
+                                                                            signum):
+    """SIGTERM (scancel, preemption) or SIGUSR1 (before a time limit) while
+    loading: the run writes its checkpoint and stops with RunInterrupted; run
+    again it ends with the uninterrupted record, bit for bit."""
+    run0, out0 = finished
+
+    class Signalled(PunchThrough):
+        sent = False
+
+        def _maybe_checkpoint(self, force=False):
+            # as the scheduler would, mid-run: half way, after bond points have split
+            if self.phase == "load" and not self.sent and self.travel() > 0.5 * PARAMS["target_travel"]:
+                self.sent = True
+                os.kill(os.getpid(), signum)
+            super()._maybe_checkpoint(force)
+
+    out = tmp_path / "run.h5"
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False)
+    with pytest.raises(RunInterrupted, match=rf"stopped by {signum.name} at step \d+ \(phase load"):
+        Signalled(mesh_path, out, params=PARAMS, options=RunOptions(**opts)).run()
+    assert not out.exists() and (tmp_path / "run.checkpoint.h5").exists()
+    assert signal.getsignal(signum) is signal.SIG_DFL or signal.getsignal(signum) is signal.default_int_handler
+    PunchThrough(mesh_path, out, params=PARAMS, options=RunOptions(**opts)).run(resume=True)
+    with h5py.File(out0) as a, h5py.File(out) as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
+        np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
 
 
 @pytest.mark.parametrize("bad,word", [(dict(tau_cr=0.0), "tau_cr"), (dict(sigma_cr=-1.0), "sigma_cr"),
