@@ -45,7 +45,9 @@ def main(argv=None):
     except ValueError as e:   # bad input: one line naming it, not a traceback
         print(f"icerubble {name}: error: {e}", file=sys.stderr)
         return 2
-    return status or 0   # a command that reports its own error returns its status
+    # a command that reports its own error returns its exit status (an int);
+    # anything else it returns (run-figures: the figures it made) means success
+    return status if isinstance(status, int) and not isinstance(status, bool) else 0
 
 
 if __name__ == "__main__":

@@ -94,14 +94,8 @@ def main(argv=None):
     if args.tau_ref_kPa <= 0 or args.plug_force < 0:
         ap.error("--tau-ref-kPa must be > 0 and --plug-force >= 0")
 
-    files, partial = results.find_results(args.results_dir)
-    skipped = [f"- {p}: still being written (*.part), skipped" for p in partial]
-    runs = []
-    for path in files:
-        try:
-            runs.append(results.load(path))
-        except results.ResultFileError as exc:
-            skipped.append(f"- skipped: {exc}")
+    runs, skipped = results.load_folder(args.results_dir)
+    skipped = [f"- skipped: {why}" for why in skipped]
     os.makedirs(args.out_dir, exist_ok=True)
     lines = ["# Items not made, and why", "", f"Results folder: `{args.results_dir}`; "
              f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped.", ""]

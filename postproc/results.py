@@ -221,6 +221,20 @@ def load(path):
                      snapshots=snapshots, missing=missing)
 
 
+def load_folder(folder):
+    """(runs, skipped): every complete result under `folder` loaded, and one
+    line per file not read and why (still being written, not a result, damaged)."""
+    files, partial = find_results(folder)
+    skipped = [f"{p}: still being written (*.part)" for p in partial]
+    runs = []
+    for path in files:
+        try:
+            runs.append(load(path))
+        except ResultFileError as exc:
+            skipped.append(str(exc))
+    return runs, skipped
+
+
 def find_results(folder):
     """Every ``*.h5`` under ``folder`` (recursively, as yade-batch nests them),
     sorted, and every ``*.h5.part`` (reported, never read)."""

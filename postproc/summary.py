@@ -97,19 +97,13 @@ def main(argv=None):
                     help="F_b of tau^(2) [N/m] (default 11e3)")
     args = ap.parse_args(argv)
     if not os.path.isdir(args.results_dir):
-        raise ValueError(f"RESULTS_DIR {args.results_dir!r} is not a folder")
-    files, partial = results.find_results(args.results_dir)
-    rows = []
-    for p in partial:
-        print(f"skipped (still being written): {p}", file=sys.stderr)
-    for path in files:
-        try:
-            rows.append(summarize(results.load(path), args.plug_force))
-        except results.ResultFileError as exc:
-            print(f"skipped: {exc}", file=sys.stderr)
-    if not rows:   # an empty table would look like a summary of nothing
-        raise ValueError(f"no result files to summarise under {args.results_dir!r} "
-                         f"({len(files)} .h5 file(s) skipped, {len(partial)} still being written)")
+        ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
+    runs, skipped = results.load_folder(args.results_dir)
+    for why in skipped:
+        print(f"skipped: {why}", file=sys.stderr)
+    if not runs:   # an empty table would look like a summary of nothing
+        ap.error(f"no result files to summarise under {args.results_dir!r} ({len(skipped)} file(s) skipped)")
+    rows = [summarize(r, args.plug_force) for r in runs]
     write_csv(rows, args.output)
     print(f"{len(rows)} run(s) -> {args.output}")
     return 0

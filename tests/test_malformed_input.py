@@ -401,6 +401,19 @@ def _looks_complete(path):
         return False
 
 
+def test_the_commands_exit_0_when_the_input_is_good(good, tmp_path):
+    """The other side of the catalogue: the same doors with good input succeed."""
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    os.link(good["result"], runs / "result.h5")
+    for args in (["run-figures", good["result"], "-o", str(tmp_path / "fig")],
+                 ["summary", str(runs), "-o", str(tmp_path / "summary.csv")],
+                 ["study", "check", os.path.join(ROOT, "data", "study_tiny.table")]):
+        r = subprocess.run(["icerubble", *args], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert r.returncode == 0, f"{args}: exit {r.returncode}\n{r.stdout}{r.stderr}"
+    assert list((tmp_path / "fig").glob("*.png")) and (tmp_path / "summary.csv").exists()
+
+
 def test_the_catalogue_covers_every_door_with_at_least_40_cases():
     doors = {door for door, _, _ in CASES.values()}
     assert len(CASES) >= 40 and doors == {"cli", "yade", "api"}

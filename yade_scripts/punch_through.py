@@ -49,8 +49,11 @@ from icerubble.run.study_outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESU
 
 overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not None}
 description = O.tags["description"] if "description" in O.tags.keys() else ""
+# a relative out_dir is relative to where the study was started (yade-batch
+# runs each line in the study's log folder)
+out_dir = os.path.join(os.environ.get("ICERUBBLE_WORKDIR", ""), table.out_dir)
 try:
-    out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=table.out_dir,
+    out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
 except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)

@@ -59,7 +59,8 @@ def scene_files(name, ridge, root="runs", threads=1):
     sc = scene(name)
     if int(ridge) < 0:
         raise ValueError(f"ridge={ridge} must be an integer >= 0 (it seeds the pile)")
-    d = os.path.join(root, "scenes")
+    # absolute: phase 1 runs YADE in another folder
+    d = os.path.join(os.path.abspath(root), "scenes")
     os.makedirs(d, exist_ok=True)
     mu = float(sc["pile"]["mu_settle"])
     base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")

@@ -42,7 +42,9 @@ def main(argv=None):
     r = sub.add_parser("run", help="run a table here through yade-batch, then report each line")
     r.add_argument("table")
     r.add_argument("--local", action="store_true", help="run here (the only way `run` runs)")
-    r.add_argument("--out", default=DEFAULT_OUT, help="folder of the results (default runs/)")
+    r.add_argument("--out", default=DEFAULT_OUT,
+                   help="folder of the results (default runs/ of this checkout; an out_dir column "
+                        "overrides it, relative to the current folder)")
     r.add_argument("--jobs", type=int, default=1, help="lines run at once (default 1)")
     r.add_argument("--job-threads", type=int, default=2, help="threads of each line (default 2)")
     s = sub.add_parser("submit", help="submit a table to SLURM as a job array")
@@ -60,6 +62,10 @@ def main(argv=None):
     rs = sub.add_parser("resubmit", help="send the lines without a complete result again")
     rs.add_argument("out", nargs="?", default=DEFAULT_OUT)
     a = ap.parse_args(argv)
+    if a.action == "run":
+        for name, value in (("jobs", a.jobs), ("job-threads", a.job_threads)):
+            if value < 1:
+                raise ValueError(f"--{name} = {value}: must be a whole number >= 1")
     if a.action in ("check", "run", "submit") and not check(a.table):
         return 1
     if a.action == "run":
@@ -90,23 +96,31 @@ def check(table):
 def run_local(table, out, jobs=1, job_threads=2):
     """Every line of `table` through yade-batch on this machine; prints each
     line's outcome and returns the exit status (1 if any line did not finish)."""
-    for name, value in (("jobs", jobs), ("job-threads", job_threads)):
-        if value < 1:
-            raise ValueError(f"--{name} = {value}: must be a whole number >= 1")
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
     log_dir, study = open_study(table, out, "local")
     for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):
             os.remove(os.path.join(log_dir, name))
+    # yade-batch runs in the log folder and names each log there: a pattern
+    # relative to it, as yade-batch rewrites $, % and @ anywhere in --log and
+    # renames paths longer than 230 characters
     cmd = ["yade-batch", f"--job-threads={job_threads}", "-j", str(jobs * job_threads),
-           "--disable-pynotify", "--log", SO.batch_log_pattern(log_dir), table_of(log_dir, study),
-           PUNCH_THROUGH]
-    env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"])
+           "--disable-pynotify", "--log", SO.LOG_PATTERN, table_of(log_dir, study), PUNCH_THROUGH]
+    # results in OUT; a relative out_dir column is relative to where the study was started
+    env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"], ICERUBBLE_WORKDIR=os.getcwd())
     print("[study] " + " ".join(cmd), flush=True)
-    subprocess.run(cmd, env=env, cwd=log_dir)   # its exit status says nothing about the lines
-    outcomes = SO.line_outcomes(table_of(log_dir, study), log_dir)
+    try:
+        subprocess.run(cmd, env=env, cwd=log_dir)   # its exit status says nothing about the lines
+        status = None
+    except KeyboardInterrupt:
+        print("[study] interrupted: the lines that did not finish say so below", flush=True)
+        status = 130
+    # yade-batch has returned: a log with no end is a line that was killed (queue {})
+    outcomes = SO.line_outcomes(table_of(log_dir, study), log_dir, queue={})
     _print(table, log_dir, outcomes)
+    if status is not None:
+        return status
     return 0 if all(o["state"] == "done" for o in outcomes) else 1
 
 

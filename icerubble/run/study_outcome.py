@@ -16,6 +16,7 @@ import os
 from ..files.h5io import open_complete
 from .table_check import read_table
 
+RESULT_FORMAT = "icerubble-run"   # docs/results_format.md
 # Printed by yade_scripts/punch_through.py once a line's result is complete ...
 RESULT_MARK = "punch_through: result "
 # ... or when a signal stopped it after its checkpoint was written; it then
@@ -35,9 +36,8 @@ def log_path(log_dir, line):
     return os.path.join(log_dir, f"line{line}.log")
 
 
-def batch_log_pattern(log_dir):
-    """yade-batch's --log format for log_path ('%' is the line number)."""
-    return os.path.join(log_dir, "line%.log")
+# yade-batch's --log format for log_path, relative to the log folder ('%' is the line number)
+LOG_PATTERN = "line%.log"
 
 
 def line_outcomes(table, log_dir, queue=None):
@@ -60,9 +60,9 @@ def line_outcomes(table, log_dir, queue=None):
             entry.update(state="running", why=entry["why"])
         elif entry["state"] == "running" and queue is not None:
             # its log never ended and the scheduler no longer has it: killed
-            entry.update(state="failed", why="killed: its log has no end (time limit, node failure or "
-                                             "scancel); resubmit resumes it from its checkpoint | "
-                                             + entry["why"])
+            entry.update(state="failed", why="killed: its log has no end (stopped from outside: a time "
+                                             "limit, scancel, a node failure, Ctrl-C); run again, it "
+                                             "resumes from its checkpoint | " + entry["why"])
         out.append(entry)
     return out
 
@@ -88,7 +88,7 @@ def _from_log(path):
     results = [ln[len(RESULT_MARK):].strip() for ln in body if ln.startswith(RESULT_MARK)]
     if results:
         try:
-            open_complete(results[-1], what="result").close()
+            open_complete(results[-1], RESULT_FORMAT, what="result").close()
             return dict(state="done", result=results[-1])
         except ValueError as e:
             return dict(state="failed", result=results[-1], why=str(e))
@@ -101,9 +101,11 @@ def _from_log(path):
 
 
 def _tail(lines, n=3):
-    """The lines that say why: the driver's error line if there is one, else the last few."""
-    errors = [ln for ln in lines if "error:" in ln or "Error" in ln]
-    keep = errors[-n:] if errors else [ln for ln in lines if ln.strip()][-n:]
+    """The lines that say why: the last error line and what follows it (a
+    multi-line message goes on below it), else the last few lines."""
+    lines = [ln for ln in lines if ln.strip()]
+    errors = [i for i, ln in enumerate(lines) if "error:" in ln or "Error" in ln]
+    keep = lines[errors[-1]:errors[-1] + 2 * n] if errors else lines[-n:]
     return " | ".join(ln.strip() for ln in keep)
 
 

@@ -30,6 +30,8 @@ def read_table(path):
             raw = f.read().split("\n")
     except OSError as e:
         raise ValueError(f"table {path!r} cannot be read: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"table {path!r} is not a text file") from None
     lines = [(i + 1, re.sub(r"\s*#.*", "", text)) for i, text in enumerate(raw)]
     lines = [(n, text) for n, text in lines if text.strip()]
     if not lines:

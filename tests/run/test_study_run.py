@@ -23,7 +23,8 @@ def test_a_table_run_reports_each_line_and_fails_when_one_line_fails(tmp_path):
                      "weak 'tiny' 0.3 5e3 None\n"
                      "toolarge 'tiny' 0.3 50e3 1e-3\n")
     out = tmp_path / "out"
-    r = _study("run", str(table), "--out", str(out), "--job-threads", "1", cwd=tmp_path)
+    # relative paths, as a user types them: relative to where the command runs
+    r = _study("run", "three.table", "--out", "out", "--job-threads", "1", cwd=tmp_path)
     text = r.stdout + r.stderr
     assert r.returncode == 1, text
     assert "Traceback" not in text
@@ -53,22 +54,34 @@ def _log(tmp_path, line, text):
 
 def test_outcomes_are_read_from_what_each_line_left(tmp_path):
     table = tmp_path / "t.table"
-    table.write_text("description mu\nfinished 0.3\npartial 0.3\nstopped 0.3\nkilled 0.3\nqueued 0.3\n")
+    table.write_text("description mu\nfinished 0.3\npartial 0.3\nstopped 0.3\nkilled 0.3\nqueued 0.3\n"
+                     "pile 0.3\n")
     complete, partial = tmp_path / "finished.h5", tmp_path / "partial.h5"
-    with h5py.File(complete, "w") as f:
-        f.attrs["complete"] = 1
-    with h5py.File(partial, "w") as f:
-        f.attrs["complete"] = 0
+    for path, done in ((complete, 1), (partial, 0)):
+        with h5py.File(path, "w") as f:
+            f.attrs["format"] = SO.RESULT_FORMAT
+            f.attrs["complete"] = done
     end = f"\n{SO.BATCH_SUMMARY}\nstatus  : 0 (OK)\n"
     _log(tmp_path, 2, f"settling\n{SO.RESULT_MARK}{complete}\n{end}")
     _log(tmp_path, 3, f"{SO.RESULT_MARK}{partial}\n{end}")
     _log(tmp_path, 4, f"settling\npunch_through: error: the scene did not come to rest\n{end}")
     _log(tmp_path, 5, "settling\n[punch-through] step 100\n")   # no summary: still running, or killed
+    _log(tmp_path, 7, "[scene] phase 1 ...\nRuntimeError: phase 1 (YADE pile) failed with exit code 1:\n"
+                      "  make_pile: error: parameter t_min is out of range\n" + end)
     got = {o["label"]: o for o in SO.line_outcomes(str(table), str(tmp_path))}
     assert got["finished"]["state"] == "done" and got["finished"]["result"] == str(complete)
     assert got["partial"]["state"] == "failed" and "incomplete" in got["partial"]["why"]
     assert got["stopped"]["state"] == "failed" and "did not come to rest" in got["stopped"]["why"]
     assert got["killed"]["state"] == "running"
     assert got["queued"]["state"] == "not run"
-    assert SO.summary(list(got.values()))[-1] == "done 1, failed 2, not run 1, running 1 of 5 lines"
+    # a message on several lines is kept whole
+    assert "t_min is out of range" in got["pile"]["why"]
+    assert SO.summary(list(got.values()))[-1] == "done 1, failed 3, not run 1, running 1 of 6 lines"
+    # once the runner has returned (or the scheduler no longer has it), a log with no end was killed
+    after = {o["label"]: o for o in SO.line_outcomes(str(table), str(tmp_path), queue={})}
+    assert after["killed"]["state"] == "failed" and after["killed"]["why"].startswith("killed")
+    # the scheduler's word wins for lines it still holds
+    queued = {o["label"]: o for o in SO.line_outcomes(str(table), str(tmp_path), queue={7: "PENDING", 5: "RUNNING"})}
+    assert queued["queued"]["state"] == "not run" and queued["pile"]["state"] == "pending"
+    assert queued["killed"]["state"] == "running"
     assert os.path.basename(SO.log_path(str(tmp_path), 7)) == "line7.log"
