@@ -1,6 +1,8 @@
 """A one-node SLURM on this machine, for the cluster tests: munge, a
 controller and a compute node on this host, configured in a temporary folder
-and on ports of their own so nothing clashes with a SLURM already there.
+and on ports of their own so nothing clashes with a SLURM already there. Both
+daemons are reached at 127.0.0.1: a fresh machine need not resolve its own
+host name (a debootstrap chroot or a container has no /etc/hosts entry for it).
 
     with LocalSlurm(tmp_dir) as cluster:
         env = cluster.env          # SLURM_CONF for sbatch, squeue, scancel, ...
@@ -67,7 +69,7 @@ class LocalSlurm:
         r = self.root
         with open(self.conf, "w") as f:
             f.write(f"""ClusterName=icerubble-test
-SlurmctldHost={self.host}
+SlurmctldHost={self.host}(127.0.0.1)
 SlurmUser=root
 SlurmctldPort={CTLD_PORT}
 SlurmdPort={SLURMD_PORT}
@@ -87,7 +89,7 @@ JobAcctGatherType=jobacct_gather/none
 MpiDefault=none
 KillWait=30
 MinJobAge=300
-NodeName={self.host} CPUs={cpus} RealMemory={max(mem_mib - 2048, 1024)} State=UNKNOWN
+NodeName={self.host} NodeAddr=127.0.0.1 CPUs={cpus} RealMemory={max(mem_mib - 2048, 1024)} State=UNKNOWN
 PartitionName=test Nodes={self.host} Default=YES MaxTime=INFINITE State=UP
 """)
 
