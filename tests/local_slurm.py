@@ -26,9 +26,18 @@ class SlurmStartError(RuntimeError):
     pass
 
 
+def _munge_works():
+    """A credential can be made: munged answers on its socket (a munged process
+    elsewhere, e.g. outside a chroot, does not count)."""
+    try:
+        return subprocess.run(["munge", "-n"], capture_output=True, timeout=10).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
 def _ensure_munge():
     """munged running with a key (started once per machine; left running)."""
-    if subprocess.run(["pgrep", "-x", "munged"], capture_output=True).returncode == 0:
+    if _munge_works():
         return
     for tool in ("munged", "slurmctld", "slurmd", "sbatch"):
         if shutil.which(tool) is None and not os.path.exists(f"/usr/sbin/{tool}"):
@@ -48,8 +57,8 @@ def _ensure_munge():
     os.chmod(key, 0o400)
     r = subprocess.run(["runuser", "-u", "munge", "--", "/usr/sbin/munged", "--force"],
                        capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SlurmStartError(f"munged did not start: {r.stderr.strip()}")
+    if r.returncode != 0 or not _munge_works():
+        raise SlurmStartError(f"munged did not start or does not answer: {r.stderr.strip()}")
 
 
 class LocalSlurm:
