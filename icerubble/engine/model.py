@@ -577,6 +577,8 @@ class Model:
                                    zip(("keys", "forces"), self._m.contact_warm_start())},
             "sleep_state": dict(self._m.sleep_state(),
                                 **{k: self._params[k] for k in SLEEP_PARAMETERS}),
+            # masses the contact reach guard raised mid-run (0: none)
+            "mass_floor": np.asarray(self._m.mass_floor()),
         }
 
     @classmethod
@@ -607,6 +609,8 @@ class Model:
             w = cp["contact_warm_start"]
             self._m.set_contact_warm_start(np.asarray(w["keys"], dtype=np.uint64),
                                            np.asarray(w["forces"], dtype=float))
+        if "mass_floor" in cp:
+            self._m.set_mass_floor(np.asarray(cp["mass_floor"], dtype=float))
         if "sleep_state" in cp:  # after positions and velocities, which wake every node
             z = cp["sleep_state"]
             self.set(sleeping=bool(np.asarray(z["sleeping"])), sleep_velocity=float(z["sleep_velocity"]),

@@ -71,6 +71,10 @@ def check(f):
     n = len(x0)
     read_checked(f, "engine/positions", shape=(n, 2), what=what)
     read_checked(f, "engine/velocities", shape=(n, 2), what=what)
+    if "engine/mass_floor" in f:
+        floor = read_checked(f, "engine/mass_floor", shape=(n,), what=what)
+        if (floor < 0).any():
+            raise ValueError(f"{where}, dataset 'engine/mass_floor': negative masses")
     tri = read_checked(f, "engine/triangles", shape=(None, 3), kind="i", what=what)
     read_checked(f, "engine/body", shape=(len(tri),), kind="i", what=what)
     if tri.size and (tri.min() < 0 or tri.max() >= n):

@@ -476,6 +476,11 @@ class PunchThrough:
             # killed run leaves .vtu pieces but no .pvd that looks complete
 
     def write(self):
+        if self.options.mass_scaling_dt is not None:
+            # the contact reach guard may have raised nodes mid-run (engine masses.cpp)
+            st = self.model.stable_time_step()
+            self.recorder.meta.update(added_mass_fraction_end=st["added_mass_fraction"],
+                                      scaled_nodes_end=st["scaled_nodes"])
         self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
                                   settle_max_speed=self.settle_max_speed,
                                   settle_max_block_move=self.settle_max_block_move,

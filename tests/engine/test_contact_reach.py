@@ -126,3 +126,60 @@ def test_a_resumed_run_gets_the_masses_of_the_run_it_continues():
     m.step(500)
     r.step(500)
     assert np.array_equal(r.positions, m.positions)
+
+
+def towards_with_mass_scaling():
+    """The approach of the first test (A at 5 m/s towards B's bump from 0.12 m,
+    dt at 0.99 of the start's bound), B moving towards A at 0.5 m/s, and mass
+    scaling allowed (a target below every limit: nothing is scaled at the start)."""
+    nodes, tri, body, na = two_blocks(True, gap=0.12)
+    m = engine.Model(nodes, tri, body, materials=ICE)
+    m.set(gravity=False, water=False, mu=0.0, penalty=S, contact_reach=REACH, mass_scaling_dt=1e-12)
+    m.set(dt=0.99 * m.stable_time_step()["dt"])
+    vel = np.zeros((len(nodes), 2))
+    vel[:na, 0] = 5.0
+    vel[na:, 0] = -0.5
+    m.set_velocities(vel)
+    return m, na
+
+
+def test_with_mass_scaling_on_the_guard_scales_the_nodes_that_need_it_instead_of_stopping():
+    """Where the first test stops (the bound taken again with the bump in
+    reach is below dt), the nodes that need it get the mass the step needs and
+    the run goes on, the gap closing to 1 cm: the raise keeps each node's
+    momentum (the total is exactly conserved: no gravity, water or friction),
+    and the kinetic energy it takes is booked as damping (the ledger closes)."""
+    m, na = towards_with_mass_scaling()
+    assert m.stable_time_step()["scaled_nodes"] == 0
+    mass0 = np.array(m.mass)   # a copy: m.mass is a view
+    E0 = 0.5 * (mass0[:, None] * m.velocities ** 2).sum()
+    p0 = (mass0[:, None] * m.velocities).sum(axis=0)
+    m.step(int(0.02 / m.dt))   # A and B 1 cm apart, not yet touching
+    assert m._m.raised_nodes() > 0 and m.touching_pairs == 0
+    st = m.stable_time_step()
+    assert st["scaled_nodes"] > 0 and st["added_mass_fraction"] > 0.0
+    mass = np.asarray(m.mass)
+    assert np.all(mass >= np.asarray(m.mass_phys)) and np.all(mass >= m._m.mass_floor())
+    assert np.array_equal(mass > mass0, m._m.mass_floor() > 0)   # raised exactly where floors are
+    p = (mass[:, None] * m.velocities).sum(axis=0)
+    np.testing.assert_allclose(p, p0, rtol=1e-12, atol=1e-12 * abs(p0[0]))
+    e = m.energies()
+    assert e["damping"] > 0.0
+    assert e["kinetic"] + e["elastic"] + e["damping"] == pytest.approx(E0, rel=1e-9)
+
+
+def test_mass_floors_travel_with_the_checkpoint():
+    """A run whose nodes were raised mid-run, rebuilt from its checkpoint,
+    gets the same masses and steps on bit for bit."""
+    m, na = towards_with_mass_scaling()
+    m.step(int(0.015 / m.dt))
+    assert m._m.raised_nodes() > 0
+    cp = m.checkpoint()
+    r = engine.Model.from_checkpoint(cp, ICE)
+    r.set(gravity=False, water=False, mu=0.0, penalty=S, contact_reach=REACH, mass_scaling_dt=1e-12)
+    r.set(dt=m.dt)
+    r.restore_checkpoint(cp)
+    assert np.array_equal(np.asarray(r.mass), np.asarray(m.mass))
+    m.step(500)
+    r.step(500)
+    assert np.array_equal(r.positions, m.positions)

@@ -175,6 +175,11 @@ void bind_model(py::module_& m) {
         return d;
       })
       .def("restore_sleep_state", &Model::restore_sleep_state, py::arg("sleep"), py::arg("quiet"))
+      .def("mass_floor", [](const Model& M) {
+        return py::array_t<double>(M.nodes().mass_floor.size(), M.nodes().mass_floor.data());
+      })
+      .def("set_mass_floor", &Model::set_mass_floor, py::arg("floor"))
+      .def("raised_nodes", &Model::raised_nodes)
       .def("add_boundary_condition",
            [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
               double dir_y, const std::string& kind, double value, double ramp_time, DArray t, DArray v) {

@@ -26,6 +26,11 @@ struct Nodes {
   // corner): the weight m g, so that gravity (and with it the draft and the
   // load on the keel) stays physical under mass scaling.
   std::vector<double> mass_phys;
+  // Inertial mass a node must keep at least [kg/m] (0: none): raised mid-run
+  // when the contact reach guard finds the node within reach of a stiffer
+  // boundary (Model::raise_contact_masses); kept through mass recomputation
+  // after bond points split, and in checkpoints.
+  std::vector<double> mass_floor;
 
   // Forces of the current step by origin [N/m]; kept apart so that the work
   // of each can be integrated (energy bookkeeping, docs/model.md §4).

@@ -104,6 +104,10 @@ void Model::guard_contact_reach() {
   reach_x_ = nodes_.x;
   reach_y_ = nodes_.y;
   const double limit = kTimeStepSafety * c.dt;
+  if (check_stable_dt_ && dt_ > limit * kRoundOff && mass_scaling_dt_ > 0.0) {
+    raise_contact_masses();   // mass scaling is allowed: scale the nodes that now need it
+    return;
+  }
   if (check_stable_dt_ && dt_ > limit * kRoundOff)
     throw InstabilityError(
         "at step " + std::to_string(step_count_) + " (t = " + num(time_) + " s) the blocks have moved " +

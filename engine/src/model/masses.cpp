@@ -3,7 +3,10 @@
 #include "model/model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
+
+#include "model/time_step.hpp"
 
 namespace engine {
 
@@ -77,11 +80,62 @@ void Model::scale_masses() {
     for (int32_t i = 0; i < nodes_.size(); ++i)
       if (k[i] > 0.0) M[i] = std::max(M[i], 0.5 * k[i] * need * need * margin);
   }
+  for (int32_t i = 0; i < nodes_.size(); ++i) M[i] = std::max(M[i], nodes_.mass_floor[i]);
   for (int32_t i = 0; i < nodes_.size(); ++i)
     if (M[i] > Mp[i]) {
       added_mass_ += M[i] - Mp[i];
       ++scaled_nodes_;
     }
+}
+
+// The contact reach guard found nodes within reach of stiffer boundaries than
+// when the step was bound (guard_contact_reach). With mass scaling on, those
+// nodes get the mass the current step needs, as the reference scaling would
+// have given them there: their momentum is kept (v scaled by m_old/m_new), and
+// the kinetic energy this takes out, 1/2 m_old v^2 (1 - m_old/m_new), is booked
+// as damping so the ledger still closes. The new mass is the node's floor from
+// then on. Nodes with prescribed motion keep their velocity (the boundary
+// condition sets it). Returns the number of nodes raised.
+int32_t Model::raise_contact_masses() {
+  std::vector<double> k;
+  contact_critical_dt(contact_params_, contact_input(), &k, contact_reach_);
+  const double need = dt_ / kTimeStepSafety;
+  const double margin = 1.0 + 1e-12;
+  Nodes& N = nodes_;
+  double lost = 0.0;
+  int32_t raised = 0;
+  for (int32_t i = 0; i < N.size(); ++i) {
+    if (!(k[i] > 0.0)) continue;
+    const double m_new = 0.5 * k[i] * need * need * margin;
+    const double m_old = N.mass[i];
+    if (m_new <= m_old) continue;
+    if (!N.constrained[i]) {
+      const double r = m_old / m_new;
+      lost += 0.5 * m_old * (N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i]) * (1.0 - r);
+      N.vx[i] *= r;
+      N.vy[i] *= r;
+    }
+    if (m_old <= N.mass_phys[i]) ++scaled_nodes_;
+    added_mass_ += m_new - m_old;
+    N.mass[i] = N.mass_floor[i] = m_new;
+    ++raised;
+  }
+  energy_.damping += lost;
+  raised_nodes_ += raised;
+  stable_.added_mass = added_mass_;
+  stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
+  stable_.scaled_nodes = scaled_nodes_;
+  return raised;
+}
+
+void Model::set_mass_floor(const std::vector<double>& floor) {
+  if (int64_t(floor.size()) != nodes_.size())
+    bad("mass floor must have one entry per node (" + std::to_string(nodes_.size()) + ")");
+  for (double f : floor)
+    if (!(f >= 0.0 && std::isfinite(f))) bad("mass floor of a node must be finite and >= 0 kg/m");
+  nodes_.mass_floor = floor;
+  prepared_ = false;  // masses change
+  stable_current_ = false;
 }
 
 }  // namespace engine

@@ -142,6 +142,7 @@ int32_t Model::split_off(int32_t node, int32_t body) {
   }
   for (BoundaryCondition& bc : bcs_)
     if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
+  nodes_.mass_floor[id] = nodes_.mass_floor[node];  // each side keeps what the node needed
   // a bond event wakes the bond point (both its sides): its forces change
   nodes_.sleep[node] = nodes_.sleep[id] = 0;
   nodes_.quiet[node] = nodes_.quiet[id] = 0;

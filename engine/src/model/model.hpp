@@ -94,6 +94,10 @@ class Model {
   // Restore Nodes::sleep and Nodes::quiet (a checkpoint). Throws
   // std::invalid_argument on a size or value out of range.
   void restore_sleep_state(const std::vector<uint8_t>& sleep, const std::vector<int32_t>& quiet);
+  // Per-node mass floors [kg/m] (a checkpoint's Nodes::mass_floor). Throws
+  // std::invalid_argument on a size or a negative or non-finite value.
+  void set_mass_floor(const std::vector<double>& floor);
+  int32_t raised_nodes() const { return raised_nodes_; }
   int32_t asleep_nodes() const;
   // Triangles the next force evaluation computes (all of them unless sleeping).
   int32_t awake_triangles();
@@ -192,6 +196,7 @@ class Model {
   void guard_stability();
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
   void guard_contact_reach();      // re-bound the contact step after large moves
+  int32_t raise_contact_masses();  // ... and, with mass scaling on, raise the nodes it needs
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
@@ -229,6 +234,7 @@ class Model {
   double added_mass_ = 0.0;       // sum of mass - mass_phys [kg/m]
   double total_mass_phys_ = 0.0;
   int32_t scaled_nodes_ = 0;
+  int32_t raised_nodes_ = 0;      // node mass raises by the reach guard so far (this process)
   int threads_ = 0;  // 0: OpenMP default
   SleepParams sleep_;
   double contact_reach_ = INFINITY;
