@@ -21,6 +21,7 @@ import numpy as np
 
 from ..parameters import require_range
 from . import pile as _pile
+from . import mesh_order
 from .bond_points import bond_edges
 from .contact_resolution import resolve_contacts
 
@@ -152,6 +153,9 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     a = _signed_areas(nodes, tris)
     tris[a < 0] = tris[a < 0][:, ::-1]
     nodes, tris = _cut_indenter(nodes, tris, body, nb, xi, y_b, y_t)
+    # neighbours in space made neighbours in memory (every step reads each
+    # triangle's corners and gathers each node's corner forces)
+    nodes, tris, body, _ = mesh_order.renumber(nodes, tris, body, cell=0.5 * element_size)
     bond_edges_, bond_bodies, _ = bond_edges(tris, body)
     bond_edges_ = bond_edges_.astype(np.int32)
     bond_bodies = bond_bodies.astype(np.int32)
@@ -177,7 +181,8 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                               min_feature=min_feature, fuzzy=fuzzy,
                               indenter_width=indenter_width, indenter_thickness=indenter_thickness,
                               layer_thickness=t_c, layer_bottom_y=y_b, domain_width=W,
-                              algorithm=algorithm, feature_fraction=feature_fraction),
+                              algorithm=algorithm, feature_fraction=feature_fraction,
+                              node_order=mesh_order.ORDER),
                 resolve_info=dict(info, n_slivers=n_slivers, sliver_area=sliver_area))
 
 

@@ -20,8 +20,10 @@ import sys
 import tempfile
 import time
 
+import h5py
+
 from ..files.pile_file import read_pile
-from ..geometry import meshing
+from ..geometry import mesh_order, meshing
 from .presets import scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -65,7 +67,7 @@ def scene_files(name, ridge, root="runs", threads=1):
     mu = float(sc["pile"]["mu_settle"])
     base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")
     pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
-    if os.path.exists(pile_path) and os.path.exists(mesh_path):
+    if os.path.exists(pile_path) and os.path.exists(mesh_path) and _mesh_current(mesh_path):
         _check_friction(pile_path, name, mu)
         return pile_path, mesh_path
     with _scene_lock(base + "_scene.lock"):
@@ -87,6 +89,16 @@ def _scene_lock(path):
             fcntl.flock(f, fcntl.LOCK_UN)
 
 
+def _mesh_current(mesh_path):
+    """False for a cached mesh numbered before mesh_order (the same mesh, several
+    times slower to step): it is made again from its pile."""
+    with h5py.File(mesh_path, "r") as f:
+        order = f.attrs.get("node_order", "")
+    if order == mesh_order.ORDER:
+        return True
+    return False
+
+
 def _check_friction(pile_path, name, mu):
     recorded = float(read_pile(pile_path)["meta"].get("friction", float("nan")))
     if recorded != mu:
@@ -101,7 +113,9 @@ def _make(name, sc, ridge, mu, pile_path, mesh_path, threads):
               flush=True)
         run_phase1(pile_path, ridge, sc["pile"], threads=threads)
     _check_friction(pile_path, name, mu)
-    if not os.path.exists(mesh_path):
+    if os.path.exists(mesh_path) and not _mesh_current(mesh_path):
+        print(f"[scene] {mesh_path} predates the locality numbering of its nodes: meshing it again", flush=True)
+    if not os.path.exists(mesh_path) or not _mesh_current(mesh_path):
         t0 = time.perf_counter()
         # block edges shorter than a fifth of the element size are collapsed: they
         # would only make tiny elements that set a tiny stable step

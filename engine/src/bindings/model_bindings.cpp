@@ -50,8 +50,17 @@ py::array triangle_view(py::object self, const std::string& name) {
   if (name == "body") return view(T.body, self);
   if (name == "stress") return view(T.stress, self, 3);
   if (name == "area0") return view(T.area0, self);
-  if (name == "f_corner") return view(T.f_corner, self, 6);
-  if (name == "f_visc_corner") return view(T.f_visc_corner, self, 6);
+  if (name == "f_corner" || name == "f_visc_corner") {
+    // a copy, (fx, fy) of corners 0, 1, 2 per row, from the interleaved records
+    const int off = name == "f_corner" ? CornerLoad::fx : CornerLoad::visc_x;
+    py::array_t<double> out({ssize_t(T.size()), ssize_t(6)});
+    double* o = out.mutable_data();
+    for (size_t c = 0; c < 3 * size_t(T.size()); ++c) {
+      o[2 * c] = T.corner_load[CornerLoad::stride * c + off];
+      o[2 * c + 1] = T.corner_load[CornerLoad::stride * c + off + 1];
+    }
+    return out;
+  }
   throw std::invalid_argument("unknown triangle array '" + name + "'");
 }
 

@@ -29,17 +29,14 @@ size_t Nodes::bytes() const {
 void Triangles::resize(int32_t m) {
   node.resize(3 * size_t(m), 0);
   body.resize(m, 0);
-  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri, &energy}) v->resize(m, 0.0);
+  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &energy}) v->resize(m, 0.0);
   stress.resize(3 * size_t(m), 0.0);
-  f_corner.resize(6 * size_t(m), 0.0);
-  f_visc_corner.resize(6 * size_t(m), 0.0);
-  f_buoy_corner.resize(3 * size_t(m), 0.0);
+  corner_load.resize(3 * CornerLoad::stride * size_t(m), 0.0);
 }
 
 size_t Triangles::bytes() const {
   size_t b = cap_bytes(node) + cap_bytes(body);
-  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &drag_k_tri, &energy, &stress, &f_corner,
-                  &f_visc_corner, &f_buoy_corner})
+  for (auto* v : {&binv00, &binv01, &binv10, &binv11, &area0, &energy, &stress, &corner_load})
     b += cap_bytes(*v);
   return b;
 }

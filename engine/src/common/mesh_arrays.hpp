@@ -57,6 +57,15 @@ struct Nodes {
   size_t bytes() const;
 };
 
+// The fields of a corner's record in Triangles::corner_load.
+struct CornerLoad {
+  static constexpr int fx = 0, fy = 1;          // element force, elastic + viscous [N/m]
+  static constexpr int visc_x = 2, visc_y = 3;  // its viscous part [N/m]
+  static constexpr int buoy_y = 4;              // buoyancy [N/m]
+  static constexpr int drag_k = 5;              // the corner's share of the drag coefficient [N s/m²]
+  static constexpr int stride = 6;
+};
+
 struct Triangles {
   std::vector<int32_t> node;  // 3 per triangle, counter-clockwise in the reference
   std::vector<int32_t> body;  // body id per triangle
@@ -67,12 +76,11 @@ struct Triangles {
   // Elastic Cauchy stress (sxx, syy, sxy) per triangle [Pa], from the last
   // force evaluation; what eq 7 (bond-point traction) area-averages.
   std::vector<double> stress;
-  // Per-corner element forces of the last evaluation, gathered onto the nodes
-  // (deterministic; no scattered writes). Eq 8 needs them at node splitting.
-  std::vector<double> f_corner;       // 6 per triangle: (fx, fy) of corners 0,1,2
-  std::vector<double> f_visc_corner;  // 6 per triangle: the viscous part
-  std::vector<double> f_buoy_corner;  // 3 per triangle: buoyancy fy per corner
-  std::vector<double> drag_k_tri;     // drag coefficient for each of its corners
+  // Per-corner loads of the last evaluation, gathered onto the nodes
+  // (deterministic; no scattered writes), one record of CornerLoad::stride
+  // doubles per corner slot 3*t+k. Interleaved because the gather reads all of
+  // a corner's loads together: one cache line per corner instead of four.
+  std::vector<double> corner_load;
   std::vector<double> energy;         // strain energy A0 W(E) of the last evaluation [J/m]
 
   int32_t size() const { return static_cast<int32_t>(body.size()); }

@@ -34,17 +34,19 @@ inline Kinematics gradient(double ax, double ay, double bx, double by, double cx
 }
 
 // Corner forces f = -A0 P Dm^-T of a first Piola-Kirchhoff stress P into
-// f[0..5]; corner 0 balances the other two, so the sum is exactly zero.
+// the x, y fields at f[0], f[1] of the triangle's three corner records (`rec`
+// its first); corner 0 balances the other two, so the sum is exactly zero.
 inline void corner_forces(double P11, double P12, double P21, double P22, double a0, double b00,
                           double b01, double b10, double b11, double* f) {
+  constexpr int s = CornerLoad::stride;
   const double f1x = -a0 * (P11 * b00 + P12 * b01), f1y = -a0 * (P21 * b00 + P22 * b01);
   const double f2x = -a0 * (P11 * b10 + P12 * b11), f2y = -a0 * (P21 * b10 + P22 * b11);
   f[0] = -(f1x + f2x);
   f[1] = -(f1y + f2y);
-  f[2] = f1x;
-  f[3] = f1y;
-  f[4] = f2x;
-  f[5] = f2y;
+  f[s] = f1x;
+  f[s + 1] = f1y;
+  f[2 * s] = f2x;
+  f[2 * s + 1] = f2y;
 }
 
 }  // namespace
@@ -64,13 +66,14 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
   const double* __restrict B11 = tris.binv11.data();
   const double* __restrict A0 = tris.area0.data();
   double* __restrict sig = tris.stress.data();
-  double* __restrict fc = tris.f_corner.data();
-  double* __restrict fvc = tris.f_visc_corner.data();
+  double* __restrict load = tris.corner_load.data();
+  constexpr int rec = 3 * CornerLoad::stride;  // a triangle's three corner records
   double* __restrict W = tris.energy.data();
   const ElementMaterial* __restrict em = mat.data();
 
-  double energy = 0.0;
-  int32_t inverted = -1;
+  // continue the sweep's sums (a thread's block may come in chunks)
+  double energy = out.elastic_energy;
+  int32_t inverted = out.inverted;
   for (int32_t j = begin; j < end; ++j) {
     const int32_t t = list ? list[j] : j;
     const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
@@ -115,13 +118,13 @@ void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<Eleme
       const double V12 = m.tau * 2.0 * m.shear_modulus * D12 + m.eta * D12;
       const double W11 = k.F11 * V11 + k.F12 * V12, W12 = k.F11 * V12 + k.F12 * V22;
       const double W21 = k.F21 * V11 + k.F22 * V12, W22 = k.F21 * V12 + k.F22 * V22;
-      corner_forces(W11, W12, W21, W22, a0, b00, b01, b10, b11, fvc + 6 * t);
+      corner_forces(W11, W12, W21, W22, a0, b00, b01, b10, b11, load + rec * t + CornerLoad::visc_x);
       Q11 += W11;
       Q12 += W12;
       Q21 += W21;
       Q22 += W22;
     }
-    corner_forces(Q11, Q12, Q21, Q22, a0, b00, b01, b10, b11, fc + 6 * t);
+    corner_forces(Q11, Q12, Q21, Q22, a0, b00, b01, b10, b11, load + rec * t + CornerLoad::fx);
   }
   out.elastic_energy = energy;
   out.inverted = inverted;

@@ -29,7 +29,8 @@ struct ElementSweep {
 // Internal forces, elastic Cauchy stress and strain energy (also kept per
 // triangle, Triangles::energy) of triangles [begin, end), or of
 // list[begin..end) when a list is given (the awake triangles of a sleeping
-// far field). Velocities (t - dt/2) enter only through the damping stress.
+// far field), added to the sums already in `out`. Velocities (t - dt/2)
+// enter only through the damping stress.
 void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat,
                     bool damping, int32_t begin, int32_t end, ElementSweep& out,
                     const int32_t* list = nullptr);

@@ -48,16 +48,18 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
   const int32_t* tn = tris.node.data();
-  double* fb = tris.f_buoy_corner.data();
-  double* kd = tris.drag_k_tri.data();
+  constexpr int s = CornerLoad::stride;
+  double* load = tris.corner_load.data();
   const double weight = p.rho_w * p.g;
   double submerged = 0.0;
   for (int32_t k = begin; k < end; ++k) {
     const int32_t t = list ? list[k] : k;
     const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
     const double ax = x[i0], ay = y[i0], bx = x[i1], by = y[i1], cx = x[i2], cy = y[i2];
-    fb[3 * t] = fb[3 * t + 1] = fb[3 * t + 2] = 0.0;
-    kd[t] = 0.0;
+    double* fb = load + 3 * s * t + CornerLoad::buoy_y;
+    double* kd = load + 3 * s * t + CornerLoad::drag_k;
+    fb[0] = fb[s] = fb[2 * s] = 0.0;
+    kd[0] = kd[s] = kd[2 * s] = 0.0;
     if (ay >= p.y_w && by >= p.y_w && cy >= p.y_w) continue;
     const double area = 0.5 * ((bx - ax) * (cy - ay) - (cx - ax) * (by - ay));
     double l0 = 1.0 / 3.0, l1 = 1.0 / 3.0, l2 = 1.0 / 3.0, a_sub = area;
@@ -72,81 +74,90 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
     submerged += a_sub;
     if (p.buoyancy) {
       const double fy = weight * a_sub;
-      fb[3 * t] = fy * l0;
-      fb[3 * t + 1] = fy * l1;
-      fb[3 * t + 2] = fy * l2;
+      fb[0] = fy * l0;
+      fb[s] = fy * l1;
+      fb[2 * s] = fy * l2;
     }
     if (p.drag_on() && area > 0.0) {
       const int32_t b = tris.body[t];
-      kd[t] = body_drag[b] * (tris.area0[t] / body_area0[b]) * (a_sub / area) / 3.0;
+      kd[0] = kd[s] = kd[2 * s] = body_drag[b] * (tris.area0[t] / body_area0[b]) * (a_sub / area) / 3.0;
     }
   }
   return submerged;
 }
 
+void BodyTriangleLists::build(const Triangles& tris, const std::vector<int32_t>& surface,
+                              int32_t n_bodies) {
+  const auto rows = [&](const int32_t* ids, int32_t n, std::vector<int32_t>& first, std::vector<int32_t>& out) {
+    first.assign(size_t(n_bodies) + 1, 0);
+    for (int32_t k = 0; k < n; ++k) ++first[tris.body[ids ? ids[k] : k] + 1];
+    for (int32_t b = 0; b < n_bodies; ++b) first[b + 1] += first[b];
+    out.resize(n);
+    std::vector<int32_t> fill(first.begin(), first.end() - 1);
+    for (int32_t k = 0; k < n; ++k) {
+      const int32_t t = ids ? ids[k] : k;
+      out[fill[tris.body[t]]++] = t;
+    }
+  };
+  rows(nullptr, tris.size(), start, tri);
+  rows(surface.data(), int32_t(surface.size()), surface_start, surface_tri);
+}
+
 void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
                          const std::vector<double>& body_area0, std::vector<double>& body_drag,
-                         const std::vector<int32_t>* surface) {
-  const size_t nb = body_area0.size();
+                         const BodyTriangleLists& lists, int threads) {
+  const int32_t nb = int32_t(body_area0.size());
   body_drag.assign(nb, 0.0);
   if (!p.drag_on()) return;
   if (p.drag_model == DragModel::Linear) {
     std::fill(body_drag.begin(), body_drag.end(), p.c_w);
     return;
   }
-  // Quadratic: mean velocity of each body (triangle centroids, area weighted).
-  const int32_t m = tris.size();
   const int32_t* tn = tris.node.data();
   const double* vx = nodes.vx.data();
   const double* vy = nodes.vy.data();
-  std::vector<double> Vx(nb, 0.0), Vy(nb, 0.0);
-  for (int32_t t = 0; t < m; ++t) {
-    const int32_t b = tris.body[t];
-    const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
-    const double w = tris.area0[t] / 3.0;
-    Vx[b] += w * (vx[i0] + vx[i1] + vx[i2]);
-    Vy[b] += w * (vy[i0] + vy[i1] + vy[i2]);
-  }
-  // Width across the velocity: extent of the body's corners along n = V-perp
-  // (the direction once per body: a hypot per triangle cost a third of the step).
-  std::vector<double> lo(nb, 0.0), hi(nb, 0.0), Nx(nb, 0.0), Ny(nb, 0.0);
-  std::vector<uint8_t> seen(nb, 0), moving(nb, 0);
-  for (size_t b = 0; b < nb; ++b) {
-    if (body_area0[b] > 0.0) {
-      Vx[b] /= body_area0[b];
-      Vy[b] /= body_area0[b];
-    }
-    const double speed = std::hypot(Vx[b], Vy[b]);
-    if (speed > 0.0) {
-      moving[b] = 1;
-      Nx[b] = -Vy[b] / speed;
-      Ny[b] = Vx[b] / speed;
-    }
-  }
   const double* x = nodes.x.data();
   const double* y = nodes.y.data();
-  // a body's extremes lie on its boundary: its surface triangles' corners suffice
-  const int32_t n_scan = surface ? int32_t(surface->size()) : m;
-  for (int32_t j = 0; j < n_scan; ++j) {
-    const int32_t t = surface ? (*surface)[j] : j;
-    const int32_t b = tris.body[t];
-    if (!moving[b]) continue;
-    const double nx = Nx[b], ny = Ny[b];
-    for (int k = 0; k < 3; ++k) {
-      const int32_t i = tn[3 * t + k];
-      const double s = x[i] * nx + y[i] * ny;
-      if (!seen[b]) {
-        lo[b] = hi[b] = s;
-        seen[b] = 1;
-      } else {
-        lo[b] = std::fmin(lo[b], s);
-        hi[b] = std::fmax(hi[b], s);
+  const double half_rho_cd = 0.5 * p.rho_w * p.C_d;
+  // dynamic: the layer's bodies are far larger than a block
+  #pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (threads > 1)
+  for (int32_t b = 0; b < nb; ++b) {
+    // Mean velocity (triangle centroids, area weighted).
+    double Vx = 0.0, Vy = 0.0;
+    for (int32_t k = lists.start[b]; k < lists.start[b + 1]; ++k) {
+      const int32_t t = lists.tri[k];
+      const int32_t i0 = tn[3 * t], i1 = tn[3 * t + 1], i2 = tn[3 * t + 2];
+      const double w = tris.area0[t] / 3.0;
+      Vx += w * (vx[i0] + vx[i1] + vx[i2]);
+      Vy += w * (vy[i0] + vy[i1] + vy[i2]);
+    }
+    if (body_area0[b] > 0.0) {
+      Vx /= body_area0[b];
+      Vy /= body_area0[b];
+    }
+    const double speed = std::hypot(Vx, Vy);
+    if (!(speed > 0.0)) continue;
+    // Width across the velocity: extent of the corners along n = V-perp.
+    const double nx = -Vy / speed, ny = Vx / speed;
+    bool seen = false;
+    double lo = 0.0, hi = 0.0;
+    for (int32_t k = lists.surface_start[b]; k < lists.surface_start[b + 1]; ++k) {
+      const int32_t t = lists.surface_tri[k];
+      for (int c = 0; c < 3; ++c) {
+        const int32_t i = tn[3 * t + c];
+        const double s = x[i] * nx + y[i] * ny;
+        if (!seen) {
+          lo = hi = s;
+          seen = true;
+        } else {
+          // plain compares: std::fmin/fmax are library calls (NaN rules)
+          if (s < lo) lo = s;
+          if (s > hi) hi = s;
+        }
       }
     }
+    if (seen) body_drag[b] = half_rho_cd * speed * (hi - lo);
   }
-  const double half_rho_cd = 0.5 * p.rho_w * p.C_d;
-  for (size_t b = 0; b < nb; ++b)
-    if (seen[b]) body_drag[b] = half_rho_cd * std::hypot(Vx[b], Vy[b]) * (hi[b] - lo[b]);
 }
 
 }  // namespace engine

@@ -52,22 +52,30 @@ struct Submerged {
 };
 Submerged submerged_part(double ax, double ay, double bx, double by, double cx, double cy, double y_w);
 
-// Per triangle in [begin, end): buoyancy per corner (f_buoy_corner) and the
-// drag coefficient of each corner (drag_k_tri) from the bodies' drag
+// Per triangle in [begin, end): buoyancy per corner and the drag coefficient
+// of each corner (Triangles::corner_load) from the bodies' drag
 // constants body_drag (N s/m per m width). Returns the submerged area.
 double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
                                  const std::vector<double>& body_area0,
                                  const std::vector<double>& body_drag, int32_t begin, int32_t end,
                                  const int32_t* list = nullptr);
 
+// Each body's triangles, and those of them with a corner on a boundary
+// (compressed rows by body, ascending triangle ids).
+struct BodyTriangleLists {
+  std::vector<int32_t> start, tri;                  // n_bodies + 1, n_tri
+  std::vector<int32_t> surface_start, surface_tri;  // n_bodies + 1, the surface triangles
+  void build(const Triangles& tris, const std::vector<int32_t>& surface, int32_t n_bodies);
+};
+
 // Every body's drag constant c_b for the current velocities (see above);
 // quadratic drag needs each body's mean velocity (area weighted, from the
 // triangles, so shared bond nodes count for both bodies) and its width across
-// that velocity. Serial: a pass over the triangles for the velocities, one
-// over `surface` (the triangles with a corner on their body's boundary; all
-// triangles if null) for the widths.
+// that velocity (from its surface triangles' corners: a body's extremes lie
+// on its boundary). Bodies are independent: `threads` share them, and every
+// body's sums are taken in its ascending triangle order whatever the count.
 void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
                          const std::vector<double>& body_area0, std::vector<double>& body_drag,
-                         const std::vector<int32_t>* surface = nullptr);
+                         const BodyTriangleLists& lists, int threads);
 
 }  // namespace engine

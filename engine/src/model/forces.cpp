@@ -19,23 +19,20 @@ namespace engine {
 void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g) {
   const int32_t* start = gather_.start.data();
   const int32_t* slot = gather_.slot.data();
-  const double* fc = tris_.f_corner.data();
-  const double* fvc = tris_.f_visc_corner.data();
-  const double* fbc = tris_.f_buoy_corner.data();
-  const double* kdt = tris_.drag_k_tri.data();
+  const double* load = tris_.corner_load.data();
   Nodes& N = nodes_;
   double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
   for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-    const int32_t s = slot[j];
-    fx += fc[2 * s];
-    fy += fc[2 * s + 1];
+    const double* c = load + CornerLoad::stride * size_t(slot[j]);
+    fx += c[CornerLoad::fx];
+    fy += c[CornerLoad::fy];
     if (damping) {
-      vx += fvc[2 * s];
-      vy += fvc[2 * s + 1];
+      vx += c[CornerLoad::visc_x];
+      vy += c[CornerLoad::visc_y];
     }
     if (water) {
-      if (buoy) fb += fbc[s];
-      if (drag) k += kdt[s / 3];
+      if (buoy) fb += c[CornerLoad::buoy_y];
+      if (drag) k += c[CornerLoad::drag_k];
     }
   }
   N.f_int_x[i] = fx;
@@ -60,7 +57,7 @@ void Model::compute_body_forces() {
   const bool water = ext_.water();
   const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
   const double g = ext_.gravity ? ext_.g : 0.0;
-  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, &surface_tris_);
+  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
   // Sleeping far field: only the listed triangles are computed; the others
   // keep their stored (exact, frozen) forces and energies.
   const bool sleeping = sleep_.on && !compute_all_next_;
@@ -69,15 +66,36 @@ void Model::compute_body_forces() {
   const int32_t* list = sleeping ? awake_tris_.data() : nullptr;
   const int32_t n_computed = sleeping ? int32_t(awake_tris_.size()) : m;
   timings_.element_steps += n_computed;
-  #pragma omp parallel num_threads(nt) if (use_threads())
+  const bool threaded = use_threads();
+  const int team_size = threaded ? nt : 1;
+  if (!sleeping && (gather_plan_.topology != topology_version_ || gather_plan_.threads != team_size))
+    gather_plan_.build(tris_, gather_, n, team_size, topology_version_);
+  Nodes& N = nodes_;
+  #pragma omp parallel num_threads(nt) if (threaded)
   {
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
+    // With every triangle computed, each node is gathered in the element pass
+    // once its last corner is computed (gather_plan.hpp).
+    const bool in_pass = !sleeping && team == gather_plan_.threads;
     int32_t b, e;
     block(n_computed, tid, team, b, e);
     // (1) element forces and (6) water forces, per triangle.
     ElementSweep sweep;
-    element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep, list);
-    if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e, list);
+    if (in_pass) {
+      const GatherPlan& P = gather_plan_;
+      for (int32_t c = P.thread_chunk[tid]; c < P.thread_chunk[tid + 1]; ++c) {
+        element_forces(nodes_, tris_, elem_mat_, damping, P.chunk_begin[c], P.chunk_end[c], sweep);
+        if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, P.chunk_begin[c], P.chunk_end[c]);
+        for (int32_t k = P.node_start[c]; k < P.node_start[c + 1]; ++k) {
+          const int32_t i = P.nodes[k];
+          gather_node(i, damping, water, buoy, drag, g);
+          N.f_con_x[i] = N.f_con_y[i] = 0.0;
+        }
+      }
+    } else {
+      element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep, list);
+      if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e, list);
+    }
     partial_[tid].s.elastic = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
     #pragma omp barrier
@@ -90,12 +108,20 @@ void Model::compute_body_forces() {
     }
     // Gather corner forces onto nodes in the fixed gather order, add gravity
     // and drag: the total of everything but contact, bonds and friction.
-    Nodes& N = nodes_;
-    #pragma omp for schedule(static)
-    for (int32_t i = 0; i < n; ++i) {
-      gather_node(i, damping, water, buoy, drag, g);
-      // Contact and cohesive passes add into these.
-      N.f_con_x[i] = N.f_con_y[i] = 0.0;
+    // Contact and cohesive passes add into f_con.
+    if (in_pass) {
+      const std::vector<int32_t>& late = gather_plan_.straddling;
+      #pragma omp for schedule(static)
+      for (size_t k = 0; k < late.size(); ++k) {
+        gather_node(late[k], damping, water, buoy, drag, g);
+        N.f_con_x[late[k]] = N.f_con_y[late[k]] = 0.0;
+      }
+    } else {
+      #pragma omp for schedule(static)
+      for (int32_t i = 0; i < n; ++i) {
+        gather_node(i, damping, water, buoy, drag, g);
+        N.f_con_x[i] = N.f_con_y[i] = 0.0;
+      }
     }
   }
   double u = 0.0;

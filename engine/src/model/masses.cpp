@@ -38,7 +38,8 @@ void Model::compute_masses() {
   nodes_.mass_phys = nodes_.mass;
   scale_masses();
   if (!any_damping_) {
-    std::fill(tris_.f_visc_corner.begin(), tris_.f_visc_corner.end(), 0.0);
+    for (size_t c = 0; c < tris_.corner_load.size(); c += CornerLoad::stride)
+      tris_.corner_load[c + CornerLoad::visc_x] = tris_.corner_load[c + CornerLoad::visc_y] = 0.0;
     std::fill(nodes_.f_visc_x.begin(), nodes_.f_visc_x.end(), 0.0);
     std::fill(nodes_.f_visc_y.begin(), nodes_.f_visc_y.end(), 0.0);
   }

@@ -62,6 +62,7 @@ Model::Model(const std::vector<double>& xy, const std::vector<int32_t>& tri,
 
 void Model::rebuild_topology() {
   const int32_t n = nodes_.size(), m = tris_.size();
+  ++topology_version_;
   // Node -> corner gather list, corners in ascending slot order.
   gather_.start.assign(size_t(n) + 1, 0);
   for (int32_t s = 0; s < 3 * m; ++s) {
@@ -105,6 +106,7 @@ void Model::rebuild_topology() {
     const int32_t* c = &tris_.node[3 * t];
     if (on_surface_[c[0]] || on_surface_[c[1]] || on_surface_[c[2]]) surface_tris_.push_back(t);
   }
+  body_tris_.build(tris_, surface_tris_, int32_t(materials_.size()));
   contact_possible_ = std::count(body_used.begin(), body_used.end(), 1) >= 2;
   prepared_ = false;
   stable_current_ = false;

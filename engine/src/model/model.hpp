@@ -11,6 +11,7 @@
 #include "contact/contact.hpp"
 #include "element/cst_element.hpp"
 #include "model/energy.hpp"
+#include "model/gather_plan.hpp"
 #include "model/step_sums.hpp"
 #include "loads/external_forces.hpp"
 #include "bonds/freeze_bonds.hpp"
@@ -211,12 +212,15 @@ class Model {
   Nodes nodes_;
   Triangles tris_;
   NodeGather gather_;
+  uint64_t topology_version_ = 0;  // counts rebuild_topology() calls
+  GatherPlan gather_plan_;          // gathers in the element pass (gather_plan.hpp)
   std::vector<Material> materials_;
   std::vector<ElementMaterial> elem_mat_;
   std::vector<double> body_area0_;
   std::vector<double> body_drag_;  // each body's drag constant this step [N s/m per m]
   std::vector<uint8_t> on_surface_;  // node lies on its body's boundary
   std::vector<int32_t> surface_tris_;
+  BodyTriangleLists body_tris_;  // per body: its triangles, its surface triangles
   bool contact_possible_ = false;
   bool any_damping_ = false;
 

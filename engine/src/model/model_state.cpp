@@ -40,7 +40,9 @@ void Model::restore_clock(double time, int64_t step_count) {
 
 size_t Model::memory_bytes() const {
   size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
-             surface_tris_.capacity() * sizeof(int32_t) + partial_.capacity() * sizeof(ThreadSums) +
+             surface_tris_.capacity() * sizeof(int32_t) +
+             (body_tris_.start.capacity() + body_tris_.tri.capacity() + body_tris_.surface_start.capacity() +
+              body_tris_.surface_tri.capacity()) * sizeof(int32_t) + partial_.capacity() * sizeof(ThreadSums) +
              bonds_.memory_bytes();
   for (const BoundaryCondition& bc : bcs_) b += bc.nodes.capacity() * sizeof(int32_t);
   return b;
