@@ -7,4 +7,5 @@ PYBIND11_MODULE(_engine, m) {
   engine::bind_model(m);
   engine::bind_freeze_bonds(m);
   engine::bind_loads(m);
+  engine::bind_rigid(m);
 }

@@ -7,4 +7,5 @@ void bind_contact(pybind11::module_& m);
 void bind_model(pybind11::module_& m);
 void bind_freeze_bonds(pybind11::module_& m);  // after bind_model: adds to Model
 void bind_loads(pybind11::module_& m);
+void bind_rigid(pybind11::module_& m);  // rigid-block water law (discrete-only model)
 }

@@ -1,0 +1,86 @@
+// Python access to the rigid-block water law (rigid/rigid_water.hpp): arrays
+// in, arrays out, for the discrete-only model's YADE scene.
+#include <pybind11/numpy.h>
+
+#include <string>
+
+#include "bindings/bindings.hpp"
+#include "common/input_errors.hpp"
+#include "rigid/rigid_water.hpp"
+
+namespace py = pybind11;
+
+namespace engine {
+
+namespace {
+
+using DArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IArray = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+
+void require_length(const char* name, const DArray& a, ssize_t n) {
+  if (a.ndim() != 1 || a.shape(0) != n)
+    bad(std::string(name) + " must be a 1-D array of " + std::to_string(n) + " values (got " +
+        std::to_string(a.size()) + ")");
+  for (ssize_t i = 0; i < n; ++i)
+    if (!std::isfinite(a.data()[i])) bad(std::string(name) + "[" + std::to_string(i) + "] is not finite");
+}
+
+}  // namespace
+
+void bind_rigid(py::module_& m) {
+  m.def(
+      "rigid_water_forces",
+      [](IArray offset, DArray vx, DArray vy, DArray area, DArray cx, DArray cy, DArray theta, DArray ux,
+         DArray uy, DArray omega, double y_w, double rho_w, double g, bool buoyancy, int drag_model,
+         double c_w, double C_d, int threads) {
+        const ssize_t n = offset.size() - 1;
+        if (offset.ndim() != 1 || n < 0) bad("offset must be a 1-D array of n_blocks + 1 corner offsets");
+        const int32_t* o = offset.data();
+        if (o[0] != 0) bad("offset[0] must be 0");
+        for (ssize_t k = 0; k < n; ++k)
+          if (o[k + 1] - o[k] < 3)
+            bad("block " + std::to_string(k) + " has " + std::to_string(o[k + 1] - o[k]) +
+                " corners: a block needs >= 3 (offset must increase by >= 3)");
+        require_length("vx (body-frame corners)", vx, o[n]);
+        require_length("vy (body-frame corners)", vy, o[n]);
+        for (auto [name, a] : {std::pair<const char*, DArray*>{"area", &area}, {"cx", &cx}, {"cy", &cy},
+                               {"theta", &theta}, {"ux", &ux}, {"uy", &uy}, {"omega", &omega}})
+          require_length(name, *a, n);
+        for (ssize_t k = 0; k < n; ++k)
+          if (!(area.data()[k] > 0.0))
+            bad("area[" + std::to_string(k) + "] must be > 0 m² (got " + num(area.data()[k]) + ")");
+        if (!std::isfinite(y_w)) bad("y_w (water line) must be finite (got " + num(y_w) + ")");
+        require_finite_positive("rho_w", rho_w, "kg/m³");
+        require_finite_nonnegative("g", g, "m/s²");
+        if (drag_model < 0 || drag_model > 2) bad("drag_model must be 0 (none), 1 (linear) or 2 (quadratic)");
+        require_finite_nonnegative("c_w", c_w, "Pa s");
+        require_finite_nonnegative("C_d", C_d, "(-)");
+        if (threads < 1) bad("threads must be >= 1 (got " + std::to_string(threads) + ")");
+        ExternalParams p;
+        p.y_w = y_w;
+        p.rho_w = rho_w;
+        p.g = g;
+        p.buoyancy = buoyancy;
+        p.drag = drag_model != 0;
+        p.drag_model = DragModel(drag_model);
+        p.c_w = c_w;
+        p.C_d = C_d;
+        RigidBlocks b{int32_t(n), o, vx.data(), vy.data(), area.data(), cx.data(), cy.data(),
+                      theta.data(), ux.data(), uy.data(), omega.data()};
+        DArray fx(n), fy(n), tz(n);
+        {
+          py::gil_scoped_release nogil;
+          rigid_water_forces(b, p, fx.mutable_data(), fy.mutable_data(), tz.mutable_data(), threads);
+        }
+        return py::make_tuple(fx, fy, tz);
+      },
+      py::arg("offset"), py::arg("vx"), py::arg("vy"), py::arg("area"), py::arg("cx"), py::arg("cy"),
+      py::arg("theta"), py::arg("ux"), py::arg("uy"), py::arg("omega"), py::arg("y_w"), py::arg("rho_w"),
+      py::arg("g"), py::arg("buoyancy"), py::arg("drag_model"), py::arg("c_w"), py::arg("C_d"),
+      py::arg("threads") = 1,
+      "Buoyancy and drag on rigid polygon blocks per metre of width: (fx, fy, tz) [N/m, N m/m].\n"
+      "Corners (vx, vy) are body-frame, relative to each block's centroid; drag_model 0 none,\n"
+      "1 linear (c_w), 2 quadratic (C_d). docs/model.md §6.");
+}
+
+}  // namespace engine

@@ -1,0 +1,5 @@
+"""The discrete-only comparison model (docs/model.md §6): the same ridge as
+rigid blocks in YADE, with the project's water law, friction and freeze bonds.
+
+- `water`: buoyancy and drag on rigid polygon blocks (engine, rigid/rigid_water.hpp).
+"""
