@@ -3,9 +3,11 @@
 #include <pybind11/numpy.h>
 
 #include <string>
+#include <vector>
 
 #include "bindings/bindings.hpp"
 #include "common/input_errors.hpp"
+#include "rigid/rigid_friction.hpp"
 #include "rigid/rigid_water.hpp"
 
 namespace py = pybind11;
@@ -25,9 +27,72 @@ void require_length(const char* name, const DArray& a, ssize_t n) {
     if (!std::isfinite(a.data()[i])) bad(std::string(name) + "[" + std::to_string(i) + "] is not finite");
 }
 
+void require_ids(const char* name, const IArray& a, ssize_t n, int32_t n_bodies) {
+  if (a.ndim() != 1 || a.shape(0) != n)
+    bad(std::string(name) + " must be a 1-D array of " + std::to_string(n) + " body ids");
+  for (ssize_t i = 0; i < n; ++i)
+    if (a.data()[i] < 0 || a.data()[i] >= n_bodies)
+      bad(std::string(name) + "[" + std::to_string(i) + "] = " + std::to_string(a.data()[i]) +
+          " is not a body id in [0, " + std::to_string(n_bodies - 1) + "]");
+}
+
+py::tuple friction_step(FrictionHistory& h, IArray a, IArray b, DArray px, DArray py_, DArray nx, DArray ny,
+                        DArray fn, DArray x, DArray y, DArray vx, DArray vy, DArray omega, double dt,
+                        double k_t, double mu) {
+  const ssize_t nb = x.size(), nc = a.size();
+  for (auto [name, arr] : {std::pair<const char*, DArray*>{"x", &x}, {"y", &y}, {"vx", &vx}, {"vy", &vy},
+                           {"omega", &omega}})
+    require_length(name, *arr, nb);
+  require_ids("a", a, nc, int32_t(nb));
+  require_ids("b", b, nc, int32_t(nb));
+  for (auto [name, arr] : {std::pair<const char*, DArray*>{"px", &px}, {"py", &py_}, {"nx", &nx}, {"ny", &ny},
+                           {"fn", &fn}})
+    require_length(name, *arr, nc);
+  for (ssize_t k = 0; k < nc; ++k) {
+    if (!(a.data()[k] < b.data()[k]))
+      bad("contact " + std::to_string(k) + ": a = " + std::to_string(a.data()[k]) + " must be < b = " +
+          std::to_string(b.data()[k]) + " (the normal points from a to b)");
+    const double len = std::hypot(nx.data()[k], ny.data()[k]);
+    if (!(std::fabs(len - 1.0) < 1e-6))
+      bad("contact " + std::to_string(k) + ": the normal must be a unit vector (length " + num(len) + ")");
+    if (!(fn.data()[k] >= 0.0)) bad("contact " + std::to_string(k) + ": fn must be >= 0 N/m (got " + num(fn.data()[k]) + ")");
+  }
+  require_finite_positive("dt", dt, "s");
+  require_finite_positive("k_t", k_t, "N/m per m width (tangential contact stiffness)");
+  require_finite_nonnegative("mu", mu, "(friction coefficient)");
+  RigidContacts c{int32_t(nc), a.data(), b.data(), px.data(), py_.data(), nx.data(), ny.data(), fn.data()};
+  RigidBodies B{int32_t(nb), x.data(), y.data(), vx.data(), vy.data(), omega.data()};
+  DArray ft(nc), fx(nb), fy(nb), tz(nb);
+  rigid_friction(c, B, dt, k_t, mu, h, ft.mutable_data(), fx.mutable_data(), fy.mutable_data(), tz.mutable_data());
+  return py::make_tuple(ft, fx, fy, tz);
+}
+
 }  // namespace
 
 void bind_rigid(py::module_& m) {
+  py::class_<FrictionHistory>(m, "RigidFriction",
+                              "Coulomb friction with stick between rigid blocks, one history per body pair "
+                              "(rigid/rigid_friction.hpp)")
+      .def(py::init<>())
+      .def("step", &friction_step, py::arg("a"), py::arg("b"), py::arg("px"), py::arg("py"), py::arg("nx"),
+           py::arg("ny"), py::arg("fn"), py::arg("x"), py::arg("y"), py::arg("vx"), py::arg("vy"),
+           py::arg("omega"), py::arg("dt"), py::arg("k_t"), py::arg("mu"),
+           "One step: (ft per contact [N/m], fx, fy, tz per body [N/m, N m/m]); the history moves on.")
+      .def_property_readonly("keys", [](const FrictionHistory& h) {
+        return py::array_t<uint64_t>(ssize_t(h.key.size()), h.key.data());
+      })
+      .def_property_readonly("forces", [](const FrictionHistory& h) {
+        return py::array_t<double>(ssize_t(h.ft.size()), h.ft.data());
+      })
+      .def("restore", [](FrictionHistory& h, py::array_t<uint64_t, py::array::c_style | py::array::forcecast> keys,
+                         DArray forces) {
+        if (keys.size() != forces.size()) bad("keys and forces must have the same length");
+        for (ssize_t i = 1; i < keys.size(); ++i)
+          if (!(keys.data()[i - 1] < keys.data()[i])) bad("friction history keys must ascend strictly");
+        require_length("forces", forces, keys.size());
+        h.key.assign(keys.data(), keys.data() + keys.size());
+        h.ft.assign(forces.data(), forces.data() + forces.size());
+      }, py::arg("keys"), py::arg("forces"), "Continue a checkpointed history.");
   m.def(
       "rigid_water_forces",
       [](IArray offset, DArray vx, DArray vy, DArray area, DArray cx, DArray cy, DArray theta, DArray ux,

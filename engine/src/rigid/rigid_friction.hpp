@@ -1,0 +1,56 @@
+// Coulomb friction with stick between rigid blocks, one history per contact
+// (the discrete-only model, docs/model.md §6).
+//
+// YADE's polyhedra law keeps its shear force in one variable shared by all
+// contacts (docs/yade_notes.md), so two blocks pushed opposite ways on a floor
+// both slide. Here each contact, keyed by its body pair, carries its own
+// tangential force f_t: it grows elastically with the tangential slip at the
+// contact point, f_t <- f_t - k_t (v_rel . t) dt, and is capped at mu f_n
+// (sliding). So below the friction limit a block rests, held by f_t within
+// f/k_t of where it stuck; at the limit it slides with f_t = mu f_n against
+// the slip. A contact absent from a step forgets its history.
+//
+// Conventions: the normal n points from body a to body b, t = z x n; f_n >= 0
+// is the normal force magnitude; f_t is the tangential force on b along t
+// (a gets the opposite). Per metre of width.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace engine {
+
+struct RigidContacts {
+  int32_t n = 0;
+  const int32_t* a = nullptr;  // body ids, a < b
+  const int32_t* b = nullptr;
+  const double* px = nullptr;  // contact point [m]
+  const double* py = nullptr;
+  const double* nx = nullptr;  // unit normal, a -> b
+  const double* ny = nullptr;
+  const double* fn = nullptr;  // normal force magnitude [N/m], >= 0
+};
+
+struct RigidBodies {
+  int32_t n = 0;
+  const double* x = nullptr;  // centroid [m]
+  const double* y = nullptr;
+  const double* vx = nullptr;  // centroid velocity [m/s]
+  const double* vy = nullptr;
+  const double* omega = nullptr;  // [rad/s]
+};
+
+// The friction history: tangential force per body pair, keys ascending.
+struct FrictionHistory {
+  std::vector<uint64_t> key;  // (uint64(a) << 32) | b
+  std::vector<double> ft;
+};
+
+// The tangential force of every contact this step (ft, in the contacts'
+// order), the history afterwards (this step's contacts only) and each body's
+// resulting force and torque about its centroid (fx, fy, tz: n_bodies each,
+// summed in ascending key order, so independent of the contacts' order).
+void rigid_friction(const RigidContacts& c, const RigidBodies& bodies, double dt, double k_t,
+                    double mu, FrictionHistory& history, double* ft, double* fx, double* fy,
+                    double* tz);
+
+}  // namespace engine
