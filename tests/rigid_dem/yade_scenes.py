@@ -1,0 +1,123 @@
+"""YADE scenes for tests/rigid_dem/test_yade_coupling.py (run inside YADE:
+`yade -n -x tests/rigid_dem/yade_scenes.py`, with SCENE and OUT in the environment).
+
+two_blocks_coupled / two_blocks_yade_friction: two 1.2 m x 0.3 m blocks on a
+fixed floor, settled, then pushed sideways in opposite directions at half the
+friction limit for 1 s; friction from the project's law (coupled) or from
+YADE's polyhedra law (frictionAngle = atan mu). Writes each block's x travel.
+
+floating_block: a block released at the water line with buoyancy and linear
+drag from the project's water law; writes its draft after 6 s.
+rising_block: the block released 20 m down with quadratic drag; writes its
+speed after 8 s.
+"""
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.getcwd())  # the repository: run from its root
+
+import yade  # noqa: F401  (inside yade already loaded)
+import yade.log
+from yade import Vector3, polyhedra_utils
+from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
+                          InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
+                          Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
+                          Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator, PyRunner)
+
+from icerubble.rigid_dem.yade_coupling import Coupling
+
+yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
+
+RHO_I, RHO_W, G, MU = 920.0, 1010.0, 9.81, 0.35
+E = 2e8
+W, H = 1.2, 0.3
+
+
+def prism(mat, corners, fixed=False):
+    b = polyhedra_utils.polyhedra(mat, v=[Vector3(x, y, z) for (x, y) in corners for z in (-0.5, 0.5)],
+                                  fixed=fixed)
+    if not fixed:
+        b.state.blockedDOFs = 'zXY'
+    return b
+
+
+def box(x0, x1, y0, y1):
+    return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+
+
+def two_blocks(coupled):
+    mat = PolyhedraMat(density=RHO_I, young=E, poisson=0.3, frictionAngle=0.0 if coupled else math.atan(MU))
+    O.materials.append(mat)
+    floor = O.bodies.append(prism(mat, box(-4.0, 4.0, -0.5, 0.0), fixed=True))
+    ids = O.bodies.append([prism(mat, box(-2.1, -0.9, 0.0, H)), prism(mat, box(0.9, 2.1, 0.0, H))])
+    k_n = 0.5 * E
+    dt = 0.5 * 2.0 / math.sqrt(4.0 * k_n / (RHO_I * H))
+    O.dt = dt
+    engines = [ForceResetter(),
+               InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.01),
+               InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
+                               [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
+                               [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()])]
+    global coupling, push
+    coupling = Coupling([floor] + ids, mu=MU, k_t=k_n * H, dt=dt) if coupled else None
+    mass = O.bodies[ids[0]].state.mass
+    P = 0.5 * MU * mass * G
+    push_on = [False]
+
+    def push():
+        if coupling is not None:
+            coupling()
+        if push_on[0]:
+            O.forces.addF(ids[0], Vector3(P, 0, 0))
+            O.forces.addF(ids[1], Vector3(-P, 0, 0))
+
+    newton = NewtonIntegrator(damping=0.5, gravity=(0.0, -G, 0.0))
+    O.engines = engines + [PyRunner(iterPeriod=1, command='push()'), newton]
+    O.run(int(0.5 / dt), True)           # settle onto the floor
+    newton.damping = 0.0
+    x0 = [O.bodies[i].state.pos[0] for i in ids]
+    push_on[0] = True
+    O.run(int(1.0 / dt), True)
+    return dict(travel=[O.bodies[i].state.pos[0] - x for i, x in zip(ids, x0)], push=P, mass=mass,
+                k_t=k_n * H, steps=O.iter)
+
+
+def floating_block():
+    mat = PolyhedraMat(density=RHO_I, young=E, poisson=0.3, frictionAngle=0.0)
+    O.materials.append(mat)
+    ids = O.bodies.append([prism(mat, box(-0.6, 0.6, -0.15, 0.15))])
+    O.dt = 1e-3
+    global coupling
+    coupling = Coupling(ids, mu=0.0, k_t=1.0, dt=O.dt,
+                        water=dict(params=dict(drag_model="linear", c_w=4e3, rho_w=RHO_W, rho_i=RHO_I, g=G),
+                                   y_w=0.0))
+    O.engines = [ForceResetter(), PyRunner(iterPeriod=1, command='coupling()'),
+                 NewtonIntegrator(damping=0.0, gravity=(0.0, -G, 0.0))]
+    O.run(6000, True)
+    s = O.bodies[ids[0]].state
+    return dict(draft=0.0 - (s.pos[1] - H / 2), h=H, vy=s.vel[1], angle=s.ori.toAxisAngle()[1])
+
+
+def rising_block():
+    mat = PolyhedraMat(density=RHO_I, young=E, poisson=0.3, frictionAngle=0.0)
+    O.materials.append(mat)
+    ids = O.bodies.append([prism(mat, box(-0.6, 0.6, -20.15, -19.85))])
+    O.dt = 1e-3
+    global coupling
+    coupling = Coupling(ids, mu=0.0, k_t=1.0, dt=O.dt,
+                        water=dict(params=dict(drag_model="quadratic", C_d=1.0, rho_w=RHO_W, rho_i=RHO_I, g=G),
+                                   y_w=0.0))
+    O.engines = [ForceResetter(), PyRunner(iterPeriod=1, command='coupling()'),
+                 NewtonIntegrator(damping=0.0, gravity=(0.0, -G, 0.0))]
+    O.run(8000, True)
+    s = O.bodies[ids[0]].state
+    return dict(vy=s.vel[1], y=s.pos[1], w=W, h=H)
+
+
+scene = os.environ["SCENE"]
+out = dict(two_blocks_coupled=lambda: two_blocks(True), two_blocks_yade_friction=lambda: two_blocks(False),
+           floating_block=floating_block, rising_block=rising_block)[scene]()
+with open(os.environ["OUT"], "w") as f:
+    json.dump(out, f)
