@@ -7,6 +7,7 @@
 
 #include "bindings/bindings.hpp"
 #include "common/input_errors.hpp"
+#include "rigid/rigid_bonds.hpp"
 #include "rigid/rigid_friction.hpp"
 #include "rigid/rigid_water.hpp"
 
@@ -69,7 +70,78 @@ py::tuple friction_step(FrictionHistory& h, IArray a, IArray b, DArray px, DArra
 
 }  // namespace
 
+template <class T>
+py::array_t<T> copy_of(const std::vector<T>& v) {
+  return py::array_t<T>(ssize_t(v.size()), v.data());
+}
+
+std::vector<double> column(const DArray& a2, int c, const char* name) {
+  if (a2.ndim() != 2 || a2.shape(1) != 2) bad(std::string(name) + " must be an (n, 2) array");
+  std::vector<double> out(size_t(a2.shape(0)));
+  for (ssize_t i = 0; i < a2.shape(0); ++i) out[size_t(i)] = a2.data()[2 * i + c];
+  return out;
+}
+
+std::vector<double> values(const DArray& a, size_t n, const char* name) {
+  if (a.ndim() != 1 || size_t(a.shape(0)) != n)
+    bad(std::string(name) + " must be a 1-D array of " + std::to_string(n) + " values (one per bond point)");
+  return std::vector<double>(a.data(), a.data() + n);
+}
+
 void bind_rigid(py::module_& m) {
+  py::class_<RigidBondPoints>(m, "RigidBonds",
+                              "Freeze bonds between rigid blocks: initially elastic, then the paper's "
+                              "softening (rigid/rigid_bonds.hpp)")
+      .def(py::init([](IArray a, IArray b, DArray anchor_a, DArray anchor_b, DArray normal_a, DArray k, DArray l,
+                       DArray sigma_cr, DArray tau_cr, DArray mu, DArray G, int n_bodies, std::string direction) {
+             RigidBondPoints r;
+             if (a.ndim() != 1 || b.ndim() != 1 || a.size() != b.size()) bad("a and b must be 1-D arrays of the same length");
+             const size_t n = size_t(a.size());
+             r.a.assign(a.data(), a.data() + n);
+             r.b.assign(b.data(), b.data() + n);
+             r.ax = column(anchor_a, 0, "anchor_a");
+             r.ay = column(anchor_a, 1, "anchor_a");
+             r.bx = column(anchor_b, 0, "anchor_b");
+             r.by = column(anchor_b, 1, "anchor_b");
+             r.nx = column(normal_a, 0, "normal_a");
+             r.ny = column(normal_a, 1, "normal_a");
+             r.k = values(k, n, "k");
+             r.l = values(l, n, "l");
+             r.sigma_cr = values(sigma_cr, n, "sigma_cr");
+             r.tau_cr = values(tau_cr, n, "tau_cr");
+             r.mu = values(mu, n, "mu");
+             r.G = values(G, n, "G");
+             if (direction == "paper") r.direction = cohesive_law::ForceDirection::paper;
+             else if (direction == "work_conjugate") r.direction = cohesive_law::ForceDirection::work_conjugate;
+             else bad("direction must be 'paper' or 'work_conjugate' (got '" + direction + "')");
+             if (n_bodies < 0) bad("n_bodies must be >= 0");
+             r.validate_and_reset(n_bodies);
+             return r;
+           }),
+           py::arg("a"), py::arg("b"), py::arg("anchor_a"), py::arg("anchor_b"), py::arg("normal_a"), py::arg("k"),
+           py::arg("l"), py::arg("sigma_cr"), py::arg("tau_cr"), py::arg("mu"), py::arg("G"), py::arg("n_bodies"),
+           py::arg("direction") = "paper")
+      .def("step", [](RigidBondPoints& r, DArray x, DArray y, DArray theta, double time) {
+             const ssize_t nb = x.size();
+             require_length("x", x, nb);
+             require_length("y", y, nb);
+             require_length("theta", theta, nb);
+             for (int32_t i = 0; i < r.size(); ++i)
+               if (r.a[i] >= nb || r.b[i] >= nb) bad("x, y, theta must cover every body of the bond points");
+             DArray fx(nb), fy(nb), tz(nb);
+             r.step(int32_t(nb), x.data(), y.data(), theta.data(), time, fx.mutable_data(), fy.mutable_data(),
+                    tz.mutable_data());
+             return py::make_tuple(fx, fy, tz);
+           }, py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("time"),
+           "One step to the body poses: (fx, fy, tz) per body [N/m, N/m, N m/m].")
+      .def_property_readonly("state", [](const RigidBondPoints& r) { return copy_of(r.state); })
+      .def_property_readonly("mode", [](const RigidBondPoints& r) { return copy_of(r.mode); })
+      .def_property_readonly("f_n", [](const RigidBondPoints& r) { return copy_of(r.f_n); })
+      .def_property_readonly("f_t", [](const RigidBondPoints& r) { return copy_of(r.f_t); })
+      .def_property_readonly("dissipated", [](const RigidBondPoints& r) { return copy_of(r.dissipated); })
+      .def_property_readonly("t_initiated", [](const RigidBondPoints& r) { return copy_of(r.t_initiated); })
+      .def_property_readonly("t_failed", [](const RigidBondPoints& r) { return copy_of(r.t_failed); })
+      .def("stored_energy", &RigidBondPoints::stored_energy);
   py::class_<FrictionHistory>(m, "RigidFriction",
                               "Coulomb friction with stick between rigid blocks, one history per body pair "
                               "(rigid/rigid_friction.hpp)")
