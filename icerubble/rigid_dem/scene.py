@@ -1,0 +1,83 @@
+"""A ridge as rigid blocks: the FEM-DEM run's mesh seen as polygons and bond
+pairs (docs/model.md §6), so that both models run the same ridge.
+
+- bodies: every mesh body (blocks, the two layer pieces, the indenter) as one
+  polygon: the outline of its triangles in the mesh (collinear boundary nodes
+  dropped), so exactly the shape the FEM-DEM run deforms;
+- bond pairs: the FEM-DEM's cohesive pairs (geometry/bond_points.bond_pairs):
+  the same points, normals, crack lengths and depth-graded strengths, so both
+  models bond the same faces in the same places;
+- bond stiffness: a rigid block has no elements to carry an intact bond, so
+  each pair is a spring as stiff as a contact face of its length in YADE's
+  volumetric law (k = E l / 2 per metre of width: k_n = E/2 per m³ times the
+  face l times 1 m of depth).
+
+Nothing here needs YADE: the YADE driver builds bodies from it.
+"""
+import numpy as np
+
+from .. import parameters as P
+from ..geometry.bond_points import bond_pairs, find_bond_points
+
+KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
+
+
+def body_outline(nodes, triangles, straight=1e-9):
+    """The outline of one body's triangles, counter-clockwise, without the
+    boundary nodes where it runs straight on (|sin| of the turn below
+    `straight`). ValueError if the triangles do not make one simple region."""
+    tri = np.asarray(triangles)
+    directed = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    undirected = {}
+    for i, j in directed:
+        key = (min(i, j), max(i, j))
+        undirected[key] = undirected.get(key, 0) + 1
+    nxt = {int(i): int(j) for i, j in directed if undirected[(min(i, j), max(i, j))] == 1}
+    if not nxt:
+        raise ValueError("a body's triangles have no boundary")
+    start = min(nxt)
+    loop = [start]
+    while nxt[loop[-1]] != start:
+        loop.append(nxt[loop[-1]])
+        if len(loop) > len(nxt):
+            raise ValueError("a body's boundary is not one closed loop")
+    if len(loop) != len(nxt):
+        raise ValueError("a body's triangles make more than one boundary loop (a hole or two pieces)")
+    pts = np.asarray(nodes, float)[loop]
+    prev, nxt_pts = np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0)
+    u, v = pts - prev, nxt_pts - pts
+    turn = (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+    return pts[np.abs(turn) > straight]
+
+
+def rigid_scene(mesh, params):
+    """The rigid-block description of a mesh (icerubble.files.mesh_file.read_mesh)
+    for run parameters `params`: a dict of arrays, documented in the module."""
+    p = P.validate(params)
+    a = mesh["attrs"]
+    nodes = np.asarray(mesh["nodes"], float)
+    tri = np.asarray(mesh["triangles"])
+    body = np.asarray(mesh["body"])
+    kind = np.asarray(mesh["body_kind"])
+    polygons = [body_outline(nodes, tri[body == b]) for b in range(len(kind))]
+    keel_top, keel_bottom = float(a["keel_top_y"]), float(a["keel_bottom_y"])
+    indenter = np.flatnonzero(kind == KIND_INDENTER)
+    layer = np.flatnonzero(kind == KIND_LAYER)
+    if len(indenter) != 1:
+        raise ValueError(f"mesh must have exactly one indenter body (found {len(indenter)})")
+    cut = [(int(indenter[0]), int(b)) for b in layer]
+    bp = find_bond_points(nodes, tri, body, keel_top_y=keel_top, keel_depth=keel_top - keel_bottom,
+                          sigma_cr=p["sigma_cr"], tau_cr=p["tau_cr"], G=p["G"],
+                          bottom_fraction=p["strength_bottom_fraction"], exclude_pairs=cut)
+    pairs = bond_pairs(bp, nodes)
+    pt = pairs["point"]
+    length = pairs["length"]
+    layer_bottom = float(a["layer_bottom_y"])
+    return dict(
+        polygons=polygons, body_kind=kind, indenter=int(indenter[0]), layer=layer,
+        y_w=layer_bottom + p["rho_i"] / p["rho_w"] * float(a["layer_thickness"]),
+        keel_top_y=keel_top, keel_bottom_y=keel_bottom,
+        bond_a=pairs["body_minus"], bond_b=pairs["body_plus"], bond_position=bp.position[pt],
+        bond_normal=pairs["normal"], bond_length=length, bond_point=pt,
+        sigma_cr=bp.sigma_cr[pt], tau_cr=bp.tau_cr[pt], G=bp.G[pt], mu=np.full(len(pt), p["mu"]),
+        bond_k=0.5 * p["E"] * length, params=p)
