@@ -80,4 +80,4 @@ def rigid_scene(mesh, params):
         bond_a=pairs["body_minus"], bond_b=pairs["body_plus"], bond_position=bp.position[pt],
         bond_normal=pairs["normal"], bond_length=length, bond_point=pt,
         sigma_cr=bp.sigma_cr[pt], tau_cr=bp.tau_cr[pt], G=bp.G[pt], mu=np.full(len(pt), p["mu"]),
-        bond_k=0.5 * p["E"] * length, params=p)
+        bond_k=0.5 * p["E"] * length, bond_points=bp, params=p)

@@ -53,6 +53,7 @@ class BlockWater:
         self.vx, self.vy = corners[:, 0].copy(), corners[:, 1].copy()
         self.params = p
         self.threads = int(threads)
+        self.drag = True   # False: buoyancy only (the settle of a punch-through)
 
     def forces(self, cx, cy, theta, ux, uy, omega):
         """(fx, fy, tz) of the water on every block [N/m, N/m, N m/m] at centroid
@@ -62,4 +63,4 @@ class BlockWater:
         return _engine.rigid_water_forces(
             self.offset, self.vx, self.vy, self.area, cx, cy, theta, ux, uy, omega,
             y_w=self.y_w, rho_w=p["rho_w"], g=p["g"], buoyancy=True,
-            drag_model=DRAG_MODELS[p["drag_model"]], c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)
+            drag_model=DRAG_MODELS[p["drag_model"]] if self.drag else 0, c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)

@@ -7,7 +7,9 @@ YADE as forces and torques on the bodies.
 Only for use inside YADE (`yade -n -x script.py`): import it after yade.
 
     water = dict(params={...}, y_w=0.0)            # or None: no water
-    coupling = Coupling(block_ids, mu=0.3, k_t=1e8, dt=O.dt, water=water)
+    bonds = dict(a=..., b=..., position=..., normal=..., k=..., l=..., sigma_cr=..., tau_cr=...,
+                 mu=..., G=..., direction="paper")  # body ids are YADE ids; or None
+    coupling = Coupling(block_ids, mu=0.3, k_t=1e8, dt=O.dt, water=water, bonds=bonds)
     O.engines = [..., InteractionLoop(...), PyRunner(iterPeriod=1, command='coupling()'),
                  NewtonIntegrator(damping=0, gravity=(0, -g, 0))]
 
@@ -16,7 +18,7 @@ width, as in the FEM-DEM. The Python loop over interactions only reads YADE's
 state; the laws run in C++ over arrays.
 """
 import numpy as np
-from yade import Vector3
+from yade import Quaternion, Vector3
 from yade.wrapper import O
 
 from .. import _engine
@@ -24,17 +26,22 @@ from .water import BlockWater
 
 
 def prism_corners(body):
-    """A prism's outline in its body frame: the z > 0 face, counter-clockwise,
-    relative to the centroid (YADE keeps polyhedra vertices about it)."""
-    xy = np.array([(v[0], v[1]) for v in body.shape.v if v[2] > 0.0])
+    """A prism's outline as placed now: the corners of its z > 0 face relative to
+    its centroid, counter-clockwise, in world axes. (YADE turns a polyhedron's
+    body frame to its principal axes, which may put the prism's axis along
+    body x or y: only world coordinates tell the outline.)"""
+    s = body.state
+    w = [s.ori * v for v in body.shape.v]
+    xy = np.array([(p[0], p[1]) for p in w if p[2] > 0.0])
     c = xy.mean(axis=0)
     return xy[np.argsort(np.arctan2(xy[:, 1] - c[1], xy[:, 0] - c[0]))]
 
 
 class Coupling:
-    """Friction between all bodies and, optionally, water on the `block_ids`."""
+    """Friction between all bodies and, optionally, water on the `block_ids` and
+    freeze bonds (anchored where the bodies are when the coupling is made)."""
 
-    def __init__(self, block_ids, mu, k_t, dt, water=None):
+    def __init__(self, block_ids, mu, k_t, dt, water=None, bonds=None):
         if not mu >= 0.0:
             raise ValueError(f"mu must be >= 0 (got {mu})")
         if not k_t > 0.0:
@@ -43,21 +50,46 @@ class Coupling:
             raise ValueError(f"dt must be > 0 s (got {dt})")
         self.mu, self.k_t, self.dt = float(mu), float(k_t), float(dt)
         self.states = [b.state for b in O.bodies]
+        # every angle is measured from the pose each body has now
+        self.ori0 = [Quaternion(s.ori) for s in self.states]
         self.friction = _engine.RigidFriction()
         self.blocks = np.asarray(block_ids, int)
+        self.dry = np.zeros(len(self.blocks), bool)   # per entry of block_ids
+        self.degenerate = 0   # contacts YADE gave no finite geometry (skipped)
         self.water = None
         if water is not None:
-            # corners in each body's frame: world = pos + R(theta) corner, theta the
-            # angle of the body's orientation (YADE may start it off zero: principal axes)
+            # corners as placed now: world = pos + R(theta) corner, theta the turn since
             polys = [prism_corners(O.bodies[int(i)]) for i in self.blocks]
             self.water = BlockWater(polys, water["params"], water["y_w"])
+        self.bonds = None
+        if bonds is not None:
+            self.bonds = self._make_bonds(bonds)
 
-    @staticmethod
-    def _theta(state):
-        q = state.ori
-        # yade Quaternion: (axis, angle); a prism turns about z only
-        axis, angle = q.toAxisAngle()
-        return float(angle) * (1.0 if axis[2] >= 0 else -1.0)
+    def _make_bonds(self, bd):
+        """RigidBonds anchored in both bodies' frames at their present poses."""
+        pos, _, _ = self.body_arrays()
+        theta = self.thetas()
+        a, b = np.asarray(bd["a"], np.int32), np.asarray(bd["b"], np.int32)
+        p, n = np.asarray(bd["position"], float), np.asarray(bd["normal"], float)
+
+        def to_frame(ids, v):   # R(theta)^T v
+            c, s = np.cos(theta[ids]), np.sin(theta[ids])
+            return np.column_stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]])
+
+        return _engine.RigidBonds(a, b, to_frame(a, p - pos[a]), to_frame(b, p - pos[b]), to_frame(a, n),
+                                  np.asarray(bd["k"], float), np.asarray(bd["l"], float),
+                                  np.asarray(bd["sigma_cr"], float), np.asarray(bd["tau_cr"], float),
+                                  np.asarray(bd["mu"], float), np.asarray(bd["G"], float),
+                                  n_bodies=len(self.states), direction=bd.get("direction", "paper"))
+
+    def _theta(self, i):
+        """Body i's turn about z since the coupling was made [rad]: the in-plane
+        angle of ori(t) ori0^-1 (motion is in the plane, so that is about z)."""
+        v = (self.states[i].ori * self.ori0[i].conjugate()) * Vector3(1.0, 0.0, 0.0)
+        return float(np.arctan2(v[1], v[0]))
+
+    def thetas(self):
+        return np.array([self._theta(i) for i in range(len(self.states))])
 
     def body_arrays(self):
         st = self.states
@@ -76,13 +108,20 @@ class Coupling:
                 continue
             g = i.geom
             nx, ny = g.normal[0], g.normal[1]
+            cp = g.contactPoint
+            if not (np.isfinite(nx) and np.isfinite(ny) and np.isfinite(cp[0]) and np.isfinite(cp[1])
+                    and np.isfinite(f) and nx * nx + ny * ny > 0.0):
+                # YADE's polyhedra intersection degenerates for faces touching
+                # exactly edge on edge (a zero or NaN normal): no friction there this step
+                self.degenerate += 1
+                continue
             id1, id2 = i.id1, i.id2
             if id1 > id2:  # the engine wants a < b with the normal from a to b
                 id1, id2, nx, ny = id2, id1, -nx, -ny
             s = np.hypot(nx, ny)
             a.append(id1)
             b.append(id2)
-            p.append((g.contactPoint[0], g.contactPoint[1]))
+            p.append((cp[0], cp[1]))
             n.append((nx / s, ny / s))
             fn.append(f)
         k = len(a)
@@ -96,11 +135,19 @@ class Coupling:
                                            vel[:, 0], vel[:, 1], omega, self.dt, self.k_t, self.mu)
         if self.water is not None:
             k = self.blocks
-            theta = np.array([self._theta(self.states[int(i)]) for i in k])
+            theta = np.array([self._theta(int(i)) for i in k])
             wx, wy, wt = self.water.forces(pos[k, 0], pos[k, 1], theta, vel[k, 0], vel[k, 1], omega[k])
+            dry = self.dry   # bodies the water is not applied to (e.g. a driven indenter)
+            wx[dry], wy[dry], wt[dry] = 0.0, 0.0, 0.0
             fx[k] += wx
             fy[k] += wy
             tz[k] += wt
+        if self.bonds is not None:
+            theta = self.thetas()
+            bx, by, bt = self.bonds.step(pos[:, 0], pos[:, 1], theta, O.time)
+            fx += bx
+            fy += by
+            tz += bt
         addF, addT = O.forces.addF, O.forces.addT
         for i in np.flatnonzero((fx != 0.0) | (fy != 0.0) | (tz != 0.0)):
             addF(int(i), Vector3(fx[i], fy[i], 0.0))

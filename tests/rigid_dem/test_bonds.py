@@ -114,3 +114,18 @@ def test_a_bond_too_soft_for_its_strength_is_refused():
         bonded_pair(normal_a=np.tile([0.0, 2.0], (N_PTS, 1)))
     with pytest.raises(ValueError, match="two different ids"):
         bonded_pair(b=np.zeros(N_PTS, np.int32))
+
+
+def test_held_bonds_stay_intact_and_elastic_until_failure_is_switched_on():
+    bonds = bonded_pair()
+    bonds.failure = False
+    f, _ = drive(bonds, straight([0.0, 1e-4], 100))        # 20 x the peak opening
+    assert np.all(bonds.state == 0)
+    assert -f[-1, 1] == pytest.approx(K * 1e-4 * N_PTS, rel=1e-12)   # on the elastic line
+    bonds.failure = True
+    # released held 20 x past its peak, with more elastic energy than G l:
+    # it breaks at once, in tension, booking G l
+    f, _ = drive(bonds, np.array([[0.0, 1e-4]]))
+    assert np.all(bonds.state == 2) and np.all(bonds.mode == 1)
+    assert np.all(f == 0.0)
+    assert bonds.dissipated.sum() == pytest.approx(G * L, rel=1e-12)

@@ -141,6 +141,8 @@ void bind_rigid(py::module_& m) {
       .def_property_readonly("dissipated", [](const RigidBondPoints& r) { return copy_of(r.dissipated); })
       .def_property_readonly("t_initiated", [](const RigidBondPoints& r) { return copy_of(r.t_initiated); })
       .def_property_readonly("t_failed", [](const RigidBondPoints& r) { return copy_of(r.t_failed); })
+      .def_readwrite("failure", &RigidBondPoints::failure,
+                     "False: intact points stay intact whatever their traction (settling)")
       .def("stored_energy", &RigidBondPoints::stored_energy);
   py::class_<FrictionHistory>(m, "RigidFriction",
                               "Coulomb friction with stick between rigid blocks, one history per body pair "

@@ -43,6 +43,8 @@ void RigidBondPoints::validate_and_reset(int32_t n_bodies) {
 void RigidBondPoints::step(int32_t n_bodies, const double* x, const double* y, const double* theta,
                            double time, double* fx, double* fy, double* tz) {
   for (int32_t j = 0; j < n_bodies; ++j) fx[j] = fy[j] = tz[j] = 0.0;
+  const bool released = failure && !failure_last_step;
+  failure_last_step = failure;
   for (int32_t i = 0; i < size(); ++i) {
     f_n[i] = f_t[i] = 0.0;
     if (state[i] == int8_t(cl::BondState::broken)) continue;
@@ -57,11 +59,23 @@ void RigidBondPoints::step(int32_t n_bodies, const double* x, const double* y, c
     const double dn = ux * n_x + uy * n_y, dt = ux * t_x + uy * t_y;
     cl::ElasticBondParams p{k[i], l[i], sigma_cr[i], tau_cr[i], mu[i], G[i]};
     cl::BondState s = cl::BondState(state[i]);
-    const cl::ElasticStepOutcome o =
-        cl::step_elastic_bond(dn_prev[i], dt_prev[i], dn, dt, p, direction, s, f0[i], delta_f[i], delta_m[i]);
-    if (o.stiffness_error)
+    cl::ElasticStepOutcome o;
+    if (!failure && s == cl::BondState::intact)
+      cl::intact_force(dn, dt, p.k, p.tau_cr / p.sigma_cr, direction, o.f_n, o.f_t);
+    else
+      o = cl::step_elastic_bond(dn_prev[i], dt_prev[i], dn, dt, p, direction, s, f0[i], delta_f[i], delta_m[i]);
+    if (o.stiffness_error && released) {
+      // held past its peak while settling, with more elastic energy than the
+      // crack can take: it breaks at once (its G l booked as dissipated)
+      o = cl::ElasticStepOutcome{};
+      s = cl::BondState::broken;
+      o.initiated_now = o.failed_now = true;
+      o.mode = cl::failure_mode(dn, dt);
+      o.dissipation = G[i] * l[i];
+    } else if (o.stiffness_error) {
       bad("bond point " + std::to_string(i) + " at t = " + num(time) + " s: its peak under compression lies " +
           "beyond delta_f; raise the bond stiffness k (now " + num(k[i]) + " Pa)");
+    }
     if (o.initiated_now) t_initiated[i] = time;
     if (o.failed_now) {
       t_failed[i] = time;

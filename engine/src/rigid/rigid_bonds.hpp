@@ -29,6 +29,10 @@ struct RigidBondPoints {
   std::vector<double> nx, ny;          // unit normal in a's body frame, pointing from a to b
   std::vector<double> k, l, sigma_cr, tau_cr, mu, G;
   cohesive_law::ForceDirection direction = cohesive_law::ForceDirection::paper;
+  // false: intact points stay intact (elastic) whatever their traction, as the
+  // FEM-DEM holds its bonds while the scene settles
+  bool failure = true;
+  bool failure_last_step = true;  // to tell the step that switches failure on
   // history
   std::vector<int8_t> state;           // cohesive_law::BondState
   std::vector<double> f0, delta_f, delta_m, dn_prev, dt_prev;

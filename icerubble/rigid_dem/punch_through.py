@@ -1,0 +1,299 @@
+"""The punch-through with rigid blocks in YADE (docs/model.md §6): the same
+ridge, loading and result file as the FEM-DEM run (icerubble/run/), with each
+body a YADE polyhedron prism and the project's friction, water and freeze-bond
+laws through the coupling. Only inside YADE.
+
+Phases, as the FEM-DEM driver's: settle (gravity, buoyancy, bonds held, no
+drag, Cundall damping 0.7, the indenter free with the rubble bonded to it)
+until every body is slower than SETTLE_SPEED; hold the indenter where it came
+to rest and measure the force that takes (F_at_rest, ~0 in balance); then load
+(damping off, drag and bond failure on) with the indenter driven down on the
+engine's smooth ramp to the target travel. F is the force of the rubble on the
+driven indenter (contacts, friction, bonds; the water is not applied to it, so
+nothing of its own buoyancy is in F).
+"""
+import math
+import time
+
+import numpy as np
+import yade.log
+from yade import Vector3, polyhedra_utils
+from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
+                          InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
+                          Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
+                          Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator, PyRunner)
+
+from .. import _engine
+from ..files.mesh_file import read_mesh
+from ..run.recorder import RunRecorder
+from .scene import KIND_BLOCK, KIND_LAYER, rigid_scene
+from .yade_coupling import Coupling
+
+yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
+
+SETTLE_DAMPING = 0.7     # Cundall local damping while settling, as the FEM-DEM settle
+SETTLE_SPEED = 1e-3      # [m/s] every block slower than this: at rest
+SETTLE_MIN, SETTLE_MAX = 0.2, 5.0   # [s] simulated
+DT_SAFETY = 0.5
+SAMPLE_TRAVEL = 1e-4     # [m] force samples at least this often
+HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
+
+
+def _prism(mat, corners, fixed):
+    b = polyhedra_utils.polyhedra(mat, v=[Vector3(float(x), float(y), z) for (x, y) in corners
+                                          for z in (-0.5, 0.5)], fixed=fixed)
+    if not fixed:
+        b.state.blockedDOFs = 'zXY'
+    return b
+
+
+def polygon_inset(poly, d):
+    """A convex counter-clockwise polygon moved inward by d on every edge."""
+    q = np.asarray(poly, float)
+    e = np.roll(q, -1, axis=0) - q
+    n = np.column_stack([-e[:, 1], e[:, 0]]) / np.hypot(e[:, 0], e[:, 1])[:, None]   # inward (CCW)
+    p = q + d * n                       # a point on each shifted edge line
+    out = []
+    for i in range(len(q)):
+        j = i - 1                        # edges j (into vertex i) and i (out of it)
+        A = np.column_stack([e[j], -e[i]])
+        t = np.linalg.solve(A, p[i] - p[j])
+        out.append(p[j] + t[0] * e[j])
+    return np.array(out)
+
+
+def _min_width(poly):
+    """Smallest extent of a convex polygon across its edges [m]."""
+    q = np.asarray(poly, float)
+    best = math.inf
+    for i in range(len(q)):
+        e = q[(i + 1) % len(q)] - q[i]
+        n = np.array([-e[1], e[0]]) / np.hypot(*e)
+        s = (q - q[i]) @ n
+        best = min(best, s.max() - s.min())
+    return best
+
+
+class RigidPunchThrough:
+    def __init__(self, mesh_path, out_path, params, meta, threads=1):
+        self.mesh_path, self.out = mesh_path, out_path
+        self.mesh = read_mesh(mesh_path)
+        self.sc = rigid_scene(self.mesh, params)
+        self.params = self.sc["params"]
+        self.meta = dict(meta, model="rigid-dem")
+        self.threads = threads
+
+    # --- the YADE scene -----------------------------------------------------
+    def build(self):
+        p, sc = self.params, self.sc
+        O.reset()
+        mat = PolyhedraMat(density=p["rho_i"], young=p["E"], poisson=p["nu"], frictionAngle=0.0)
+        O.materials.append(mat)
+        kind = sc["body_kind"]
+        # YADE's polyhedra overlap degenerates (runaway forces) for faces that
+        # coincide exactly, as bonded faces of the mesh and the indenter's sides
+        # on the layer's cut faces do: every body is inset by half the mesh's
+        # separation gap, so neighbours start eps_sep apart and the bonds span
+        # the gap; the indenter moves only up and down (the layer guides it)
+        gap = float(self.mesh["attrs"].get("eps_sep", 2e-3))
+        polys = [polygon_inset(q, 0.5 * gap) for q in sc["polygons"]]
+        bodies = [_prism(mat, poly, fixed=kind[b] == KIND_LAYER) for b, poly in enumerate(polys)]
+        bodies[sc["indenter"]].state.blockedDOFs = 'xzXYZ'
+        ids = O.bodies.append(bodies)
+        if list(ids) != list(range(len(kind))):
+            raise RuntimeError("YADE numbered the bodies other than the mesh: expected 0..n-1")
+        self.blocks = np.flatnonzero(kind == KIND_BLOCK)
+        self.indenter = sc["indenter"]
+        self.floating = np.append(self.blocks, self.indenter)   # free while settling
+        # the step: a chain of blocks face to face (the thinnest block), and each
+        # block on its bond springs (translation and rotation)
+        k_n = 0.5 * p["E"]
+        t_min = min(_min_width(sc["polygons"][b]) for b in self.blocks)
+        dt = 2.0 / math.sqrt(4.0 * k_n / (p["rho_i"] * t_min))
+        # a bond point is stiffer along its face than across it: k_t = beta k
+        # (eq 11 as printed) or beta^2 k (work-conjugate), beta = tau_cr/sigma_cr
+        beta = sc["tau_cr"] / sc["sigma_cr"]
+        k_max = sc["bond_k"] * np.maximum(1.0, beta if p["force_direction"] == "paper" else beta * beta)
+        K = np.zeros(len(kind))
+        np.add.at(K, sc["bond_a"], k_max)
+        np.add.at(K, sc["bond_b"], k_max)
+        for b in np.flatnonzero(K > 0):
+            if kind[b] == KIND_LAYER:
+                continue
+            s = O.bodies[int(b)].state
+            r = max(np.hypot(*(polys[b] - (s.pos[0], s.pos[1])).T))
+            # Gershgorin: a block and its bonded neighbours moving against each
+            # other at most double its own spring sum
+            dt = min(dt, 2.0 / math.sqrt(2.0 * K[b] * (1.0 / s.mass + r * r / s.inertia[2])))
+        self.dt = O.dt = DT_SAFETY * dt
+        bonds = dict(a=sc["bond_a"], b=sc["bond_b"], position=sc["bond_position"], normal=sc["bond_normal"],
+                     k=sc["bond_k"], l=sc["bond_length"], sigma_cr=sc["sigma_cr"], tau_cr=sc["tau_cr"],
+                     mu=sc["mu"], G=sc["G"], direction=p["force_direction"])
+        self.coupling = Coupling(self.floating, mu=p["mu"], k_t=k_n * t_min, dt=self.dt,
+                                 water=dict(params=p, y_w=sc["y_w"]), bonds=bonds)
+        self.coupling.bonds.failure = False
+        self.coupling.water.drag = False
+        self.newton = NewtonIntegrator(damping=SETTLE_DAMPING, gravity=(0.0, -p["g"], 0.0))
+        O.engines = [ForceResetter(),
+                     InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.05 * t_min),
+                     InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
+                                     [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
+                                     [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),
+                     PyRunner(iterPeriod=1, command='_rigid_run.each_step()'),
+                     self.newton]
+        import builtins
+        builtins._rigid_run = self   # PyRunner commands run in YADE's __main__ namespace
+        self.loading = False
+        self.body0 = self._poses()
+
+    def _poses(self):
+        st = [b.state for b in O.bodies]
+        pos = np.array([(s.pos[0], s.pos[1]) for s in st])
+        theta = self.coupling.thetas()
+        return pos, theta
+
+    def _max_block_speed(self):
+        return max(O.bodies[int(b)].state.vel.norm() for b in self.floating)
+
+    # --- each step --------------------------------------------------------------
+    def each_step(self):
+        if self.loading:
+            v = float(_engine.ramp_velocity(O.time - self.t_load, self.params["v_final"], self.params["ramp_time"]))
+            O.bodies[self.indenter].state.vel = Vector3(0.0, -v, 0.0)
+        self.coupling()
+
+    # --- the run ------------------------------------------------------------------
+    def run(self):
+        t_wall = time.time()
+        self.build()
+        p = self.params
+        # settle
+        chunk = max(1, int(round(0.05 / self.dt)))
+        while True:
+            O.run(chunk, True)
+            speed = self._max_block_speed()
+            if not math.isfinite(speed):
+                raise RuntimeError(f"rigid run unstable while settling at t = {O.time:.3g} s (a block's speed "
+                                   "is not finite); dt = {self.dt:.3g} s")
+            if O.time >= SETTLE_MIN and speed < SETTLE_SPEED:
+                break
+            if O.time >= SETTLE_MAX:
+                raise RuntimeError(f"the rigid pile did not come to rest in {SETTLE_MAX} s simulated "
+                                   f"(fastest block {speed:.3g} m/s > {SETTLE_SPEED} m/s)")
+        settle_time, settle_speed = O.time, speed
+        # hold the indenter where it came to rest: what that takes is F at rest
+        ind = O.bodies[self.indenter]
+        ind.dynamic = False
+        ind.state.vel = Vector3(0, 0, 0)
+        ind.state.angVel = Vector3(0, 0, 0)
+        self.coupling.dry[-1] = True          # the indenter is last in self.floating
+        self.newton.damping = 0.0
+        self.coupling.water.drag = True
+        n_hold = max(20, int(round(HOLD_TIME / self.dt)))
+        O.run(n_hold // 2, True)
+        held = []
+        for _ in range(10):
+            O.run(max(1, n_hold // 20), True)
+            held.append(O.forces.f(self.indenter)[1])
+        F_at_rest = float(np.mean(held))
+        ref_pos, ref_theta = self._poses()
+        # load
+        self.coupling.bonds.failure = True
+        self.loading, self.t_load = True, O.time
+        y0 = ind.state.pos[1]
+        rec = self._recorder(ref_pos, ref_theta)
+        rec.force(0.0, 0.0, F_at_rest)
+        work, y_prev, y_sample, t_sample = 0.0, 0.0, 0.0, []
+        F_prev = 0.0
+        while True:
+            O.run(1, True)
+            y = y0 - O.bodies[self.indenter].state.pos[1]
+            F = O.forces.f(self.indenter)[1]   # the rubble pushes the indenter up
+            work += 0.5 * (F + F_prev) * (y - y_prev)
+            F_prev, y_prev = F, y
+            if y - y_sample >= SAMPLE_TRAVEL or y >= p["target_travel"]:
+                rec.force(O.time - self.t_load, y, work / (y - y_sample), F)
+                work, y_sample = 0.0, y
+                t_sample.append((O.time - self.t_load, y))
+            if rec.wants_snapshot(y):
+                self._snapshot(rec, y)
+            if not math.isfinite(F):
+                raise RuntimeError(f"rigid run unstable at t = {O.time:.3g} s, y_I = {y * 1e3:.2f} mm: "
+                                   "the indenter force is not finite")
+            if y >= p["target_travel"]:
+                break
+        self._bond_events(rec, np.array(t_sample))
+        rec.meta.update(settle_time=settle_time, settle_max_speed=settle_speed, F_at_rest=F_at_rest,
+                        dt=self.dt, wall_time_s=time.time() - t_wall, steps=O.iter)
+        rec.write(self.out)
+        return self.out
+
+    def _recorder(self, ref_pos, ref_theta):
+        m, a = self.mesh, self.mesh["attrs"]
+        pile = dict(porosity=float(a["porosity"]), friction=float(a.get("pile_friction", math.nan)),
+                    n_blocks=int(len(self.blocks)), keel_top_y=float(a["keel_top_y"]),
+                    keel_bottom_y=float(a["keel_bottom_y"]), keel_x_min=float(a["keel_x_min"]),
+                    keel_x_max=float(a["keel_x_max"]), mesh_file=self.mesh_path)
+        rec = RunRecorder(dict(self.params, dt=self.dt), dict(nodes=m["nodes"], triangles=m["triangles"],
+                                                                body=m["body"], body_kind=self.sc["body_kind"]),
+                          self.sc["bond_points"], pile, self.meta)
+        # every mesh point moves with its body: the settled mesh is the reference
+        self.ref = (ref_pos, ref_theta)
+        rec.set_reference(self._posed_nodes(ref_pos, ref_theta, self.body0))
+        rec.centroid0 = self._posed_corners(ref_pos, ref_theta, self.body0).mean(axis=1)
+        return rec
+
+    def _posed_corners(self, pos, theta, start):
+        """Each triangle's corners moved with its body from pose `start` to (pos, theta): (M, 3, 2)."""
+        p0, th0 = start
+        tri, body = np.asarray(self.mesh["triangles"]), np.asarray(self.mesh["body"])
+        X = np.asarray(self.mesh["nodes"], float)[tri] - p0[body][:, None, :]
+        d = (theta - th0)[body]
+        c, s = np.cos(d)[:, None], np.sin(d)[:, None]
+        return pos[body][:, None, :] + np.stack([c * X[..., 0] - s * X[..., 1], s * X[..., 0] + c * X[..., 1]], axis=-1)
+
+    def _posed_nodes(self, pos, theta, start):
+        """Each mesh node moved with the body of the first triangle that uses it."""
+        tri = np.asarray(self.mesh["triangles"])
+        corners = self._posed_corners(pos, theta, start).reshape(-1, 2)
+        out = np.zeros((len(self.mesh["nodes"]), 2))
+        flat = tri.reshape(-1)
+        first = np.unique(flat[::-1], return_index=True)[1]
+        idx = len(flat) - 1 - first
+        out[flat[idx]] = corners[idx]
+        return out
+
+    def _snapshot(self, rec, y):
+        pos, theta = self._poses()
+        corners = self._posed_corners(pos, theta, self.body0)
+        nodes = self._posed_nodes(pos, theta, self.body0)
+        m = len(corners)
+        # the recorder averages triangles' corners: give it each triangle's own (rigid) corners
+        x = np.vstack([nodes, corners.reshape(-1, 2)])
+        tri = len(nodes) + np.arange(3 * m).reshape(m, 3)
+        rec.snapshot(O.time - self.t_load, y, x, tri)
+
+    def _bond_events(self, rec, samples):
+        """Per bond point: split when its first pair opened, failed when its last pair broke."""
+        b = self.coupling.bonds
+        point = self.sc["bond_point"]
+        n = len(self.sc["bond_points"])
+        t_init, t_fail, mode = np.asarray(b.t_initiated), np.asarray(b.t_failed), np.asarray(b.mode)
+        split = np.full(n, np.nan)
+        fail = np.full(n, -np.inf)
+        modes = np.zeros(n, np.int8)
+        for k, pt in enumerate(point):
+            if np.isfinite(t_init[k]):
+                split[pt] = np.nanmin([split[pt], t_init[k]])
+            fail[pt] = max(fail[pt], t_fail[k] if np.isfinite(t_fail[k]) else np.inf)
+            if np.isfinite(t_fail[k]) and t_fail[k] >= fail[pt]:
+                modes[pt] = mode[k]
+        fail[~np.isfinite(fail)] = np.nan
+        modes[np.isnan(fail)] = 0
+        t_rel_split, t_rel_fail = split - self.t_load, fail - self.t_load
+
+        def travel(t):
+            return np.interp(t, samples[:, 0], samples[:, 1]) if len(samples) else np.full_like(t, np.nan)
+        rec.bond_events(dict(t_split=t_rel_split, y_I_split=np.where(np.isfinite(t_rel_split), travel(t_rel_split), np.nan),
+                             t_fail=t_rel_fail, y_I_fail=np.where(np.isfinite(t_rel_fail), travel(t_rel_fail), np.nan),
+                             mode=modes))
