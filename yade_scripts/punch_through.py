@@ -5,6 +5,8 @@
     YADE_BATCH=data/study_paper.table:4 yade -j2 -n -x yade_scripts/punch_through.py   # one line
 
 Every column of a table is a parameter below: ``ridge`` (the pile's seed),
+``model`` (fem-dem, the default, or rigid-dem: the discrete-only comparison model
+of rigid YADE blocks, docs/model.md §6),
 ``scene`` (demo | small | wide | paper | tiny: pile size, mesh, penalty, travel; see
 icerubble/run/presets.py), ``numerics`` (paper | balanced | fast: the scene's
 numerical preset, default paper: time step, mass scaling, contact reach,
@@ -38,7 +40,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
 
 # Table 1 parameters default to None: "the scene's value, else Table 1".
 _OUT = os.environ.get("ICERUBBLE_OUT_DIR") or os.path.join(_ROOT, "runs")
-utils.readParamsFromTable(ridge=1, scene="demo", numerics="", out_dir=_OUT, resume=True,
+utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", out_dir=_OUT, resume=True,
                           noTableOk=True, **{k: None for k in P.TABLE_1})
 from yade.params import table
 from yade.wrapper import O
@@ -54,7 +56,8 @@ description = O.tags["description"] if "description" in O.tags.keys() else ""
 out_dir = os.path.join(os.environ.get("ICERUBBLE_WORKDIR", ""), table.out_dir)
 try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
-                  description=description, resume=bool(table.resume), numerics_name=table.numerics or None)
+                  description=description, resume=bool(table.resume), numerics_name=table.numerics or None,
+                  model=table.model)
 except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)

@@ -161,12 +161,35 @@ class RigidPunchThrough:
             v = float(_engine.ramp_velocity(O.time - self.t_load, self.params["v_final"], self.params["ramp_time"]))
             O.bodies[self.indenter].state.vel = Vector3(0.0, -v, 0.0)
         self.coupling()
+        if self.loading and not self.done:
+            self.record()
+
+    def record(self):
+        """This step's indenter travel and force (contacts, friction, bonds: all
+        forces of the step are in by now), sampled as the FEM-DEM run samples."""
+        rec, target = self.rec, self.params["target_travel"]
+        y = self.y0 - O.bodies[self.indenter].state.pos[1]
+        F = O.forces.f(self.indenter, sync=True)[1]   # the rubble pushes the indenter up
+        if not math.isfinite(F):
+            raise RuntimeError(f"rigid run unstable at t = {O.time:.3g} s, y_I = {y * 1e3:.2f} mm: "
+                               "the indenter force is not finite")
+        self.work += 0.5 * (F + self.F_prev) * (y - self.y_prev)
+        self.F_prev, self.y_prev = F, y
+        t = O.time - self.t_load
+        if y - self.y_sample >= SAMPLE_TRAVEL or y >= target:
+            rec.force(t, y, self.work / (y - self.y_sample) if y > self.y_sample else F, F)
+            self.work, self.y_sample = 0.0, y
+            self.t_sample.append((t, y))
+        if rec.wants_snapshot(y):
+            self._snapshot(rec, y)
+        if y >= target:
+            self.done = True
+            O.pause()
 
     # --- the run ------------------------------------------------------------------
     def run(self):
         t_wall = time.time()
         self.build()
-        p = self.params
         # settle
         chunk = max(1, int(round(0.05 / self.dt)))
         while True:
@@ -194,7 +217,7 @@ class RigidPunchThrough:
         held = []
         for _ in range(10):
             O.run(max(1, n_hold // 20), True)
-            held.append(O.forces.f(self.indenter)[1])
+            held.append(O.forces.f(self.indenter, sync=True)[1])
         F_at_rest = float(np.mean(held))
         ref_pos, ref_theta = self._poses()
         # load
@@ -203,25 +226,14 @@ class RigidPunchThrough:
         y0 = ind.state.pos[1]
         rec = self._recorder(ref_pos, ref_theta)
         rec.force(0.0, 0.0, F_at_rest)
-        work, y_prev, y_sample, t_sample = 0.0, 0.0, 0.0, []
-        F_prev = 0.0
-        while True:
-            O.run(1, True)
-            y = y0 - O.bodies[self.indenter].state.pos[1]
-            F = O.forces.f(self.indenter)[1]   # the rubble pushes the indenter up
-            work += 0.5 * (F + F_prev) * (y - y_prev)
-            F_prev, y_prev = F, y
-            if y - y_sample >= SAMPLE_TRAVEL or y >= p["target_travel"]:
-                rec.force(O.time - self.t_load, y, work / (y - y_sample), F)
-                work, y_sample = 0.0, y
-                t_sample.append((O.time - self.t_load, y))
-            if rec.wants_snapshot(y):
-                self._snapshot(rec, y)
-            if not math.isfinite(F):
-                raise RuntimeError(f"rigid run unstable at t = {O.time:.3g} s, y_I = {y * 1e3:.2f} mm: "
-                                   "the indenter force is not finite")
-            if y >= p["target_travel"]:
-                break
+        self.rec, self.y0 = rec, y0
+        self.work, self.y_prev, self.F_prev, self.y_sample, self.t_sample = 0.0, 0.0, 0.0, 0.0, []
+        self.done = False
+        # record in the PyRunner (one O.run per step costs milliseconds of thread hand-over)
+        chunk = max(1, int(round(2e-3 / self.dt)))
+        while not self.done:
+            O.run(chunk, True)
+        t_sample = self.t_sample
         self._bond_events(rec, np.array(t_sample))
         rec.meta.update(settle_time=settle_time, settle_max_speed=settle_speed, F_at_rest=F_at_rest,
                         dt=self.dt, wall_time_s=time.time() - t_wall, steps=O.iter)

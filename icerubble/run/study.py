@@ -18,15 +18,23 @@ def run_name(scene_name, ridge, params):
             + ("" if params["force_direction"] == "paper" else "_wc"))
 
 
+# The models a run can be (a table's `model` column): the FEM-DEM of the paper, or
+# the discrete-only comparison model of rigid blocks in YADE (docs/model.md §6).
+MODELS = ("fem-dem", "rigid-dem")
+
+
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
-            resume=True, options=None, numerics_name=None):
+            resume=True, options=None, numerics_name=None, model="fem-dem"):
     """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
-    numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS)."""
+    numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS);
+    model: "fem-dem", or "rigid-dem" (only inside YADE: the blocks are YADE polyhedra)."""
+    if model not in MODELS:
+        raise ValueError(f"model={model!r} is unknown: valid values are {', '.join(MODELS)}")
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})))   # fail before any work
     if not description or description == "default":
-        description = run_name(scene_name, ridge, params)
+        description = run_name(scene_name, ridge, params) + ("_rigid" if model == "rigid-dem" else "")
     os.makedirs(out_dir, exist_ok=True)
     _, mesh_path = scene_files(scene_name, ridge, root=out_dir)
     out = os.path.join(out_dir, description + ".h5")
@@ -36,6 +44,8 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
             settings["dt_fraction"] = None
         options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS)
     ident = RI.identity(params, read_mesh(mesh_path), options)
+    if model != "fem-dem":   # absent: the FEM-DEM (identities of runs made before models)
+        ident["model"] = model
     rid = RI.run_id(ident)
     if os.path.exists(out):
         stored = stored_identity(out)
@@ -50,6 +60,14 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
                          + ". Give this run its own description (yade-batch: the description column), "
                            "or move the stored file away.")
     t0 = time.perf_counter()
+    if model == "rigid-dem":
+        from ..rigid_dem.punch_through import RigidPunchThrough   # needs YADE
+        with RI.RunLock(out):
+            RigidPunchThrough(mesh_path, out, params, meta=dict(
+                ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), scene=scene_name, run_id=rid,
+                run_identity=RI.to_json(ident))).run()
+        print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
+        return out
     with RI.RunLock(out):
         run = PunchThrough(mesh_path, out, params=params, options=options,
                            meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",

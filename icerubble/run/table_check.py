@@ -18,9 +18,10 @@ import re
 
 from .. import parameters as P
 from .presets import NUMERICS, SCENES
+from .study import MODELS
 
 # Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
-DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description"}
+DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model"}
 
 
 def read_table(path):
@@ -122,6 +123,9 @@ def _check_line(n, row, known):
     if preset is not None and preset not in NUMERICS[scene_name]:
         problems.append(f"line {n}, column numerics: {preset!r} is not a preset of scene {scene_name}; "
                         f"valid: {', '.join(sorted(NUMERICS[scene_name]))}")
+    model = values.pop("model", "fem-dem")
+    if model not in MODELS:
+        problems.append(f"line {n}, column model: {model!r} is not a model; valid: {', '.join(MODELS)}")
     for c in ("out_dir", "resume"):
         values.pop(c, None)
     for c, v in values.items():
