@@ -36,6 +36,10 @@ SETTLE_SPEED = 1e-3      # [m/s] every block slower than this: at rest
 SETTLE_MIN, SETTLE_MAX = 0.2, 5.0   # [s] simulated
 DT_SAFETY = 0.5
 SAMPLE_TRAVEL = 1e-4     # [m] force samples at least this often
+# [m] every body's outline moved inward: faces that coincide exactly make YADE's
+# polyhedra overlap run away; 10 um apart they do not, and the gap is closed at
+# once under load (2 mm, the mesh's eps_sep, delayed contact by 2 mm of travel)
+INSET = 1e-5
 HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
 
 
@@ -45,6 +49,28 @@ def _prism(mat, corners, fixed):
     if not fixed:
         b.state.blockedDOFs = 'zXY'
     return b
+
+
+def convex_outline(poly, straight=1e-3):
+    """The convex hull of a polygon, counter-clockwise, without corners that turn
+    by less than `straight` radians (YADE polyhedra are convex; near-straight
+    corners make its intersections degenerate). Returns (outline, hull area /
+    polygon area - 1)."""
+    from scipy.spatial import ConvexHull
+    q = np.asarray(poly, float)
+    h = q[ConvexHull(q).vertices]           # counter-clockwise in 2D
+    while len(h) > 3:
+        u = h - np.roll(h, 1, axis=0)
+        v = np.roll(h, -1, axis=0) - h
+        turn = np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1))
+        k = int(np.argmin(turn))
+        if turn[k] >= straight:
+            break
+        h = np.delete(h, k, axis=0)
+
+    def area(a):
+        return 0.5 * np.sum(a[:, 0] * np.roll(a[:, 1], -1) - np.roll(a[:, 0], -1) * a[:, 1])
+    return h, area(h) / area(q) - 1.0
 
 
 def polygon_inset(poly, d):
@@ -90,13 +116,15 @@ class RigidPunchThrough:
         mat = PolyhedraMat(density=p["rho_i"], young=p["E"], poisson=p["nu"], frictionAngle=0.0)
         O.materials.append(mat)
         kind = sc["body_kind"]
-        # YADE's polyhedra overlap degenerates (runaway forces) for faces that
-        # coincide exactly, as bonded faces of the mesh and the indenter's sides
-        # on the layer's cut faces do: every body is inset by half the mesh's
-        # separation gap, so neighbours start eps_sep apart and the bonds span
-        # the gap; the indenter moves only up and down (the layer guides it)
-        gap = float(self.mesh["attrs"].get("eps_sep", 2e-3))
-        polys = [polygon_inset(q, 0.5 * gap) for q in sc["polygons"]]
+        # YADE polyhedra are convex: each outline becomes its convex hull (the
+        # largest area gained is recorded). Its overlap degenerates (runaway
+        # forces) for faces that coincide exactly, as bonded faces of the mesh
+        # and the indenter's sides on the layer's cut faces do: every body is
+        # inset by INSET, so neighbours start 2 INSET apart (the bonds span it);
+        # the indenter moves only up and down (the layer guides it)
+        hulls = [convex_outline(q) for q in sc["polygons"]]
+        self.hull_added_area = max(h[1] for h in hulls)   # worst block's area gained by its hull
+        polys = [polygon_inset(h[0], INSET) for h in hulls]
         bodies = [_prism(mat, poly, fixed=kind[b] == KIND_LAYER) for b, poly in enumerate(polys)]
         bodies[sc["indenter"]].state.blockedDOFs = 'xzXYZ'
         ids = O.bodies.append(bodies)
@@ -188,7 +216,7 @@ class RigidPunchThrough:
 
     # --- the run ------------------------------------------------------------------
     def run(self):
-        t_wall = time.time()
+        t_wall = time.perf_counter()
         self.build()
         # settle
         chunk = max(1, int(round(0.05 / self.dt)))
@@ -221,6 +249,7 @@ class RigidPunchThrough:
         F_at_rest = float(np.mean(held))
         ref_pos, ref_theta = self._poses()
         # load
+        t_wall_load, iter_load = time.perf_counter(), O.iter
         self.coupling.bonds.failure = True
         self.loading, self.t_load = True, O.time
         y0 = ind.state.pos[1]
@@ -236,7 +265,9 @@ class RigidPunchThrough:
         t_sample = self.t_sample
         self._bond_events(rec, np.array(t_sample))
         rec.meta.update(settle_time=settle_time, settle_max_speed=settle_speed, F_at_rest=F_at_rest,
-                        dt=self.dt, wall_time_s=time.time() - t_wall, steps=O.iter)
+                        dt=self.dt, wall_settle_s=t_wall_load - t_wall,
+                        wall_load_s=time.perf_counter() - t_wall_load, load_steps=O.iter - iter_load,
+                        degenerate_contacts=self.coupling.degenerate, hull_added_area=self.hull_added_area)
         rec.write(self.out)
         return self.out
 

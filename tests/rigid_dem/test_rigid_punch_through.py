@@ -16,11 +16,13 @@ from tests.paths import ROOT
 def rigid_result(tmp_path_factory):
     d = tmp_path_factory.mktemp("rigid")
     table = d / "t.table"
-    table.write_text("scene model mu description\n'tiny' 'rigid-dem' 0.3 tiny_rigid\n")
-    env = dict(os.environ, ICERUBBLE_OUT_DIR=str(d / "out"), YADE_BATCH=f"{table}:2", OMP_NUM_THREADS="1")
-    r = subprocess.run(["yade", "-n", "-x", os.path.join(ROOT, "yade_scripts", "punch_through.py")],
-                       cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+    table.write_text("scene model mu description\n'tiny' 'rigid-dem' 0.3 tiny_rigid\n"
+                     "'tiny' 'fem-dem' 0.3 tiny_fem\n")
+    for line in (2, 3):
+        env = dict(os.environ, ICERUBBLE_OUT_DIR=str(d / "out"), YADE_BATCH=f"{table}:{line}", OMP_NUM_THREADS="1")
+        r = subprocess.run(["yade", "-n", "-x", os.path.join(ROOT, "yade_scripts", "punch_through.py")],
+                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     return d / "out" / "tiny_rigid.h5"
 
 
@@ -48,7 +50,9 @@ def test_the_figures_read_a_rigid_run(rigid_result, tmp_path):
     r = subprocess.run(["/usr/bin/python3", "-m", "postproc.make_figures", str(rigid_result.parent), "-o", str(out)],
                        cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
-    assert (out / "fig08_peak_vs_mu.png").exists() and (out / "summary.csv").exists()
+    # a folder of both models: one set of figures per model
+    assert (out / "rigid-dem_paper" / "fig08_peak_vs_mu.png").exists()
+    assert (out / "fem-dem_paper" / "fig08_peak_vs_mu.png").exists()
 
 
 def test_a_table_with_an_unknown_model_is_refused_with_the_valid_ones(tmp_path):
@@ -56,3 +60,20 @@ def test_a_table_with_an_unknown_model_is_refused_with_the_valid_ones(tmp_path):
     t.write_text("scene model\n'tiny' 'rigid'\n")
     problems = check_table(str(t))
     assert problems == ["line 2, column model: 'rigid' is not a model; valid: fem-dem, rigid-dem"]
+
+
+def test_the_comparison_puts_both_models_of_one_ridge_side_by_side(rigid_result, tmp_path):
+    fem = rigid_result.parent / "tiny_fem.h5"
+    r = subprocess.run(["/usr/bin/python3", "-m", "postproc.model_comparison", str(fem), str(rigid_result),
+                        "-o", str(tmp_path)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    rows = {line.split(",")[0]: line.split(",")[2:] for line in (tmp_path / "model_comparison.csv").read_text().splitlines()}
+    f_fem, f_rigid = (float(v) for v in rows["F^m"])
+    assert f_fem == pytest.approx(results.load(fem).force_F.max() / 1e3, rel=1e-3)
+    assert f_rigid == pytest.approx(results.load(rigid_result).force_F.max() / 1e3, rel=1e-3)
+    assert float(rows["wall time ratio rigid / FEM-DEM"][1]) > 0
+    assert (tmp_path / "model_comparison.png").exists()
+    # the same file twice is not a comparison
+    r = subprocess.run(["/usr/bin/python3", "-m", "postproc.model_comparison", str(rigid_result), str(rigid_result)],
+                       cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2 and "expected a fem-dem and a rigid-dem result" in r.stderr
