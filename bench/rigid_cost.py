@@ -13,13 +13,15 @@ import subprocess
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+if "yade" not in sys.modules:   # started from python3: run inside YADE
+    sys.exit(subprocess.call(["yade", "-n", "-x", os.path.abspath(__file__)] + sys.argv[1:],
+                             cwd=os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                             env=dict(os.environ, OMP_NUM_THREADS="1")))
+
+# inside YADE __file__ is not this script: its path is argv[0] (started from the checkout)
+HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
 ROOT = os.path.dirname(HERE)
 OUT = os.path.join(HERE, "results", "rigid_cost.json")
-
-if "yade" not in sys.modules:   # started from python3: run inside YADE
-    sys.exit(subprocess.call(["yade", "-n", "-x", os.path.abspath(__file__)] + sys.argv[1:], cwd=ROOT,
-                             env=dict(os.environ, OMP_NUM_THREADS="1")))
 
 sys.path.insert(0, ROOT)
 import argparse  # noqa: E402
