@@ -25,6 +25,7 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
 
 from .. import _engine
 from ..files.mesh_file import read_mesh
+from ..run.progress import Progress
 from ..run.recorder import RunRecorder
 from .scene import KIND_BLOCK, KIND_LAYER, rigid_scene
 from .yade_coupling import Coupling
@@ -220,9 +221,11 @@ class RigidPunchThrough:
         self.build()
         # settle
         chunk = max(1, int(round(0.05 / self.dt)))
+        prog = Progress(target_travel=1.0, label="rigid settle")
         while True:
             O.run(chunk, True)
             speed = self._max_block_speed()
+            prog.update(O.iter, O.time, 0.0, extra=f"fastest body {speed:.2g} m/s")
             if not math.isfinite(speed):
                 raise RuntimeError(f"rigid run unstable while settling at t = {O.time:.3g} s (a block's speed "
                                    "is not finite); dt = {self.dt:.3g} s")
@@ -255,13 +258,20 @@ class RigidPunchThrough:
         y0 = ind.state.pos[1]
         rec = self._recorder(ref_pos, ref_theta)
         rec.force(0.0, 0.0, F_at_rest)
+        print(f"[rigid settle] at rest after {settle_time:.3f} s simulated (fastest body {settle_speed:.2g} m/s); "
+              f"indenter force at rest {F_at_rest:.1f} N/m", flush=True)
         self.rec, self.y0 = rec, y0
         self.work, self.y_prev, self.F_prev, self.y_sample, self.t_sample = 0.0, 0.0, 0.0, 0.0, []
         self.done = False
         # record in the PyRunner (one O.run per step costs milliseconds of thread hand-over)
         chunk = max(1, int(round(2e-3 / self.dt)))
+        prog = Progress(self.params["target_travel"], label="rigid punch-through")
         while not self.done:
             O.run(chunk, True)
+            b = self.coupling.bonds
+            prog.update(O.iter, O.time - self.t_load, self.y_prev, self.F_prev,
+                        extra=lambda: f"bond pairs opened {int((b.state >= 1).sum())}/{len(b.state)} "
+                                      f"broken {int((b.state == 2).sum())}")
         t_sample = self.t_sample
         self._bond_events(rec, np.array(t_sample))
         rec.meta.update(settle_time=settle_time, settle_max_speed=settle_speed, F_at_rest=F_at_rest,
