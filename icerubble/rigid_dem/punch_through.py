@@ -44,7 +44,8 @@ INSET = 1e-5
 HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
 
 
-def _prism(mat, corners, fixed):
+def prism(mat, corners, fixed=False):
+    """A polygon extruded from z = -0.5 to 0.5 m (1 m of width); a free one moves in the plane only."""
     b = polyhedra_utils.polyhedra(mat, v=[Vector3(float(x), float(y), z) for (x, y) in corners
                                           for z in (-0.5, 0.5)], fixed=fixed)
     if not fixed:
@@ -126,7 +127,7 @@ class RigidPunchThrough:
         hulls = [convex_outline(q) for q in sc["polygons"]]
         self.hull_added_area = max(h[1] for h in hulls)   # worst block's area gained by its hull
         polys = [polygon_inset(h[0], INSET) for h in hulls]
-        bodies = [_prism(mat, poly, fixed=kind[b] == KIND_LAYER) for b, poly in enumerate(polys)]
+        bodies = [prism(mat, poly, fixed=kind[b] == KIND_LAYER) for b, poly in enumerate(polys)]
         bodies[sc["indenter"]].state.blockedDOFs = 'xzXYZ'
         ids = O.bodies.append(bodies)
         if list(ids) != list(range(len(kind))):

@@ -20,12 +20,13 @@ sys.path.insert(0, os.getcwd())  # the repository: run from its root
 
 import yade  # noqa: F401  (inside yade already loaded)
 import yade.log
-from yade import Vector3, polyhedra_utils
+from yade import Vector3
 from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
                           InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
                           Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
                           Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator, PyRunner)
 
+from icerubble.rigid_dem.punch_through import prism
 from icerubble.rigid_dem.yade_coupling import Coupling
 
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
@@ -33,14 +34,6 @@ yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
 RHO_I, RHO_W, G, MU = 920.0, 1010.0, 9.81, 0.35
 E = 2e8
 W, H = 1.2, 0.3
-
-
-def prism(mat, corners, fixed=False):
-    b = polyhedra_utils.polyhedra(mat, v=[Vector3(x, y, z) for (x, y) in corners for z in (-0.5, 0.5)],
-                                  fixed=fixed)
-    if not fixed:
-        b.state.blockedDOFs = 'zXY'
-    return b
 
 
 def box(x0, x1, y0, y1):
@@ -84,35 +77,29 @@ def two_blocks(coupled):
                 k_t=k_n * H, steps=O.iter)
 
 
-def floating_block():
+def block_in_water(y_centre, water_params, steps):
+    """One 1.2 m x 0.3 m block centred at height y_centre under the project's water
+    law (water line y = 0) and gravity, run `steps` steps of 1 ms; its final state."""
     mat = PolyhedraMat(density=RHO_I, young=E, poisson=0.3, frictionAngle=0.0)
     O.materials.append(mat)
-    ids = O.bodies.append([prism(mat, box(-0.6, 0.6, -0.15, 0.15))])
+    ids = O.bodies.append([prism(mat, box(-0.6, 0.6, y_centre - H / 2, y_centre + H / 2))])
     O.dt = 1e-3
     global coupling
     coupling = Coupling(ids, mu=0.0, k_t=1.0, dt=O.dt,
-                        water=dict(params=dict(drag_model="linear", c_w=4e3, rho_w=RHO_W, rho_i=RHO_I, g=G),
-                                   y_w=0.0))
+                        water=dict(params=dict(water_params, rho_w=RHO_W, rho_i=RHO_I, g=G), y_w=0.0))
     O.engines = [ForceResetter(), PyRunner(iterPeriod=1, command='coupling()'),
                  NewtonIntegrator(damping=0.0, gravity=(0.0, -G, 0.0))]
-    O.run(6000, True)
-    s = O.bodies[ids[0]].state
+    O.run(steps, True)
+    return O.bodies[ids[0]].state
+
+
+def floating_block():
+    s = block_in_water(0.0, dict(drag_model="linear", c_w=4e3), 6000)
     return dict(draft=0.0 - (s.pos[1] - H / 2), h=H, vy=s.vel[1], angle=s.ori.toAxisAngle()[1])
 
 
 def rising_block():
-    mat = PolyhedraMat(density=RHO_I, young=E, poisson=0.3, frictionAngle=0.0)
-    O.materials.append(mat)
-    ids = O.bodies.append([prism(mat, box(-0.6, 0.6, -20.15, -19.85))])
-    O.dt = 1e-3
-    global coupling
-    coupling = Coupling(ids, mu=0.0, k_t=1.0, dt=O.dt,
-                        water=dict(params=dict(drag_model="quadratic", C_d=1.0, rho_w=RHO_W, rho_i=RHO_I, g=G),
-                                   y_w=0.0))
-    O.engines = [ForceResetter(), PyRunner(iterPeriod=1, command='coupling()'),
-                 NewtonIntegrator(damping=0.0, gravity=(0.0, -G, 0.0))]
-    O.run(8000, True)
-    s = O.bodies[ids[0]].state
+    s = block_in_water(-20.0, dict(drag_model="quadratic", C_d=1.0), 8000)
     return dict(vy=s.vel[1], y=s.pos[1], w=W, h=H)
 
 
