@@ -33,9 +33,9 @@ inline Kinematics gradient(double ax, double ay, double bx, double by, double cx
           e1y * b01 + e2y * b11};
 }
 
-// Corner forces f = -A0 P Dm^-T of a first Piola-Kirchhoff stress P into
-// the x, y fields at f[0], f[1] of the triangle's three corner records (`rec`
-// its first); corner 0 balances the other two, so the sum is exactly zero.
+// Corner forces f = -A0 P Dm^-T of a first Piola-Kirchhoff stress P into an
+// (x, y) field pair of the triangle's three corner records, f pointing at the
+// pair in the first; corner 0 balances the other two, so the sum is exactly zero.
 inline void corner_forces(double P11, double P12, double P21, double P22, double a0, double b00,
                           double b01, double b10, double b11, double* f) {
   constexpr int s = CornerLoad::stride;

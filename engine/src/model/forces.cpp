@@ -71,6 +71,11 @@ void Model::compute_body_forces() {
   if (!sleeping && (gather_plan_.topology != topology_version_ || gather_plan_.threads != team_size))
     gather_plan_.build(tris_, gather_, n, team_size, topology_version_);
   Nodes& N = nodes_;
+  // a node's sums of this step's corner loads; the contact and cohesive passes add into f_con
+  const auto gather = [&](int32_t i) {
+    gather_node(i, damping, water, buoy, drag, g);
+    N.f_con_x[i] = N.f_con_y[i] = 0.0;
+  };
   #pragma omp parallel num_threads(nt) if (threaded)
   {
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
@@ -86,11 +91,7 @@ void Model::compute_body_forces() {
       for (int32_t c = P.thread_chunk[tid]; c < P.thread_chunk[tid + 1]; ++c) {
         element_forces(nodes_, tris_, elem_mat_, damping, P.chunk_begin[c], P.chunk_end[c], sweep);
         if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, P.chunk_begin[c], P.chunk_end[c]);
-        for (int32_t k = P.node_start[c]; k < P.node_start[c + 1]; ++k) {
-          const int32_t i = P.nodes[k];
-          gather_node(i, damping, water, buoy, drag, g);
-          N.f_con_x[i] = N.f_con_y[i] = 0.0;
-        }
+        for (int32_t k = P.node_start[c]; k < P.node_start[c + 1]; ++k) gather(P.nodes[k]);
       }
     } else {
       element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep, list);
@@ -108,20 +109,13 @@ void Model::compute_body_forces() {
     }
     // Gather corner forces onto nodes in the fixed gather order, add gravity
     // and drag: the total of everything but contact, bonds and friction.
-    // Contact and cohesive passes add into f_con.
     if (in_pass) {
       const std::vector<int32_t>& late = gather_plan_.straddling;
       #pragma omp for schedule(static)
-      for (size_t k = 0; k < late.size(); ++k) {
-        gather_node(late[k], damping, water, buoy, drag, g);
-        N.f_con_x[late[k]] = N.f_con_y[late[k]] = 0.0;
-      }
+      for (size_t k = 0; k < late.size(); ++k) gather(late[k]);
     } else {
       #pragma omp for schedule(static)
-      for (int32_t i = 0; i < n; ++i) {
-        gather_node(i, damping, water, buoy, drag, g);
-        N.f_con_x[i] = N.f_con_y[i] = 0.0;
-      }
+      for (int32_t i = 0; i < n; ++i) gather(i);
     }
   }
   double u = 0.0;

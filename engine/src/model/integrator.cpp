@@ -45,10 +45,7 @@ StableStep Model::stable_step() {
       reach_y_.push_back(nodes_.y0[i]);
     }
     stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
-    stable_.mass_scaling_dt = mass_scaling_dt_;
-    stable_.added_mass = added_mass_;
-    stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
-    stable_.scaled_nodes = scaled_nodes_;
+    report_added_mass();
     stable_current_ = true;
   }
   return stable_;

@@ -10,6 +10,18 @@
 
 namespace engine {
 
+namespace {
+
+// The margin absorbs the round-off of squaring and taking the root again, so
+// the stable step is not below the target.
+constexpr double kMassMargin = 1.0 + 1e-12;
+
+// Inertial mass [kg/m] a node of contact stiffness k needs for its contact
+// limit sqrt(2 m / k) to reach `need` (= target step / safety).
+inline double contact_mass_for(double k, double need) { return 0.5 * k * need * need * kMassMargin; }
+
+}  // namespace
+
 void Model::compute_masses() {
   for (int32_t b = 0; b < n_bodies(); ++b)
     if (!materials_[b].set) {
@@ -52,8 +64,7 @@ void Model::compute_masses() {
 // In a tiny element the viscosity dominates (dt_e ~ dt0²/2 tau) and this is
 // far less mass than (need/dt_e)². Contact limit sqrt(2 m / k): m >= k (dt_target/safety)²/2,
 // with k the node's stiffness from the contact module (node splitting keeps
-// it: k is per body). The margin 1e-12 absorbs the round-off of squaring and
-// taking the root again, so the stable step is not below the target.
+// it: k is per body). Both carry kMassMargin (above).
 void Model::scale_masses() {
   added_mass_ = 0.0;
   scaled_nodes_ = 0;
@@ -61,14 +72,13 @@ void Model::scale_masses() {
   for (double m : nodes_.mass_phys) total_mass_phys_ += m;
   if (!(mass_scaling_dt_ > 0.0)) return;
   const double need = mass_scaling_dt_ / kTimeStepSafety;
-  const double margin = 1.0 + 1e-12;
   std::vector<double>& M = nodes_.mass;
   const std::vector<double>& Mp = nodes_.mass_phys;
   for (int32_t t = 0; t < tris_.size(); ++t) {
     const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
     if (dt_e >= need) continue;
     const double r = mass_ratio_for(element_undamped_dt(nodes_, tris_, elem_mat_, t),
-                                    elem_mat_[tris_.body[t]].tau_eff(), need) * margin;
+                                    elem_mat_[tris_.body[t]].tau_eff(), need) * kMassMargin;
     for (int c = 0; c < 3; ++c) {
       const int32_t i = tris_.node[3 * t + c];
       M[i] = std::max(M[i], Mp[i] * r);
@@ -79,7 +89,7 @@ void Model::scale_masses() {
     // in the reference configuration: a resumed run gets the masses of the run it continues
     contact_critical_dt(contact_params_, reference_contact_input(), &k, contact_reach_);
     for (int32_t i = 0; i < nodes_.size(); ++i)
-      if (k[i] > 0.0) M[i] = std::max(M[i], 0.5 * k[i] * need * need * margin);
+      if (k[i] > 0.0) M[i] = std::max(M[i], contact_mass_for(k[i], need));
   }
   for (int32_t i = 0; i < nodes_.size(); ++i) M[i] = std::max(M[i], nodes_.mass_floor[i]);
   for (int32_t i = 0; i < nodes_.size(); ++i)
@@ -101,13 +111,12 @@ int32_t Model::raise_contact_masses() {
   std::vector<double> k;
   contact_critical_dt(contact_params_, contact_input(), &k, contact_reach_);
   const double need = dt_ / kTimeStepSafety;
-  const double margin = 1.0 + 1e-12;
   Nodes& N = nodes_;
   double lost = 0.0;
   int32_t raised = 0;
   for (int32_t i = 0; i < N.size(); ++i) {
     if (!(k[i] > 0.0)) continue;
-    const double m_new = 0.5 * k[i] * need * need * margin;
+    const double m_new = contact_mass_for(k[i], need);
     const double m_old = N.mass[i];
     if (m_new <= m_old) continue;
     if (!N.constrained[i]) {
@@ -123,10 +132,15 @@ int32_t Model::raise_contact_masses() {
   }
   energy_.damping += lost;
   raised_nodes_ += raised;
+  report_added_mass();
+  return raised;
+}
+
+void Model::report_added_mass() {
+  stable_.mass_scaling_dt = mass_scaling_dt_;
   stable_.added_mass = added_mass_;
   stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
   stable_.scaled_nodes = scaled_nodes_;
-  return raised;
 }
 
 void Model::set_mass_floor(const std::vector<double>& floor) {

@@ -198,6 +198,7 @@ class Model {
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
   void guard_contact_reach();      // re-bound the contact step after large moves
   int32_t raise_contact_masses();  // ... and, with mass scaling on, raise the nodes it needs
+  void report_added_mass();        // the mass scaling's totals into stable_
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
