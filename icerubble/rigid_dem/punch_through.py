@@ -177,9 +177,7 @@ class RigidPunchThrough:
         self.body0 = self._poses()
 
     def _poses(self):
-        st = [b.state for b in O.bodies]
-        pos = np.array([(s.pos[0], s.pos[1]) for s in st])
-        theta = self.coupling.thetas()
+        pos, _, _, theta = self.coupling.body_arrays()
         return pos, theta
 
     def _max_block_speed(self):

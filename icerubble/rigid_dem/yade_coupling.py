@@ -67,8 +67,7 @@ class Coupling:
 
     def _make_bonds(self, bd):
         """RigidBonds anchored in both bodies' frames at their present poses."""
-        pos, _, _ = self.body_arrays()
-        theta = self.thetas()
+        pos, _, _, theta = self.body_arrays()
         a, b = np.asarray(bd["a"], np.int32), np.asarray(bd["b"], np.int32)
         p, n = np.asarray(bd["position"], float), np.asarray(bd["normal"], float)
 
@@ -88,15 +87,15 @@ class Coupling:
         v = (self.states[i].ori * self.ori0[i].conjugate()) * Vector3(1.0, 0.0, 0.0)
         return float(np.arctan2(v[1], v[0]))
 
-    def thetas(self):
-        return np.array([self._theta(i) for i in range(len(self.states))])
-
     def body_arrays(self):
+        """Every body's centroid, velocity, angular velocity and turn since the
+        coupling was made: (pos (n, 2), vel (n, 2), omega (n,), theta (n,))."""
         st = self.states
         pos = np.array([(s.pos[0], s.pos[1]) for s in st])
         vel = np.array([(s.vel[0], s.vel[1]) for s in st])
         omega = np.array([s.angVel[2] for s in st])
-        return pos, vel, omega
+        theta = np.array([self._theta(i) for i in range(len(st))])
+        return pos, vel, omega, theta
 
     def contact_arrays(self):
         a, b, p, n, fn = [], [], [], [], []
@@ -129,21 +128,19 @@ class Coupling:
                 np.array(n).reshape(k, 2), np.array(fn))
 
     def __call__(self):
-        pos, vel, omega = self.body_arrays()
+        pos, vel, omega, theta = self.body_arrays()
         a, b, p, n, fn = self.contact_arrays()
         _, fx, fy, tz = self.friction.step(a, b, p[:, 0], p[:, 1], n[:, 0], n[:, 1], fn, pos[:, 0], pos[:, 1],
                                            vel[:, 0], vel[:, 1], omega, self.dt, self.k_t, self.mu)
         if self.water is not None:
             k = self.blocks
-            theta = np.array([self._theta(int(i)) for i in k])
-            wx, wy, wt = self.water.forces(pos[k, 0], pos[k, 1], theta, vel[k, 0], vel[k, 1], omega[k])
+            wx, wy, wt = self.water.forces(pos[k, 0], pos[k, 1], theta[k], vel[k, 0], vel[k, 1], omega[k])
             dry = self.dry   # bodies the water is not applied to (e.g. a driven indenter)
             wx[dry], wy[dry], wt[dry] = 0.0, 0.0, 0.0
             fx[k] += wx
             fy[k] += wy
             tz[k] += wt
         if self.bonds is not None:
-            theta = self.thetas()
             bx, by, bt = self.bonds.step(pos[:, 0], pos[:, 1], theta, O.time)
             fx += bx
             fy += by
