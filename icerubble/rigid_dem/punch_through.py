@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 import yade.log
-from yade import Vector3, polyhedra_utils
+from yade import Vector3
 from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
                           InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
                           Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
@@ -27,7 +27,9 @@ from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress
 from ..run.recorder import RunRecorder
-from .scene import KIND_BLOCK, KIND_LAYER, rigid_scene
+from .energy import RigidLedger
+from .prisms import bond_arrays, inertia_z, place_bodies, rigid_step
+from .scene import KIND_BLOCK, rigid_scene
 from .yade_coupling import Coupling
 
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
@@ -35,71 +37,9 @@ yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
 SETTLE_DAMPING = 0.7     # Cundall local damping while settling, as the FEM-DEM settle
 SETTLE_SPEED = 1e-3      # [m/s] every block slower than this: at rest
 SETTLE_MIN, SETTLE_MAX = 0.2, 5.0   # [s] simulated
-DT_SAFETY = 0.5
 SAMPLE_TRAVEL = 1e-4     # [m] force samples at least this often
-# [m] every body's outline moved inward: faces that coincide exactly make YADE's
-# polyhedra overlap run away; 10 um apart they do not, and the gap is closed at
-# once under load (2 mm, the mesh's eps_sep, delayed contact by 2 mm of travel)
-INSET = 1e-5
 HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
-
-
-def prism(mat, corners, fixed=False):
-    """A polygon extruded from z = -0.5 to 0.5 m (1 m of width); a free one moves in the plane only."""
-    b = polyhedra_utils.polyhedra(mat, v=[Vector3(float(x), float(y), z) for (x, y) in corners
-                                          for z in (-0.5, 0.5)], fixed=fixed)
-    if not fixed:
-        b.state.blockedDOFs = 'zXY'
-    return b
-
-
-def convex_outline(poly, straight=1e-3):
-    """The convex hull of a polygon, counter-clockwise, without corners that turn
-    by less than `straight` radians (YADE polyhedra are convex; near-straight
-    corners make its intersections degenerate). Returns (outline, hull area /
-    polygon area - 1)."""
-    from scipy.spatial import ConvexHull
-    q = np.asarray(poly, float)
-    h = q[ConvexHull(q).vertices]           # counter-clockwise in 2D
-    while len(h) > 3:
-        u = h - np.roll(h, 1, axis=0)
-        v = np.roll(h, -1, axis=0) - h
-        turn = np.arctan2(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0], (u * v).sum(axis=1))
-        k = int(np.argmin(turn))
-        if turn[k] >= straight:
-            break
-        h = np.delete(h, k, axis=0)
-
-    def area(a):
-        return 0.5 * np.sum(a[:, 0] * np.roll(a[:, 1], -1) - np.roll(a[:, 0], -1) * a[:, 1])
-    return h, area(h) / area(q) - 1.0
-
-
-def polygon_inset(poly, d):
-    """A convex counter-clockwise polygon moved inward by d on every edge."""
-    q = np.asarray(poly, float)
-    e = np.roll(q, -1, axis=0) - q
-    n = np.column_stack([-e[:, 1], e[:, 0]]) / np.hypot(e[:, 0], e[:, 1])[:, None]   # inward (CCW)
-    p = q + d * n                       # a point on each shifted edge line
-    out = []
-    for i in range(len(q)):
-        j = i - 1                        # edges j (into vertex i) and i (out of it)
-        A = np.column_stack([e[j], -e[i]])
-        t = np.linalg.solve(A, p[i] - p[j])
-        out.append(p[j] + t[0] * e[j])
-    return np.array(out)
-
-
-def _min_width(poly):
-    """Smallest extent of a convex polygon across its edges [m]."""
-    q = np.asarray(poly, float)
-    best = math.inf
-    for i in range(len(q)):
-        e = q[(i + 1) % len(q)] - q[i]
-        n = np.array([-e[1], e[0]]) / np.hypot(*e)
-        s = (q - q[i]) @ n
-        best = min(best, s.max() - s.min())
-    return best
+ENERGY_EVERY = 10        # force samples per energy sample, as the FEM-DEM run
 
 
 class RigidPunchThrough:
@@ -124,12 +64,8 @@ class RigidPunchThrough:
         # and the indenter's sides on the layer's cut faces do: every body is
         # inset by INSET, so neighbours start 2 INSET apart (the bonds span it);
         # the indenter moves only up and down (the layer guides it)
-        hulls = [convex_outline(q) for q in sc["polygons"]]
-        self.hull_added_area = max(h[1] for h in hulls)   # worst block's area gained by its hull
-        polys = [polygon_inset(h[0], INSET) for h in hulls]
-        bodies = [prism(mat, poly, fixed=kind[b] == KIND_LAYER) for b, poly in enumerate(polys)]
-        bodies[sc["indenter"]].state.blockedDOFs = 'xzXYZ'
-        ids = O.bodies.append(bodies)
+        ids, polys, gain = place_bodies(mat, sc)
+        self.hull_added_area = float(gain.max())   # worst block's area gained by its hull
         if list(ids) != list(range(len(kind))):
             raise RuntimeError("YADE numbered the bodies other than the mesh: expected 0..n-1")
         self.blocks = np.flatnonzero(kind == KIND_BLOCK)
@@ -137,28 +73,10 @@ class RigidPunchThrough:
         self.floating = np.append(self.blocks, self.indenter)   # free while settling
         # the step: a chain of blocks face to face (the thinnest block), and each
         # block on its bond springs (translation and rotation)
+        self.dt, t_min = rigid_step(sc, ids, polys)
+        O.dt = self.dt
+        bonds = bond_arrays(sc, ids)
         k_n = 0.5 * p["E"]
-        t_min = min(_min_width(sc["polygons"][b]) for b in self.blocks)
-        dt = 2.0 / math.sqrt(4.0 * k_n / (p["rho_i"] * t_min))
-        # a bond point is stiffer along its face than across it: k_t = beta k
-        # (eq 11 as printed) or beta^2 k (work-conjugate), beta = tau_cr/sigma_cr
-        beta = sc["tau_cr"] / sc["sigma_cr"]
-        k_max = sc["bond_k"] * np.maximum(1.0, beta if p["force_direction"] == "paper" else beta * beta)
-        K = np.zeros(len(kind))
-        np.add.at(K, sc["bond_a"], k_max)
-        np.add.at(K, sc["bond_b"], k_max)
-        for b in np.flatnonzero(K > 0):
-            if kind[b] == KIND_LAYER:
-                continue
-            s = O.bodies[int(b)].state
-            r = max(np.hypot(*(polys[b] - (s.pos[0], s.pos[1])).T))
-            # Gershgorin: a block and its bonded neighbours moving against each
-            # other at most double its own spring sum
-            dt = min(dt, 2.0 / math.sqrt(2.0 * K[b] * (1.0 / s.mass + r * r / s.inertia[2])))
-        self.dt = O.dt = DT_SAFETY * dt
-        bonds = dict(a=sc["bond_a"], b=sc["bond_b"], position=sc["bond_position"], normal=sc["bond_normal"],
-                     k=sc["bond_k"], l=sc["bond_length"], sigma_cr=sc["sigma_cr"], tau_cr=sc["tau_cr"],
-                     mu=sc["mu"], G=sc["G"], direction=p["force_direction"])
         self.coupling = Coupling(self.floating, mu=p["mu"], k_t=k_n * t_min, dt=self.dt,
                                  water=dict(params=p, y_w=sc["y_w"]), bonds=bonds)
         self.coupling.bonds.failure = False
@@ -185,16 +103,32 @@ class RigidPunchThrough:
 
     # --- each step --------------------------------------------------------------
     def each_step(self):
+        arrays = self.coupling.body_arrays()
         if self.loading:
+            _, vel, omega, _ = arrays
+            if self.ledger.pending is not None:
+                self.ledger.advance(vel, omega, O.dt)
             v = float(_engine.ramp_velocity(O.time - self.t_load, self.params["v_final"], self.params["ramp_time"]))
             O.bodies[self.indenter].state.vel = Vector3(0.0, -v, 0.0)
-        self.coupling()
-        if self.loading and not self.done:
-            self.record()
+            vel[self.indenter] = (0.0, -v)
+            if not self.ledger_started:
+                b = self.coupling.bonds
+                self.ledger.start(vel, omega, b.stored_energy(), self.coupling.friction.forces)
+                self.ledger_started = True
+        self.coupling(arrays)
+        if self.loading:
+            self.ledger.hold(arrays[1], arrays[2], self.coupling.terms)
+            if not self.done:
+                self.record(arrays)
 
-    def record(self):
+    def energies(self, arrays):
+        b = self.coupling.bonds
+        return self.ledger.energies(arrays[1], arrays[2], b.stored_energy(), self.coupling.friction.forces)
+
+    def record(self, arrays):
         """This step's indenter travel and force (contacts, friction, bonds: all
-        forces of the step are in by now), sampled as the FEM-DEM run samples."""
+        forces of the step are in by now), sampled as the FEM-DEM run samples;
+        the energy every ENERGY_EVERY samples."""
         rec, target = self.rec, self.params["target_travel"]
         y = self.y0 - O.bodies[self.indenter].state.pos[1]
         F = O.forces.f(self.indenter, sync=True)[1]   # the rubble pushes the indenter up
@@ -208,6 +142,8 @@ class RigidPunchThrough:
             rec.force(t, y, self.work / (y - self.y_sample) if y > self.y_sample else F, F)
             self.work, self.y_sample = 0.0, y
             self.t_sample.append((t, y))
+            if len(self.t_sample) % ENERGY_EVERY == 0 or y >= target:
+                rec.energy(t, self.energies(arrays))
         if rec.wants_snapshot(y):
             self._snapshot(rec, y)
         if y >= target:
@@ -253,6 +189,13 @@ class RigidPunchThrough:
         # load
         t_wall_load, iter_load = time.perf_counter(), O.iter
         self.coupling.bonds.failure = True
+        self.coupling.keep_terms = True
+        free = np.zeros(len(self.sc["body_kind"]), bool)
+        free[self.blocks] = True
+        self.ledger = RigidLedger(free, [self.indenter], [s.mass for s in self.coupling.states],
+                                  [inertia_z(O.bodies[i]) for i in range(len(free))], self.params["g"],
+                                  self.coupling.k_t)
+        self.ledger_started = False
         self.loading, self.t_load = True, O.time
         y0 = ind.state.pos[1]
         rec = self._recorder(ref_pos, ref_theta)

@@ -55,12 +55,14 @@ class BlockWater:
         self.threads = int(threads)
         self.drag = True   # False: buoyancy only (the settle of a punch-through)
 
-    def forces(self, cx, cy, theta, ux, uy, omega):
+    def forces(self, cx, cy, theta, ux, uy, omega, buoyancy=True, drag=None):
         """(fx, fy, tz) of the water on every block [N/m, N/m, N m/m] at centroid
         positions (cx, cy), angles theta from the reference, centroid velocities
-        (ux, uy) and angular velocities omega."""
+        (ux, uy) and angular velocities omega; `buoyancy`, `drag` (default: the
+        `.drag` switch) to take one of the two alone."""
         p = self.params
+        drag = self.drag if drag is None else drag
         return _engine.rigid_water_forces(
             self.offset, self.vx, self.vy, self.area, cx, cy, theta, ux, uy, omega,
-            y_w=self.y_w, rho_w=p["rho_w"], g=p["g"], buoyancy=True,
-            drag_model=DRAG_MODELS[p["drag_model"]] if self.drag else 0, c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)
+            y_w=self.y_w, rho_w=p["rho_w"], g=p["g"], buoyancy=buoyancy,
+            drag_model=DRAG_MODELS[p["drag_model"]] if drag else 0, c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)

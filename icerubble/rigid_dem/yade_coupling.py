@@ -56,6 +56,7 @@ class Coupling:
         self.blocks = np.asarray(block_ids, int)
         self.dry = np.zeros(len(self.blocks), bool)   # per entry of block_ids
         self.degenerate = 0   # contacts YADE gave no finite geometry (skipped)
+        self.keep_terms, self.terms = False, None   # per-law forces, for an energy ledger
         self.water = None
         if water is not None:
             # corners as placed now: world = pos + R(theta) corner, theta the turn since
@@ -127,25 +128,62 @@ class Coupling:
         return (np.array(a, np.int32), np.array(b, np.int32), np.array(p).reshape(k, 2),
                 np.array(n).reshape(k, 2), np.array(fn))
 
-    def __call__(self):
-        pos, vel, omega, theta = self.body_arrays()
+    def __call__(self, arrays=None):
+        """One step's exchange; `arrays`: this step's body_arrays() if the caller
+        has read them already. With `keep_terms` set, each law's per-body
+        (fx, fy, tz) is kept in `terms` (for an energy ledger), and YADE's own
+        (normal) contact forces as read before any of them is added."""
+        pos, vel, omega, theta = self.body_arrays() if arrays is None else arrays
+        terms = {} if self.keep_terms else None
+        if terms is not None:
+            terms["contact"] = self.yade_forces()
         a, b, p, n, fn = self.contact_arrays()
         _, fx, fy, tz = self.friction.step(a, b, p[:, 0], p[:, 1], n[:, 0], n[:, 1], fn, pos[:, 0], pos[:, 1],
                                            vel[:, 0], vel[:, 1], omega, self.dt, self.k_t, self.mu)
+        if terms is not None:
+            terms["friction"] = (fx.copy(), fy.copy(), tz.copy())
         if self.water is not None:
             k = self.blocks
-            wx, wy, wt = self.water.forces(pos[k, 0], pos[k, 1], theta[k], vel[k, 0], vel[k, 1], omega[k])
+            args = (pos[k, 0], pos[k, 1], theta[k], vel[k, 0], vel[k, 1], omega[k])
+            wx, wy, wt = self.water.forces(*args)
             dry = self.dry   # bodies the water is not applied to (e.g. a driven indenter)
             wx[dry], wy[dry], wt[dry] = 0.0, 0.0, 0.0
             fx[k] += wx
             fy[k] += wy
             tz[k] += wt
+            if terms is not None:
+                # buoyancy alone, and the drag as the rest (the same sums)
+                bx, by, bt = self.water.forces(*args, drag=False)
+                bx[dry], by[dry], bt[dry] = 0.0, 0.0, 0.0
+                terms["buoyancy"] = self._on_bodies(k, bx, by, bt)
+                terms["drag"] = self._on_bodies(k, wx - bx, wy - by, wt - bt)
         if self.bonds is not None:
             bx, by, bt = self.bonds.step(pos[:, 0], pos[:, 1], theta, O.time)
             fx += bx
             fy += by
             tz += bt
+            if terms is not None:
+                terms["bond"] = (bx, by, bt)
+        self.terms = terms
         addF, addT = O.forces.addF, O.forces.addT
         for i in np.flatnonzero((fx != 0.0) | (fy != 0.0) | (tz != 0.0)):
             addF(int(i), Vector3(fx[i], fy[i], 0.0))
             addT(int(i), Vector3(0.0, 0.0, tz[i]))
+
+    def _on_bodies(self, ids, fx, fy, tz):
+        n = len(self.states)
+        out = np.zeros(n), np.zeros(n), np.zeros(n)
+        for o, v in zip(out, (fx, fy, tz)):
+            o[ids] = v
+        return out
+
+    def yade_forces(self):
+        """Every body's force and torque from YADE's engines this step so far
+        (its contact law's normal forces, before the coupling adds anything)."""
+        n = len(self.states)
+        f, t = O.forces.f, O.forces.t
+        out = np.empty((n, 3))
+        for i in range(n):
+            v, w = f(i, sync=True), t(i)
+            out[i] = v[0], v[1], w[2]
+        return out[:, 0], out[:, 1], out[:, 2]
