@@ -13,6 +13,9 @@ driven indenter (contacts, friction, bonds; the water is not applied to it, so
 nothing of its own buoyancy is in F).
 """
 import math
+import os
+import signal
+import threading
 import time
 
 import numpy as np
@@ -26,7 +29,9 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
 from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress
+from ..run.punch_through_run import STOP_SIGNALS, RunInterrupted
 from ..run.recorder import RunRecorder
+from . import checkpoint
 from .energy import RigidLedger
 from .prisms import bond_arrays, inertia_z, place_bodies, rigid_step
 from .scene import KIND_BLOCK, rigid_scene
@@ -43,8 +48,12 @@ ENERGY_EVERY = 10        # force samples per energy sample, as the FEM-DEM run
 
 
 class RigidPunchThrough:
-    def __init__(self, mesh_path, out_path, params, meta, threads=1):
+    def __init__(self, mesh_path, out_path, params, meta, threads=1, checkpoint_every_s=600.0):
+        if not checkpoint_every_s > 0.0:
+            raise ValueError(f"checkpoint_every_s must be > 0 s (got {checkpoint_every_s})")
         self.mesh_path, self.out = mesh_path, out_path
+        self.ckpt_path = out_path[:-3] + ".checkpoint.h5" if out_path.endswith(".h5") else out_path + ".checkpoint.h5"
+        self.checkpoint_every_s = float(checkpoint_every_s)
         self.mesh = read_mesh(mesh_path)
         self.sc = rigid_scene(self.mesh, params)
         self.params = self.sc["params"]
@@ -151,10 +160,49 @@ class RigidPunchThrough:
             O.pause()
 
     # --- the run ------------------------------------------------------------------
-    def run(self):
-        t_wall = time.perf_counter()
+    def run(self, resume=False):
+        """Settle, hold, load and write the result. With `resume`, a checkpoint
+        of this run (OUT.checkpoint.h5, written while loading) is taken up where
+        it was; a run stopped while settling starts again. SIGTERM and SIGUSR1
+        (a scheduler's stop) write the checkpoint after the current chunk and
+        raise RunInterrupted."""
+        self._stop_signal = None
+        catch = threading.current_thread() is threading.main_thread()
+        previous = {s: signal.signal(s, self._on_stop_signal) for s in STOP_SIGNALS} if catch else {}
+        try:
+            return self._run(resume)
+        finally:
+            for s, h in previous.items():
+                signal.signal(s, h)
+
+    def _on_stop_signal(self, signum, frame):
+        self._stop_signal = signum
+
+    def _run(self, resume):
         self.build()
-        # settle
+        if resume and os.path.exists(self.ckpt_path):
+            checkpoint.restore(self, self.ckpt_path)
+            self.loading = True
+            print(f"[rigid punch-through] resumed from {self.ckpt_path} at step {O.iter}, "
+                  f"y_I = {1e3 * self.y_prev:.3f} mm", flush=True)
+        else:
+            self.settle_and_hold()
+        self.load()
+        rec = self.rec
+        self._bond_events(rec, np.array(self.t_sample))
+        rec.meta.update(settle_time=self.settle_time, settle_max_speed=self.settle_speed, F_at_rest=self.F_at_rest,
+                        dt=self.dt, wall_settle_s=self.wall_settle_s, wall_load_s=self.wall_load_s,
+                        load_steps=O.iter - self.iter_load, degenerate_contacts=self.coupling.degenerate,
+                        hull_added_area=self.hull_added_area)
+        rec.write(self.out)
+        if os.path.exists(self.ckpt_path):
+            os.remove(self.ckpt_path)
+        return self.out
+
+    def settle_and_hold(self):
+        """Settle to rest, hold the indenter (F at rest) and make the loading's
+        recorder and energy ledger."""
+        t_wall = time.perf_counter()
         chunk = max(1, int(round(0.05 / self.dt)))
         prog = Progress(target_travel=1.0, label="rigid settle")
         while True:
@@ -169,7 +217,7 @@ class RigidPunchThrough:
             if O.time >= SETTLE_MAX:
                 raise RuntimeError(f"the rigid pile did not come to rest in {SETTLE_MAX} s simulated "
                                    f"(fastest block {speed:.3g} m/s > {SETTLE_SPEED} m/s)")
-        settle_time, settle_speed = O.time, speed
+        self.settle_time, self.settle_speed = O.time, speed
         # hold the indenter where it came to rest: what that takes is F at rest
         ind = O.bodies[self.indenter]
         ind.dynamic = False
@@ -184,44 +232,56 @@ class RigidPunchThrough:
         for _ in range(10):
             O.run(max(1, n_hold // 20), True)
             held.append(O.forces.f(self.indenter, sync=True)[1])
-        F_at_rest = float(np.mean(held))
+        self.F_at_rest = float(np.mean(held))
         ref_pos, ref_theta = self._poses()
-        # load
-        t_wall_load, iter_load = time.perf_counter(), O.iter
+        # the load starts here
+        self.wall_settle_s, self.wall_load_s, self.iter_load = time.perf_counter() - t_wall, 0.0, O.iter
         self.coupling.bonds.failure = True
         self.coupling.keep_terms = True
-        free = np.zeros(len(self.sc["body_kind"]), bool)
-        free[self.blocks] = True
-        self.ledger = RigidLedger(free, [self.indenter], [s.mass for s in self.coupling.states],
-                                  [inertia_z(O.bodies[i]) for i in range(len(free))], self.params["g"],
-                                  self.coupling.k_t)
+        self.ledger = self.make_ledger()
         self.ledger_started = False
         self.loading, self.t_load = True, O.time
-        y0 = ind.state.pos[1]
-        rec = self._recorder(ref_pos, ref_theta)
-        rec.force(0.0, 0.0, F_at_rest)
-        print(f"[rigid settle] at rest after {settle_time:.3f} s simulated (fastest body {settle_speed:.2g} m/s); "
-              f"indenter force at rest {F_at_rest:.1f} N/m", flush=True)
-        self.rec, self.y0 = rec, y0
+        self.y0 = ind.state.pos[1]
+        self.rec = self._recorder(ref_pos, ref_theta)
+        self.rec.force(0.0, 0.0, self.F_at_rest)
+        print(f"[rigid settle] at rest after {self.settle_time:.3f} s simulated (fastest body "
+              f"{self.settle_speed:.2g} m/s); indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
         self.work, self.y_prev, self.F_prev, self.y_sample, self.t_sample = 0.0, 0.0, 0.0, 0.0, []
         self.done = False
-        # record in the PyRunner (one O.run per step costs milliseconds of thread hand-over)
+
+    def make_ledger(self):
+        free = np.zeros(len(self.sc["body_kind"]), bool)
+        free[self.blocks] = True
+        return RigidLedger(free, [self.indenter], [s.mass for s in self.coupling.states],
+                           [inertia_z(O.bodies[i]) for i in range(len(free))], self.params["g"],
+                           self.coupling.k_t)
+
+    def load(self):
+        """Drive the indenter to the target travel, recording in the PyRunner
+        (one O.run per step costs milliseconds of thread hand-over); a
+        checkpoint every checkpoint_every_s of wall time and on a stop signal."""
         chunk = max(1, int(round(2e-3 / self.dt)))
         prog = Progress(self.params["target_travel"], label="rigid punch-through")
+        t_wall = t_ckpt = time.perf_counter()
+        wall_before = self.wall_load_s
         while not self.done:
             O.run(chunk, True)
             b = self.coupling.bonds
             prog.update(O.iter, O.time - self.t_load, self.y_prev, self.F_prev,
                         extra=lambda: f"bond pairs opened {int((b.state >= 1).sum())}/{len(b.state)} "
                                       f"broken {int((b.state == 2).sum())}")
-        t_sample = self.t_sample
-        self._bond_events(rec, np.array(t_sample))
-        rec.meta.update(settle_time=settle_time, settle_max_speed=settle_speed, F_at_rest=F_at_rest,
-                        dt=self.dt, wall_settle_s=t_wall_load - t_wall,
-                        wall_load_s=time.perf_counter() - t_wall_load, load_steps=O.iter - iter_load,
-                        degenerate_contacts=self.coupling.degenerate, hull_added_area=self.hull_added_area)
-        rec.write(self.out)
-        return self.out
+            self.wall_load_s = wall_before + time.perf_counter() - t_wall
+            if self.done:
+                break
+            now = time.perf_counter()
+            if now - t_ckpt >= self.checkpoint_every_s:
+                checkpoint.save(self, self.ckpt_path)
+                t_ckpt = now
+            if self._stop_signal is not None:
+                checkpoint.save(self, self.ckpt_path)
+                raise RunInterrupted(
+                    f"stopped by {signal.Signals(self._stop_signal).name} at step {O.iter} (load, "
+                    f"y_I = {1e3 * self.y_prev:.3f} mm); checkpoint {self.ckpt_path}: run it again to resume")
 
     def _recorder(self, ref_pos, ref_theta):
         m, a = self.mesh, self.mesh["attrs"]

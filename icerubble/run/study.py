@@ -65,7 +65,7 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         with RI.RunLock(out):
             RigidPunchThrough(mesh_path, out, params, meta=dict(
                 ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), scene=scene_name, run_id=rid,
-                run_identity=RI.to_json(ident))).run()
+                run_identity=RI.to_json(ident))).run(resume=resume)
         print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
         return out
     with RI.RunLock(out):

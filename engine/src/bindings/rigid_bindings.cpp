@@ -88,6 +88,13 @@ std::vector<double> values(const DArray& a, size_t n, const char* name) {
   return std::vector<double>(a.data(), a.data() + n);
 }
 
+// The bond points' floating-point history, by name (checkpoints).
+std::vector<std::pair<const char*, std::vector<double>*>> history_doubles(RigidBondPoints& r) {
+  return {{"f0", &r.f0}, {"delta_f", &r.delta_f}, {"delta_m", &r.delta_m}, {"dn_prev", &r.dn_prev},
+          {"dt_prev", &r.dt_prev}, {"dissipated", &r.dissipated}, {"t_initiated", &r.t_initiated},
+          {"t_failed", &r.t_failed}, {"f_n", &r.f_n}, {"f_t", &r.f_t}};
+}
+
 void bind_rigid(py::module_& m) {
   py::class_<RigidBondPoints>(m, "RigidBonds",
                               "Freeze bonds between rigid blocks: initially elastic, then the paper's "
@@ -143,7 +150,30 @@ void bind_rigid(py::module_& m) {
       .def_property_readonly("t_failed", [](const RigidBondPoints& r) { return copy_of(r.t_failed); })
       .def_readwrite("failure", &RigidBondPoints::failure,
                      "False: intact points stay intact whatever their traction (settling)")
-      .def("stored_energy", &RigidBondPoints::stored_energy);
+      .def("stored_energy", &RigidBondPoints::stored_energy)
+      .def("history", [](const RigidBondPoints& r) {
+             py::dict h;
+             h["state"] = copy_of(r.state);
+             h["mode"] = copy_of(r.mode);
+             for (auto [name, v] : history_doubles(const_cast<RigidBondPoints&>(r))) h[name] = copy_of(*v);
+             h["failure"] = r.failure;
+             h["failure_last_step"] = r.failure_last_step;
+             return h;
+           }, "Every bond point's history, for a checkpoint (restore_history continues it).")
+      .def("restore_history", [](RigidBondPoints& r, py::dict h) {
+             const size_t n = r.a.size();
+             auto int8s = [&](const char* name, std::vector<int8_t>& out) {
+               auto a = h[name].cast<py::array_t<int8_t, py::array::c_style | py::array::forcecast>>();
+               if (a.ndim() != 1 || size_t(a.shape(0)) != n)
+                 bad(std::string("history ") + name + " must have one value per bond point (" + std::to_string(n) + ")");
+               out.assign(a.data(), a.data() + n);
+             };
+             int8s("state", r.state);
+             int8s("mode", r.mode);
+             for (auto [name, v] : history_doubles(r)) *v = values(h[name].cast<DArray>(), n, name);
+             r.failure = h["failure"].cast<bool>();
+             r.failure_last_step = h["failure_last_step"].cast<bool>();
+           }, py::arg("history"), "Continue a checkpointed history (from history()).");
   py::class_<FrictionHistory>(m, "RigidFriction",
                               "Coulomb friction with stick between rigid blocks, one history per body pair "
                               "(rigid/rigid_friction.hpp)")

@@ -1,0 +1,90 @@
+"""Checkpoints of a rigid punch-through (docs/model.md §6), written while it
+loads: YADE's scene as it serialises it (bodies, interactions, engines, time)
+and the state the project keeps beside it (friction and bond histories, the
+energy ledger, the recorder, the driver's sampling). A run rebuilt from its
+mesh and given both steps on as the uninterrupted run does, bit for bit, on
+one thread (YADE's force sums on more threads depend on their timing).
+
+One HDF5 file, written under a temporary name and renamed when complete, so
+an interrupted write never leaves a file that looks like a checkpoint.
+"""
+import os
+import pickle
+
+import h5py
+import numpy as np
+from yade.wrapper import O
+
+FORMAT = "icerubble rigid-dem checkpoint 1"
+
+# the driver's own attributes a checkpoint carries (the rest is rebuilt)
+DRIVER_KEYS = ("t_load", "y0", "work", "y_prev", "F_prev", "y_sample", "t_sample", "done", "ledger_started",
+               "settle_time", "settle_speed", "F_at_rest", "ref", "body0", "iter_load", "wall_settle_s",
+               "wall_load_s")
+
+
+def save(run, path):
+    c = run.coupling
+    state = dict(driver={k: getattr(run, k) for k in DRIVER_KEYS},
+                 recorder=run.rec.state(),
+                 ledger=dict(vars(run.ledger)),
+                 friction=(np.array(c.friction.keys), np.array(c.friction.forces)),
+                 bonds=c.bonds.history(),
+                 # (the bodies' start poses, the water's polygons and the bonds'
+                 # anchors are build()'s, made again the same by the resumed run)
+                 coupling=dict(dry=c.dry.copy(), degenerate=c.degenerate, keep_terms=c.keep_terms,
+                               drag=c.water.drag),
+                 newton_damping=run.newton.damping)
+    tmp = path + ".part"
+    try:
+        with h5py.File(tmp, "w") as f:
+            f.attrs["format"] = FORMAT
+            f.attrs["run_id"] = str(run.meta.get("run_id", ""))
+            f.attrs["iter"] = O.iter
+            f.attrs["y_I"] = float(run.y_prev)
+            f.create_dataset("yade_scene", data=np.void(O.sceneToString()))
+            f.create_dataset("state", data=np.void(pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)))
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def restore(run, path):
+    """Into a run whose build() has just made its scene: YADE's scene and every
+    state beside it as they were when `path` was written. ValueError for a
+    file that is not this run's checkpoint."""
+    with h5py.File(path, "r") as f:
+        if f.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path} is not a rigid-dem checkpoint (format {f.attrs.get('format')!r})")
+        run_id = str(run.meta.get("run_id", ""))
+        if f.attrs["run_id"] != run_id:
+            raise ValueError(f"{path} is the checkpoint of run {f.attrs['run_id']!r}, not of this run "
+                             f"({run_id!r}): move it away to start afresh")
+        scene = f["yade_scene"][()].tobytes()
+        state = pickle.loads(f["state"][()].tobytes())
+    # YADE rebuilds a loaded polyhedron's internal (CGAL) form from its vertices
+    # in its own order, and its intersections then differ at round-off; the
+    # shapes build() just made are the uninterrupted run's own: they are kept
+    shapes = [b.shape for b in O.bodies]
+    O.stringToScene(scene)
+    if len(O.bodies) != len(shapes):
+        raise ValueError(f"{path} holds {len(O.bodies)} bodies, the ridge has {len(shapes)}")
+    for b, shape in zip(O.bodies, shapes):
+        b.shape = shape
+    c = run.coupling
+    c.states = [b.state for b in O.bodies]          # the loaded scene's own objects
+    c.dry[:] = state["coupling"]["dry"]
+    c.degenerate = state["coupling"]["degenerate"]
+    c.keep_terms = state["coupling"]["keep_terms"]
+    c.water.drag = state["coupling"]["drag"]
+    c.friction.restore(*state["friction"])
+    c.bonds.restore_history(state["bonds"])
+    run.newton = next(e for e in O.engines if type(e).__name__ == "NewtonIntegrator")
+    run.newton.damping = state["newton_damping"]
+    for k, v in state["driver"].items():
+        setattr(run, k, v)
+    run.ledger = run.make_ledger()
+    vars(run.ledger).update(state["ledger"])
+    run.rec = run._recorder(*run.ref)
+    run.rec.restore(state["recorder"])
