@@ -74,7 +74,7 @@ class RunOptions:
                  settle_accel=1e-3, settle_hold_time=0.02,
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
                  stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None,
-                 contact_reach=math.inf, numerics=""):
+                 contact_reach=math.inf, numerics="", settle_mass_scaling_dt=None):
         if settle_max_time <= 0:
             raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
         if not 0 <= settle_min_time <= settle_max_time:
@@ -106,6 +106,14 @@ class RunOptions:
         if not contact_reach > 0.0:
             raise ValueError(f"contact_reach={contact_reach} must be > 0 m (inf: the whole mesh)")
         self.contact_reach = float(contact_reach)  # local contact step bound (engine set(contact_reach))
+        if settle_mass_scaling_dt is not None and not (
+                settle_mass_scaling_dt > 0.0 and settle_mass_scaling_dt > (mass_scaling_dt or 0.0)):
+            raise ValueError(f"settle_mass_scaling_dt={settle_mass_scaling_dt} must be > 0 s and above "
+                             f"mass_scaling_dt={mass_scaling_dt} (or None: settle at the loading's step)")
+        # the settle's own, larger mass-scaling step (dynamic relaxation: inertia
+        # only, the weight stays physical, so the rest it reaches is a balance of
+        # the same loads); None: the loading's
+        self.settle_mass_scaling_dt = settle_mass_scaling_dt
         self.numerics = str(numerics)              # the preset these came from, for the record
 
     @classmethod
@@ -113,7 +121,7 @@ class RunOptions:
         """Options from a scene's numerical preset (presets.numerics)."""
         return cls(dt_fraction=settings.get("dt_fraction"), mass_scaling_dt=settings.get("mass_scaling_dt"),
                    sleep=settings.get("sleep"), contact_reach=settings.get("contact_reach", math.inf),
-                   numerics=name, **kw)
+                   settle_mass_scaling_dt=settings.get("settle_mass_scaling_dt"), numerics=name, **kw)
 
 
 SLEEP_KEYS = {"velocity": "m/s", "force": "fraction of a node's weight", "quiet_time": "s"}
@@ -332,6 +340,8 @@ class PunchThrough:
         is the same. Loading starts with drag on and local damping off.
         """
         m, o = self.model, self.options
+        if o.settle_mass_scaling_dt is not None:
+            self._settle_step(True)
         dt = m.dt
         self.apply_boundary_conditions()
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
@@ -362,6 +372,9 @@ class PunchThrough:
         self.settle_time = m.time - t_start
         self.settle_max_speed = vmax
         self.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
+        if o.settle_mass_scaling_dt is not None:
+            self._settle_step(False)
+            dt = m.dt
         m.set(drag=True, local_damping=0.0)
         # Hold the indenter where it came to rest and measure what holding it
         # takes: ~0 if the system is in balance (paper 2.4). The first steps
@@ -387,6 +400,23 @@ class PunchThrough:
         print(f"[settle] at rest after {self.settle_time:.3f} s simulated (max node speed "
               f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm); "
               f"indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
+
+    def _settle_step(self, on):
+        """The settle's larger step and back. On: the inertial masses of
+        settle_mass_scaling_dt and the same fraction of the stable step as the
+        loading's step. Off (at rest): the loading's masses and step again, the
+        raises of the larger step dropped and those the rest state needs made
+        (engine reset_contact_masses)."""
+        m, o = self.model, self.options
+        if on:
+            self.settle_dt_load = m.dt
+            fraction = m.dt / m.stable_time_step()["dt"]
+            m.set(mass_scaling_dt=o.settle_mass_scaling_dt)
+            m.set(dt=fraction * m.stable_time_step()["dt"])
+        else:
+            m.set(mass_scaling_dt=o.mass_scaling_dt or 0.0)
+            m.set(dt=self.settle_dt_load)
+            m._m.reset_contact_masses()
 
     def load(self):
         m, p, o = self.model, self.params, self.options
@@ -487,6 +517,8 @@ class PunchThrough:
                                   load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
                                   load_element_steps=int(self.load_element_steps),
                                   sleep=json.dumps(self.options.sleep))
+        if self.options.settle_mass_scaling_dt is not None:
+            self.recorder.meta.update(settle_mass_scaling_dt=self.options.settle_mass_scaling_dt)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)
         if self.options.vtu and self.vtu_entries:

@@ -72,6 +72,9 @@ def identity(params, mesh, options):
     reach = getattr(options, "contact_reach", math.inf)
     if math.isfinite(reach):  # absent: the whole mesh
         ident["contact_reach"] = _plain(reach)
+    settle = getattr(options, "settle_mass_scaling_dt", None)
+    if settle is not None:  # absent: the settle ran at the loading's step
+        ident["settle_mass_scaling_dt"] = _plain(settle)
     sleep = getattr(options, "sleep", None)
     if sleep is not None:  # absent: off (the identity of runs made before it existed)
         ident["sleep"] = {k: _plain(v) for k, v in sorted(sleep.items())}

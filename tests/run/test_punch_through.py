@@ -252,3 +252,42 @@ def test_force_samples_are_the_mean_force_over_each_interval(finished):
     assert dy[tiny].sum() < 1e-3 * y[-1]
     assert abs(np.mean(Fi[1:]) - np.mean(F[1:])) < 0.05 * F.max()
     assert np.std(np.diff(Fi)) >= np.std(np.diff(F))
+
+
+def test_a_settle_at_a_larger_step_rests_in_the_same_balance_and_loads_at_the_loading_masses(mesh_path, tmp_path):
+    """Dynamic relaxation: the settle runs with more inertial mass and a larger
+    step (weight stays physical, so the rest it reaches balances the same
+    loads), then the loading's masses and step come back exactly."""
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    base = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
+    dt0 = base.model.stable_time_step()["dt"]
+    base.run()
+    fast = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
+                        options=RunOptions(settle_mass_scaling_dt=4 * dt0, **opts))
+    seen = []
+    step = fast.model.step
+
+    def counting(n):
+        seen.append((fast.phase, fast.model.dt, n))
+        step(n)
+    fast.model.step = counting
+    fast.run()
+    settle_dt = {dt for phase, dt, _ in seen if phase == "settle"}
+    load_dt = {dt for phase, dt, _ in seen if phase == "load"}
+    assert load_dt == {base.model.dt}
+    assert max(settle_dt) > 3.0 * base.model.dt          # 0.8 of 4x the stable step
+    # the loading's masses exactly: the settle's were dropped
+    np.testing.assert_array_equal(fast.model.mass, base.model.mass)
+    # at rest in balance: holding the indenter takes ~nothing, in both
+    assert abs(fast.F_at_rest) < 0.02 * net_buoyancy_under_indenter(fast)
+    e = fast.model.energies()
+    assert abs(e["residual"]) < 1e-3 * e["scale"]
+    # the bonded rows have one rest state: the same cohesive peak
+    with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
+        assert b["force/F"][:].max() == pytest.approx(a["force/F"][:].max(), rel=1e-3)
+        assert b.attrs["settle_mass_scaling_dt"] == 4 * dt0
+
+
+def test_the_settle_step_must_exceed_the_loadings():
+    with pytest.raises(ValueError, match="settle_mass_scaling_dt"):
+        RunOptions(mass_scaling_dt=2e-6, settle_mass_scaling_dt=1e-6)

@@ -189,6 +189,9 @@ void bind_model(py::module_& m) {
       })
       .def("set_mass_floor", &Model::set_mass_floor, py::arg("floor"))
       .def("raised_nodes", &Model::raised_nodes)
+      .def("reset_contact_masses", &Model::reset_contact_masses,
+           "Back from a larger mass-scaling step: floors dropped, masses of the current target, "
+           "nodes raised where the present configuration needs it (returns how many)")
       .def("add_boundary_condition",
            [](Model& M, const std::string& name, IArray nodes, bool x, bool y, double dir_x,
               double dir_y, const std::string& kind, double value, double ramp_time, DArray t, DArray v) {

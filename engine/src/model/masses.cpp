@@ -143,6 +143,28 @@ void Model::report_added_mass() {
   stable_.scaled_nodes = scaled_nodes_;
 }
 
+int32_t Model::reset_contact_masses() {
+  Nodes& N = nodes_;
+  const std::vector<double> m_old = N.mass;
+  std::fill(N.mass_floor.begin(), N.mass_floor.end(), 0.0);
+  prepared_ = false;
+  stable_current_ = false;
+  prepare();
+  // velocities stay: at rest the change is tiny, and it is booked
+  double before = 0.0, after = 0.0;
+  for (int32_t i = 0; i < N.size(); ++i) {
+    if (N.constrained[i]) continue;
+    const double v2 = N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i];
+    before += 0.5 * m_old[i] * v2;
+    after += 0.5 * N.mass[i] * v2;
+  }
+  energy_.damping += before - after;
+  if (!(contact_possible_ && std::isfinite(contact_reach_) && mass_scaling_dt_ > 0.0)) return 0;
+  reach_x_ = N.x;  // the reach guard measures moves from here
+  reach_y_ = N.y;
+  return raise_contact_masses();  // only the nodes that need more than they have
+}
+
 void Model::set_mass_floor(const std::vector<double>& floor) {
   if (int64_t(floor.size()) != nodes_.size())
     bad("mass floor must have one entry per node (" + std::to_string(nodes_.size()) + ")");

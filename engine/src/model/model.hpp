@@ -98,6 +98,13 @@ class Model {
   // Per-node mass floors [kg/m] (a checkpoint's Nodes::mass_floor). Throws
   // std::invalid_argument on a size or a negative or non-finite value.
   void set_mass_floor(const std::vector<double>& floor);
+  // After a phase at a larger mass-scaling step (the settle's dynamic
+  // relaxation) and set_mass_scaling/set_dt back to the smaller one: drops the
+  // mass floors the larger step raised, takes the masses of the current
+  // target, books the kinetic energy this changes as damping, and raises the
+  // nodes the present configuration needs for the current dt (blocks now
+  // within contact reach of stiffer boundaries). Returns the nodes raised.
+  int32_t reset_contact_masses();
   int32_t raised_nodes() const { return raised_nodes_; }
   int32_t asleep_nodes() const;
   // Triangles the next force evaluation computes (all of them unless sleeping).
