@@ -291,3 +291,18 @@ def test_a_settle_at_a_larger_step_rests_in_the_same_balance_and_loads_at_the_lo
 def test_the_settle_step_must_exceed_the_loadings():
     with pytest.raises(ValueError, match="settle_mass_scaling_dt"):
         RunOptions(mass_scaling_dt=2e-6, settle_mass_scaling_dt=1e-6)
+
+
+def test_a_run_stopped_while_settling_at_the_larger_step_resumes_into_the_same_run(mesh_path, tmp_path):
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
+                       options=RunOptions(**opts)).model.stable_time_step()["dt"]
+    opts["settle_mass_scaling_dt"] = 4 * dt0
+    PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts)).run()
+    run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(stop_after_steps=50, **opts))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    assert run.phase == "settle"
+    PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts)).run(resume=True)
+    with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
