@@ -10,13 +10,9 @@ import numpy as np
 from yade import Vector3, polyhedra_utils
 from yade.wrapper import O
 
-from .scene import KIND_BLOCK, KIND_LAYER
+from .scene import INSET, KIND_BLOCK, KIND_LAYER
 
 DT_SAFETY = 0.5
-# [m] every body's outline moved inward: faces that coincide exactly make YADE's
-# polyhedra overlap run away; 10 um apart they do not, and the gap is closed at
-# once under load (2 mm, the mesh's eps_sep, delayed contact by 2 mm of travel)
-INSET = 1e-5
 
 
 def prism(mat, corners, fixed=False):

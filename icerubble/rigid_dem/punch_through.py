@@ -29,7 +29,7 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
 from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress
-from ..run.punch_through_run import STOP_SIGNALS, RunInterrupted
+from ..run.punch_through_run import ENERGY_EVERY, STOP_SIGNALS, RunInterrupted
 from ..run.recorder import RunRecorder
 from . import checkpoint
 from .energy import RigidLedger
@@ -44,7 +44,6 @@ SETTLE_SPEED = 1e-3      # [m/s] every block slower than this: at rest
 SETTLE_MIN, SETTLE_MAX = 0.2, 5.0   # [s] simulated
 SAMPLE_TRAVEL = 1e-4     # [m] force samples at least this often
 HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
-ENERGY_EVERY = 10        # force samples per energy sample, as the FEM-DEM run
 
 
 class RigidPunchThrough:
@@ -182,7 +181,6 @@ class RigidPunchThrough:
         self.build()
         if resume and os.path.exists(self.ckpt_path):
             checkpoint.restore(self, self.ckpt_path)
-            self.loading = True
             print(f"[rigid punch-through] resumed from {self.ckpt_path} at step {O.iter}, "
                   f"y_I = {1e3 * self.y_prev:.3f} mm", flush=True)
         else:
@@ -207,11 +205,12 @@ class RigidPunchThrough:
         prog = Progress(target_travel=1.0, label="rigid settle")
         while True:
             O.run(chunk, True)
+            self._stop_if_signalled("settle")
             speed = self._max_block_speed()
             prog.update(O.iter, O.time, 0.0, extra=f"fastest body {speed:.2g} m/s")
             if not math.isfinite(speed):
                 raise RuntimeError(f"rigid run unstable while settling at t = {O.time:.3g} s (a block's speed "
-                                   "is not finite); dt = {self.dt:.3g} s")
+                                   f"is not finite); dt = {self.dt:.3g} s")
             if O.time >= SETTLE_MIN and speed < SETTLE_SPEED:
                 break
             if O.time >= SETTLE_MAX:
@@ -228,6 +227,7 @@ class RigidPunchThrough:
         self.coupling.water.drag = True
         n_hold = max(20, int(round(HOLD_TIME / self.dt)))
         O.run(n_hold // 2, True)
+        self._stop_if_signalled("hold")
         held = []
         for _ in range(10):
             O.run(max(1, n_hold // 20), True)
@@ -248,6 +248,13 @@ class RigidPunchThrough:
               f"{self.settle_speed:.2g} m/s); indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
         self.work, self.y_prev, self.F_prev, self.y_sample, self.t_sample = 0.0, 0.0, 0.0, 0.0, []
         self.done = False
+
+    def _stop_if_signalled(self, phase):
+        """A scheduler's stop before loading: no checkpoint (a run asked again
+        settles again), but the stop is prompt, with the batch script's exit 75."""
+        if self._stop_signal is not None:
+            raise RunInterrupted(f"stopped by {signal.Signals(self._stop_signal).name} at step {O.iter} ({phase}, "
+                                 "before loading: no checkpoint, a rerun settles again)")
 
     def make_ledger(self):
         free = np.zeros(len(self.sc["body_kind"]), bool)

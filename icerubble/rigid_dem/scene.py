@@ -25,6 +25,10 @@ from .. import parameters as P
 from ..geometry.bond_points import bond_pairs, find_bond_points
 
 KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
+# [m] every body's outline moved inward: faces that coincide exactly make YADE's
+# polyhedra overlap run away; 10 um apart they do not, and the gap is closed at
+# once under load (2 mm, the mesh's eps_sep, delayed contact by 2 mm of travel)
+INSET = 1e-5
 
 
 def body_outline(nodes, triangles, straight=1e-9):

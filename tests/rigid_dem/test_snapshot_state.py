@@ -10,13 +10,12 @@ import h5py
 import numpy as np
 import pytest
 
-from icerubble.rigid_dem.scene import rigid_scene
+from icerubble.rigid_dem.scene import INSET, rigid_scene
 from icerubble.rigid_dem.snapshot import fem_dem_state, read_result, result_mesh, result_params
 from icerubble.rigid_dem.water import polygon_frame
 from icerubble.run.recorder import RunRecorder
 from tests.paths import ROOT
 
-INSET = 1e-5   # punch_through.INSET (that module needs YADE)
 
 
 def edited(src, dst, edit):

@@ -3,7 +3,7 @@ while loading, and resumed from its checkpoint (tests/rigid_dem/test_rigid_resum
 Run inside YADE, one thread: `yade -n -x tests/rigid_dem/yade_resume_scene.py`
 with in the environment MESH (the ridge's mesh file), OUT (the result file),
 RUN_ID, and SIGNAL_AFTER (load steps after which the run sends itself SIGTERM;
-absent: resume). The parameters are those of the table line
+absent: resume) or SIGNAL_SETTLING (a step of the settle to send it at). The parameters are those of the table line
 `'tiny' 'rigid-dem' 0.3` (conftest.TINY_TABLE). Exit 75 when stopped, as
 yade_scripts/punch_through.py."""
 import os
@@ -20,18 +20,19 @@ from icerubble.run.presets import scene  # noqa: E402
 from icerubble.run.punch_through_run import RunInterrupted  # noqa: E402
 
 params = P.validate(dict(scene("tiny")["params"], mu=0.3))
-after = os.environ.get("SIGNAL_AFTER")
+after, settling = os.environ.get("SIGNAL_AFTER"), os.environ.get("SIGNAL_SETTLING")
 run = RigidPunchThrough(os.environ["MESH"], os.environ["OUT"], params, meta=dict(run_id=os.environ["RUN_ID"]))
-if after:
+if after or settling:
     step = run.each_step
 
     def each_step():   # the scheduler: one SIGTERM, mid-chunk
         step()
-        if run.loading and O.iter - run.iter_load == int(after):
+        if (after and run.loading and O.iter - run.iter_load == int(after)) or (
+                settling and not run.loading and O.iter == int(settling)):
             os.kill(os.getpid(), signal.SIGTERM)
     run.each_step = each_step
 try:
-    run.run(resume=not after)
+    run.run(resume=not (after or settling))
 except RunInterrupted as e:
     print("STOPPED", e, flush=True)
     sys.exit(75)
