@@ -15,7 +15,6 @@ nothing of its own buoyancy is in F).
 import math
 import os
 import signal
-import threading
 import time
 
 import numpy as np
@@ -29,7 +28,7 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
 from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress
-from ..run.punch_through_run import ENERGY_EVERY, STOP_SIGNALS, RunInterrupted
+from ..run.punch_through_run import ENERGY_EVERY, RunInterrupted, catching_stop_signals
 from ..run.recorder import RunRecorder
 from . import checkpoint
 from .energy import RigidLedger
@@ -165,17 +164,8 @@ class RigidPunchThrough:
         it was; a run stopped while settling starts again. SIGTERM and SIGUSR1
         (a scheduler's stop) write the checkpoint after the current chunk and
         raise RunInterrupted."""
-        self._stop_signal = None
-        catch = threading.current_thread() is threading.main_thread()
-        previous = {s: signal.signal(s, self._on_stop_signal) for s in STOP_SIGNALS} if catch else {}
-        try:
+        with catching_stop_signals(self):
             return self._run(resume)
-        finally:
-            for s, h in previous.items():
-                signal.signal(s, h)
-
-    def _on_stop_signal(self, signum, frame):
-        self._stop_signal = signum
 
     def _run(self, resume):
         self.build()

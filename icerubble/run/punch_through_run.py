@@ -16,6 +16,7 @@ the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
 before it stops a job) writes its checkpoint at once and stops with
 RunInterrupted.
 """
+import contextlib
 import json
 import math
 import os
@@ -55,6 +56,25 @@ STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1)
 class RunInterrupted(RuntimeError):
     """The run stopped on a signal after writing its checkpoint: running it
     again with resume=True continues it, bit for bit."""
+
+
+@contextlib.contextmanager
+def catching_stop_signals(run):
+    """While inside: SIGTERM and SIGUSR1 only set run._stop_signal (the run
+    checks it between its chunks of steps); the previous handlers come back
+    after. Outside the main thread (where Python takes no handlers) nothing
+    is caught."""
+    run._stop_signal = None
+
+    def note(signum, frame):
+        run._stop_signal = signum
+    catch = threading.current_thread() is threading.main_thread()
+    previous = {s: signal.signal(s, note) for s in STOP_SIGNALS} if catch else {}
+    try:
+        yield
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
 
 
 def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
@@ -229,17 +249,8 @@ class PunchThrough:
     def run(self, resume=False):
         # a signal only sets a flag: the run stops at the end of its chunk of
         # steps (< 1 s), where the state is whole, after writing its checkpoint
-        self._stop_signal = None
-        catch = threading.current_thread() is threading.main_thread()
-        previous = {s: signal.signal(s, self._on_stop_signal) for s in STOP_SIGNALS} if catch else {}
-        try:
+        with catching_stop_signals(self):
             return self._run(resume)
-        finally:
-            for s, h in previous.items():
-                signal.signal(s, h)
-
-    def _on_stop_signal(self, signum, frame):
-        self._stop_signal = signum
 
     def _run(self, resume):
         if resume and os.path.exists(self.ckpt_path):
