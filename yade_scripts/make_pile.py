@@ -188,7 +188,7 @@ def main():
     mat_ice = PolyhedraMat(density=P.rho_i, young=P.E_settle, poisson=0.3, frictionAngle=0.0)
     O.materials.append(mat_ice)
     W, bottom = P.domain_width, corners[:, :, 1].min() - 1.0
-    fixed_ids = O.bodies.append([
+    O.bodies.append([
         prism(mat_ice, box(-0.5 * W - 2.0, 0.5 * W + 2.0, top, top + P.layer_thickness), fixed=True),
         prism(mat_ice, box(-0.5 * W - 1.0, -0.5 * W, bottom, top), fixed=True),
         prism(mat_ice, box(0.5 * W, 0.5 * W + 1.0, bottom, top), fixed=True),

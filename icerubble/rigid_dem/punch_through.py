@@ -12,6 +12,7 @@ engine's smooth ramp to the target travel. F is the force of the rubble on the
 driven indenter (contacts, friction, bonds; the water is not applied to it, so
 nothing of its own buoyancy is in F).
 """
+import builtins
 import math
 import os
 import signal
@@ -20,10 +21,7 @@ import time
 import numpy as np
 import yade.log
 from yade import Vector3
-from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider, Bo1_Polyhedra_Aabb,
-                          InteractionLoop, Ig2_Polyhedra_Polyhedra_PolyhedraGeom,
-                          Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys,
-                          Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator, PyRunner)
+from yade.wrapper import O
 
 from .. import _engine
 from ..files.mesh_file import read_mesh
@@ -32,9 +30,9 @@ from ..run.punch_through_run import ENERGY_EVERY, RunInterrupted, catching_stop_
 from ..run.recorder import RunRecorder
 from . import checkpoint
 from .energy import RigidLedger
-from .prisms import bond_arrays, inertia_z, place_bodies, rigid_step
+from .prisms import inertia_z
 from .scene import KIND_BLOCK, rigid_scene
-from .yade_coupling import Coupling
+from .yade_state import load_into_yade
 
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
 
@@ -60,43 +58,20 @@ class RigidPunchThrough:
 
     # --- the YADE scene -----------------------------------------------------
     def build(self):
-        p, sc = self.params, self.sc
+        """The ridge as YADE prisms with the coupling (yade_state.load_into_yade),
+        set up to settle: Cundall damping, bonds held intact, no drag."""
+        sc = self.sc
         O.reset()
-        mat = PolyhedraMat(density=p["rho_i"], young=p["E"], poisson=p["nu"], frictionAngle=0.0)
-        O.materials.append(mat)
+        st = load_into_yade(sc, damping=SETTLE_DAMPING, failure=False, drag=False,
+                            step_command="_rigid_run.each_step()")
         kind = sc["body_kind"]
-        # YADE polyhedra are convex: each outline becomes its convex hull (the
-        # largest area gained is recorded). Its overlap degenerates (runaway
-        # forces) for faces that coincide exactly, as bonded faces of the mesh
-        # and the indenter's sides on the layer's cut faces do: every body is
-        # inset by INSET, so neighbours start 2 INSET apart (the bonds span it);
-        # the indenter moves only up and down (the layer guides it)
-        ids, polys, gain = place_bodies(mat, sc)
-        self.hull_added_area = float(gain.max())   # worst block's area gained by its hull
-        if list(ids) != list(range(len(kind))):
+        if list(st.ids) != list(range(len(kind))):
             raise RuntimeError("YADE numbered the bodies other than the mesh: expected 0..n-1")
+        self.hull_added_area = st.hull_added_area   # worst block's area gained by its hull
         self.blocks = np.flatnonzero(kind == KIND_BLOCK)
         self.indenter = sc["indenter"]
-        self.floating = np.append(self.blocks, self.indenter)   # free while settling
-        # the step: a chain of blocks face to face (the thinnest block), and each
-        # block on its bond springs (translation and rotation)
-        self.dt, t_min = rigid_step(sc, ids, polys)
-        O.dt = self.dt
-        bonds = bond_arrays(sc, ids)
-        k_n = 0.5 * p["E"]
-        self.coupling = Coupling(self.floating, mu=p["mu"], k_t=k_n * t_min, dt=self.dt,
-                                 water=dict(params=p, y_w=sc["y_w"]), bonds=bonds)
-        self.coupling.bonds.failure = False
-        self.coupling.water.drag = False
-        self.newton = NewtonIntegrator(damping=SETTLE_DAMPING, gravity=(0.0, -p["g"], 0.0))
-        O.engines = [ForceResetter(),
-                     InsertionSortCollider([Bo1_Polyhedra_Aabb()], verletDist=0.05 * t_min),
-                     InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
-                                     [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
-                                     [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),
-                     PyRunner(iterPeriod=1, command='_rigid_run.each_step()'),
-                     self.newton]
-        import builtins
+        self.floating = np.append(self.blocks, self.indenter)   # free while settling, the coupling's order
+        self.dt, self.coupling, self.newton = st.dt, st.coupling, st.newton
         builtins._rigid_run = self   # PyRunner commands run in YADE's __main__ namespace
         self.loading = False
         self.body0 = self._poses()

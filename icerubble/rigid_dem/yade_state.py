@@ -17,7 +17,8 @@ sc["bond_split"] says which). The laws are as while loading: no damping,
 drag and bond failure on, the indenter free in the water (a driver that
 drives it sets coupling.dry and its velocity, as build's run does).
 
-The bodies, step and bonds are those of prisms.py, as build() makes them.
+The bodies, step and bonds are those of prisms.py; RigidPunchThrough.build
+makes its scene with load_into_yade too.
 """
 import builtins
 from dataclasses import dataclass
@@ -47,12 +48,13 @@ class LoadedState:
     newton: NewtonIntegrator
 
 
-def load_into_yade(sc, damping=0.0, failure=True, drag=True):
+def load_into_yade(sc, damping=0.0, failure=True, drag=True, step_command="_loaded_state.coupling()"):
     """`sc` into the current YADE scene (call O.reset() first for a scene of
     its own): material, bodies, O.dt, the coupling (friction, water, bonds
     anchored as placed) and O.engines with it. `damping`: Cundall's, as
-    NewtonIntegrator's; `failure`, `drag`: the bonds' and the water's switches.
-    Returns a LoadedState."""
+    NewtonIntegrator's; `failure`, `drag`: the bonds' and the water's switches;
+    `step_command`: what the PyRunner runs each step (default: the coupling,
+    as `_loaded_state`, the LoadedState returned). Returns a LoadedState."""
     p = sc["params"]
     mat = PolyhedraMat(density=p["rho_i"], young=p["E"], poisson=p["nu"], frictionAngle=0.0)
     O.materials.append(mat)
@@ -74,6 +76,6 @@ def load_into_yade(sc, damping=0.0, failure=True, drag=True):
                  InteractionLoop([Ig2_Polyhedra_Polyhedra_PolyhedraGeom()],
                                  [Ip2_PolyhedraMat_PolyhedraMat_PolyhedraPhys()],
                                  [Law2_PolyhedraGeom_PolyhedraPhys_Volumetric()]),
-                 PyRunner(iterPeriod=1, command='_loaded_state.coupling()'),
+                 PyRunner(iterPeriod=1, command=step_command),
                  newton]
     return st
