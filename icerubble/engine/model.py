@@ -343,6 +343,12 @@ class Model:
         """The stable step and its limits (element, contact, drag) as a dict."""
         return self._m.stable_step()
 
+    def reset_contact_masses(self):
+        """Back from a larger mass-scaling step (set mass_scaling_dt and dt back
+        first): the larger step's mass raises dropped, the current target's
+        masses, the raises the present configuration needs; returns how many."""
+        return self._m.reset_contact_masses()
+
     def reset_energy(self):
         """Restart the energy bookkeeping (e.g. after settling, before loading)."""
         self._m.reset_energy()

@@ -23,7 +23,7 @@ from ..files.h5io import AtomicH5, open_complete
 FORMAT = "icerubble rigid-dem checkpoint"
 
 # the driver's own attributes a checkpoint carries (the rest is rebuilt)
-DRIVER_KEYS = ("t_load", "y0", "work", "y_prev", "F_prev", "y_sample", "t_sample", "done", "ledger_started",
+DRIVER_KEYS = ("t_load", "y0", "work", "y_prev", "F_prev", "y_sample", "t_sample", "done",
                "settle_time", "settle_speed", "F_at_rest", "ref", "body0", "iter_load", "wall_settle_s",
                "wall_load_s")
 

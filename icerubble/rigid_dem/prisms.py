@@ -93,7 +93,7 @@ def min_width(poly):
 
 
 def place_bodies(mat, sc):
-    """Every body of `sc` appended to O.bodies as a prism (build's bodies):
+    """Every body of `sc` appended to O.bodies as a prism:
     returns (YADE ids, outlines as placed, hull area gain per body)."""
     kind = sc["body_kind"]
     hulls = [convex_outline(q) for q in sc["polygons"]]
@@ -105,12 +105,12 @@ def place_bodies(mat, sc):
 
 
 def rigid_step(sc, ids, polys):
-    """build's step for bodies placed by place_bodies: (dt [s], thinnest block t_min [m])."""
+    """The rigid step for bodies placed by place_bodies: (dt [s], thinnest block t_min [m])."""
     p, kind = sc["params"], sc["body_kind"]
     k_n = 0.5 * p["E"]
     t_min = min(min_width(sc["polygons"][b]) for b in np.flatnonzero(kind == KIND_BLOCK))
     dt = 2.0 / math.sqrt(4.0 * k_n / (p["rho_i"] * t_min))
-    # each body on its bond springs (Gershgorin, as build): k_t = beta k or beta^2 k
+    # each body on its bond springs (Gershgorin): k_t = beta k or beta^2 k
     beta = sc["tau_cr"] / sc["sigma_cr"]
     k_max = sc["bond_k"] * np.maximum(1.0, beta if p["force_direction"] == "paper" else beta * beta)
     K = np.zeros(len(kind))

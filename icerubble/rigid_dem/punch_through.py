@@ -26,6 +26,7 @@ from yade.wrapper import O
 from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress
+from ..run.checkpoint import checkpoint_path
 from ..run.punch_through_run import ENERGY_EVERY, RunInterrupted, catching_stop_signals
 from ..run.recorder import RunRecorder
 from . import checkpoint
@@ -48,7 +49,7 @@ class RigidPunchThrough:
         if not checkpoint_every_s > 0.0:
             raise ValueError(f"checkpoint_every_s must be > 0 s (got {checkpoint_every_s})")
         self.mesh_path, self.out = mesh_path, out_path
-        self.ckpt_path = out_path[:-3] + ".checkpoint.h5" if out_path.endswith(".h5") else out_path + ".checkpoint.h5"
+        self.ckpt_path = checkpoint_path(out_path)
         self.checkpoint_every_s = float(checkpoint_every_s)
         self.mesh = read_mesh(mesh_path)
         self.sc = rigid_scene(self.mesh, params)
@@ -88,15 +89,14 @@ class RigidPunchThrough:
         arrays = self.coupling.body_arrays()
         if self.loading:
             _, vel, omega, _ = arrays
-            if self.ledger.pending is not None:
-                self.ledger.advance(vel, omega, O.dt)
+            started = self.ledger.pending is not None   # it holds a step's forces from the first loaded step on
+            self.ledger.advance(vel, omega, O.dt)
             v = float(_engine.ramp_velocity(O.time - self.t_load, self.params["v_final"], self.params["ramp_time"]))
             O.bodies[self.indenter].state.vel = Vector3(0.0, -v, 0.0)
             vel[self.indenter] = (0.0, -v)
-            if not self.ledger_started:
+            if not started:
                 b = self.coupling.bonds
                 self.ledger.start(vel, omega, b.stored_energy(), self.coupling.friction.forces)
-                self.ledger_started = True
         self.coupling(arrays)
         if self.loading:
             self.ledger.hold(arrays[1], arrays[2], self.coupling.terms)
@@ -204,7 +204,6 @@ class RigidPunchThrough:
         self.coupling.bonds.failure = True
         self.coupling.keep_terms = True
         self.ledger = self.make_ledger()
-        self.ledger_started = False
         self.loading, self.t_load = True, O.time
         self.y0 = ind.state.pos[1]
         self.rec = self._recorder(ref_pos, ref_theta)

@@ -5,6 +5,7 @@ Written atomically (icerubble.files.h5io.AtomicH5), so a checkpoint on disk is
 always a complete one; a run killed while writing keeps the previous one.
 """
 import json
+import os
 
 import h5py
 import numpy as np
@@ -15,6 +16,12 @@ from .recorder import ENERGY_TERMS
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
 DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
                  "settle_max_speed", "settle_max_block_move", "load_steps", "load_element_steps")
+
+
+def checkpoint_path(out_path):
+    """Where the run writing result `out_path` (NAME.h5) keeps its checkpoint."""
+    out_path = os.fspath(out_path)
+    return (out_path[:-3] if out_path.endswith(".h5") else out_path) + ".checkpoint.h5"
 
 
 def save(run, path):

@@ -87,7 +87,7 @@ NUMERICS = {
         # 3 mm (the reach guard raises a node's mass when a block comes closer);
         # on ridge 1 that makes 1e-6 s with 0.97 % added mass (1.34 % at 0.1 m)
         # and they settle at twice their loading step (dynamic relaxation with
-        # 26 % / 37 % more inertial mass on the boundary nodes: the settle's
+        # 26 % / 46 % more inertial mass on the boundary nodes: the settle's
         # steps halve; docs/model.md §3 "A larger step while settling")
         "balanced": dict(dt_fraction=0.8, mass_scaling_dt=1e-6, contact_reach=0.003,
                          settle_mass_scaling_dt=2e-6),

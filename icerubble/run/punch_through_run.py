@@ -176,7 +176,7 @@ class PunchThrough:
         self.out_path = os.fspath(out_path)
         if not self.out_path.endswith(".h5"):
             raise ValueError(f"out_path={out_path!r} must end in .h5")
-        self.ckpt_path = self.out_path[:-3] + ".checkpoint.h5"
+        self.ckpt_path = ckpt.checkpoint_path(self.out_path)
         self.meta = dict(ridge="", seed=-1, model="fem-dem")
         self.meta.update(meta or {})
         self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
@@ -420,14 +420,13 @@ class PunchThrough:
         (engine reset_contact_masses)."""
         m, o = self.model, self.options
         if on:
-            self.settle_dt_load = m.dt
             fraction = m.dt / m.stable_time_step()["dt"]
             m.set(mass_scaling_dt=o.settle_mass_scaling_dt)
             m.set(dt=fraction * m.stable_time_step()["dt"])
         else:
             m.set(mass_scaling_dt=o.mass_scaling_dt or 0.0)
-            m.set(dt=self.settle_dt_load)
-            m._m.reset_contact_masses()
+            m.set(dt=self.params["dt"])
+            m.reset_contact_masses()
 
     def load(self):
         m, p, o = self.model, self.params, self.options
