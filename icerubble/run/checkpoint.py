@@ -118,6 +118,7 @@ def restore(run, path):
             setattr(run, k, v.item() if hasattr(v, "item") else v)
         run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
         run.model = run.scene.restore(read_tree(f["engine"]))
+        run._configure_numerics(run.model)
         run.apply_boundary_conditions()
         r = f["recorder"]
         s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],

@@ -187,16 +187,12 @@ class PunchThrough:
                            indenter_thickness=sc.indenter_thickness,
                            layer_thickness=sc.layer_thickness,
                            domain_width=float(self.mesh["attrs"]["domain_width"]))
+        self._configure_numerics(self.scene.model)
         if math.isfinite(self.options.contact_reach):
-            # before the mass scaling, which bounds the contact step with it
-            self.scene.model.set(contact_reach=self.options.contact_reach)
             self.meta.update(contact_reach=self.options.contact_reach)
         if self.options.numerics:
             self.meta.update(numerics=self.options.numerics)
         if self.options.mass_scaling_dt is not None:
-            # the few light nodes of tiny elements get inertial mass (never
-            # weight) so that the stable step reaches this target; recorded
-            self.scene.model.set(mass_scaling_dt=self.options.mass_scaling_dt)
             st = self.scene.model.stable_time_step()
             self.meta.update(mass_scaling_dt=self.options.mass_scaling_dt,
                              added_mass_fraction=st["added_mass_fraction"],
@@ -241,6 +237,18 @@ class PunchThrough:
         self.load_element_steps = 0  # ... and the triangles they computed (sleeping far field)
         self.vtu_entries = []
         self.model = m
+
+    def _configure_numerics(self, m):
+        """The contact step's reach and the loading's mass scaling, on a model
+        just built or rebuilt from a checkpoint (a resumed run needs the same
+        masses and bound, or its dt is above the unscaled stable step)."""
+        if math.isfinite(self.options.contact_reach):
+            # before the mass scaling, which bounds the contact step with it
+            m.set(contact_reach=self.options.contact_reach)
+        if self.options.mass_scaling_dt is not None:
+            # the few light nodes of tiny elements get inertial mass (never
+            # weight) so that the stable step reaches this target
+            m.set(mass_scaling_dt=self.options.mass_scaling_dt)
 
     # ------------------------------------------------------------------
     def travel(self):

@@ -306,3 +306,31 @@ def test_a_run_stopped_while_settling_at_the_larger_step_resumes_into_the_same_r
     PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts)).run(resume=True)
     with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
+
+
+@pytest.mark.parametrize("phase_stop", ["load", "settle"])
+def test_a_mass_scaled_run_with_a_contact_reach_resumes_into_the_same_run(mesh_path, tmp_path, phase_stop):
+    """The `balanced`/`fast` numerics (mass scaling to a target step, the
+    contact step bound within a reach, a settle at a larger step): the model
+    rebuilt from a checkpoint gets the same masses and step bound again, so a
+    resumed run is the uninterrupted one bit for bit. Before, a resumed run had
+    neither and stopped at its first step (its dt above the unscaled bound)."""
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
+                       options=RunOptions(**opts)).model.stable_time_step()["dt"]
+    opts.update(mass_scaling_dt=1.5 * dt0, contact_reach=0.05, settle_mass_scaling_dt=3 * dt0)
+    whole = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
+    assert whole.meta["added_mass_fraction"] > 0
+    whole.run()
+    stop = 50 if phase_stop == "settle" else whole.model.step_count - 2000
+    run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
+                       options=RunOptions(stop_after_steps=stop, **opts))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    assert run.phase == phase_stop
+    again = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts))
+    again.run(resume=True)
+    np.testing.assert_array_equal(again.model.mass, whole.model.mass)
+    with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
+        np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
