@@ -70,15 +70,14 @@ PARAMETERS = {
     "contact_reach": (float("inf"), "the contact stable step counts only the boundaries within this "
                                     "distance of each edge [m], > 0; inf = the whole mesh (re-checked "
                                     "as nodes move, docs/engine_api.md)"),
-    "sleeping": (False, "sleeping far field on/off: nodes at rest are held and the triangles among "
-                        "them not computed (docs/model.md §3.5)"),
-    "sleep_velocity": (1e-4, "a node is at rest below this speed [m/s], >= 0"),
-    "sleep_force": (1e-3, "... and below this out-of-balance force, a fraction of its weight m g, "
-                          ">= 0; an asleep node wakes above it"),
-    "sleep_quiet_steps": (100, "... for this many steps in a row, >= 1"),
+    "sleeping": (False, "sleeping far field on/off: bodies at rest are held and their triangles not "
+                        "computed (engine/src/model/sleeping.hpp)"),
+    "sleep_velocity": (1e-4, "a body is at rest when every node of it is slower than this [m/s], >= 0, ..."),
+    "sleep_force": (1e-3, "... and its mean resultant force and moment are below this fraction of its "
+                          "weight, >= 0; an asleep node wakes when its force changes by this fraction "
+                          "of its own weight"),
+    "sleep_quiet_steps": (100, "... over a window of this many steps, >= 1"),
 }
-
-
 SLEEP_PARAMETERS = ("sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps")
 
 
@@ -621,8 +620,14 @@ class Model:
             z = cp["sleep_state"]
             self.set(sleeping=bool(np.asarray(z["sleeping"])), sleep_velocity=float(z["sleep_velocity"]),
                      sleep_force=float(z["sleep_force"]), sleep_quiet_steps=int(z["sleep_quiet_steps"]))
-            self._m.restore_sleep_state(np.asarray(z["sleep"], dtype=np.uint8),
-                                        np.asarray(z["quiet"], dtype=np.int32))
+            if "f_ref_x" in z:
+                self._m.restore_sleep_state(
+                    np.asarray(z["sleep"], dtype=np.uint8), np.asarray(z["quiet"], dtype=np.int32),
+                    np.asarray(z["f_ref_x"], dtype=float), np.asarray(z["f_ref_y"], dtype=float),
+                    int(np.asarray(z["window_start_step"])), float(np.asarray(z["window_start_time"])),
+                    *(np.asarray(z["window_" + k], dtype=float) for k in ("cx", "cy", "px", "py", "l")))
+            else:  # a checkpoint of the node-level sleeping (before physics version 3): all awake
+                self._m.wake_all()
 
 
 class BondsView:

@@ -20,6 +20,12 @@ std::vector<T> to_vector(const A& a) {
   return std::vector<T>(a.data(), a.data() + a.size());
 }
 
+// A numpy copy of an engine array.
+template <class T>
+py::array_t<T> as_array(const std::vector<T>& v) {
+  return py::array_t<T>(ssize_t(v.size()), v.data());
+}
+
 // A numpy view on an engine array; keeps the model alive. Valid until the
 // array is reallocated (node splitting appends nodes).
 template <class T>
@@ -173,17 +179,45 @@ void bind_model(py::module_& m) {
       .def("set_contact_reach", &Model::set_contact_reach, py::arg("reach"))
       .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),
            py::arg("quiet_steps"),
-           "Sleeping far field (engine/src/model/sleeping.hpp): nodes at rest for quiet_steps updates\n"
-           "(speed < velocity [m/s], force < force x weight) are held and their triangles not computed.")
+           "Sleeping far field (engine/src/model/sleeping.hpp): a body whose nodes were all slower than\n"
+           "velocity [m/s] for quiet_steps updates, in balance over them to force x its weight, is held\n"
+           "and its triangles are not computed; it wakes when a node's force changes by force x its weight.")
+      .def("wake_all", &Model::wake_all)
       .def("asleep_nodes", &Model::asleep_nodes)
       .def("awake_triangles", &Model::awake_triangles)
       .def("sleep_state", [](const Model& M) {
+        const SleepState s = M.sleep_state();
         py::dict d;
-        d["sleep"] = py::array_t<uint8_t>(M.nodes().sleep.size(), M.nodes().sleep.data());
-        d["quiet"] = py::array_t<int32_t>(M.nodes().quiet.size(), M.nodes().quiet.data());
+        d["sleep"] = as_array(s.sleep);
+        d["quiet"] = as_array(s.quiet);
+        d["f_ref_x"] = as_array(s.f_ref_x);
+        d["f_ref_y"] = as_array(s.f_ref_y);
+        d["window_start_step"] = s.window.start_step;
+        d["window_start_time"] = s.window.start_time;
+        for (const auto& [k, v] : {std::pair<const char*, const std::vector<double>*>{"window_cx", &s.window.cx},
+                                   {"window_cy", &s.window.cy}, {"window_px", &s.window.px},
+                                   {"window_py", &s.window.py}, {"window_l", &s.window.l}})
+          d[k] = as_array(*v);
         return d;
       })
-      .def("restore_sleep_state", &Model::restore_sleep_state, py::arg("sleep"), py::arg("quiet"))
+      .def("restore_sleep_state", [](Model& M, std::vector<uint8_t> sleep, std::vector<int32_t> quiet,
+                                     std::vector<double> f_ref_x, std::vector<double> f_ref_y,
+                                     int64_t window_start_step, double window_start_time, std::vector<double> cx,
+                                     std::vector<double> cy, std::vector<double> px, std::vector<double> py,
+                                     std::vector<double> l) {
+        SleepWindow w;
+        w.start_step = window_start_step;
+        w.start_time = window_start_time;
+        w.cx = std::move(cx);
+        w.cy = std::move(cy);
+        w.px = std::move(px);
+        w.py = std::move(py);
+        w.l = std::move(l);
+        M.restore_sleep_state(SleepState{std::move(sleep), std::move(quiet), std::move(f_ref_x),
+                                         std::move(f_ref_y), std::move(w)});
+      }, py::arg("sleep"), py::arg("quiet"), py::arg("f_ref_x"), py::arg("f_ref_y"),
+         py::arg("window_start_step"), py::arg("window_start_time"), py::arg("window_cx"),
+         py::arg("window_cy"), py::arg("window_px"), py::arg("window_py"), py::arg("window_l"))
       .def("mass_floor", [](const Model& M) {
         return py::array_t<double>(M.nodes().mass_floor.size(), M.nodes().mass_floor.data());
       })

@@ -46,10 +46,12 @@ struct Nodes {
   std::vector<uint8_t> constrained;        // bit 0: x prescribed, bit 1: y
   std::vector<double> v_bc_x, v_bc_y;      // prescribed velocity at t + dt/2
   // Sleeping far field (model/sleeping.hpp): 0 awake, 1 fell asleep at the
-  // last update, 2 asleep since an earlier one; and how many updates in a row
-  // an awake node has been at rest.
+  // last update, 2 asleep since an earlier one; how many updates in a row
+  // an awake node has been slower than the sleep velocity; and an asleep
+  // node's total force at its first frozen update (what it wakes against).
   std::vector<uint8_t> sleep;
   std::vector<int32_t> quiet;
+  std::vector<double> f_ref_x, f_ref_y;
 
   int32_t size() const { return static_cast<int32_t>(x.size()); }
   // Grows (or shrinks) every array; new entries are zero.

@@ -80,6 +80,7 @@ void Model::step(int64_t n) {
 void Model::advance() {
   compute_forces(History::commit);
   update_positions();           // (7) central difference, work integration
+  if (sleep_.on) update_sleep();  // bodies woken, bodies at rest put to sleep
   guard_stability();
   if (contact_possible_ && std::isfinite(contact_reach_) && step_count_ % kReachCheckEvery == 0)
     guard_contact_reach();
@@ -148,6 +149,9 @@ void Model::update_positions() {
   const SleepParams sp = sleep_;
   // the sleep force is a fraction of the weight at the set g, also with gravity off
   const double g_sleep = ext_.g;
+  if (sleeping && body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
+  uint8_t* body_wake = body_wake_.data();
+  const int32_t* node_body = node_body_.data();
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     Nodes& N = nodes_;
@@ -157,25 +161,30 @@ void Model::update_positions() {
     double kinetic2_new = 0.0, kinetic2_old = 0.0, viscous = 0.0, local_damping = 0.0;
     double contact = 0.0, friction = 0.0, cohesive = 0.0, gravity = 0.0, buoyancy = 0.0;
     double drag = 0.0, boundary = 0.0, elastic_new = 0.0, elastic_old = 0.0;
-    double sleep_loss = 0.0, sleep_changes = 0.0;
+    double sleep_changes = 0.0;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       const double m = N.mass[i];
       const double vox = N.vx[i], voy = N.vy[i];
       const uint8_t c = N.constrained[i];
       if (sleeping && N.sleep[i]) {
-        // held in place (v = 0: no work, no kinetic energy) unless pushed
-        // harder than the sleep force; then it moves on in this very step
-        if (!wakes(sp, N.f_x[i], N.f_y[i], N.mass_phys[i] * g_sleep)) {
-          if (N.sleep[i] == 1) {
-            N.sleep[i] = 2;
-            sleep_changes += 1.0;
-          }
+        // held in place (v = 0: no work, no kinetic energy). Its first frozen
+        // update keeps its force as the reference; after that it wakes when
+        // pushed harder than the sleep force beyond it, and moves on in this
+        // very step (its body wakes after the update)
+        if (N.sleep[i] == 1) {
+          N.f_ref_x[i] = N.f_x[i];
+          N.f_ref_y[i] = N.f_y[i];
+          N.sleep[i] = 2;
+          sleep_changes += 1.0;
           continue;
         }
+        if (!wakes(sp, N.f_x[i] - N.f_ref_x[i], N.f_y[i] - N.f_ref_y[i], N.mass_phys[i] * g_sleep)) continue;
         N.sleep[i] = 0;
         N.quiet[i] = 0;
         sleep_changes += 1.0;
+        #pragma omp atomic write
+        body_wake[node_body[i]] = uint8_t(1);
       }
       double dfx = 0.0, dfy = 0.0;  // local damping force
       if (alpha > 0.0) {
@@ -189,13 +198,7 @@ void Model::update_positions() {
       N.vy[i] = vny;
       N.x[i] += dt * vnx;
       N.y[i] += dt * vny;
-      if (sleeping && !c && falls_asleep(sp, vnx, vny, N.f_x[i], N.f_y[i], N.mass_phys[i] * g_sleep, N.quiet[i])) {
-        // it has moved this step with vn; from now on it rests
-        N.sleep[i] = 1;
-        N.vx[i] = N.vy[i] = 0.0;
-        sleep_loss += m * (vnx * vnx + vny * vny);
-        sleep_changes += 1.0;
-      }
+      if (sleeping && !c) count_quiet(sp, vnx, vny, N.quiet[i]);
       // Midpoint-rule power of each force with v(t) = (v^{n-1/2} + v^{n+1/2})/2.
       const double bx = 0.5 * (vox + vnx), by = 0.5 * (voy + vny);
       const double elx = N.f_int_x[i] - N.f_visc_x[i], ely = N.f_int_y[i] - N.f_visc_y[i];
@@ -214,7 +217,6 @@ void Model::update_positions() {
       elastic_old += elx * vox + ely * voy;
     }
     StepSums& p = partial_[omp_get_thread_num()].s;
-    p.sleep_loss2 = sleep_loss;
     p.sleep_changes = sleep_changes;
     p.kinetic2_new = kinetic2_new;
     p.kinetic2_old = kinetic2_old;
@@ -242,10 +244,8 @@ void Model::update_positions() {
     E.initial = 0.5 * s.kinetic2_old + E.elastic + 0.5 * dt * s.elastic_old;
     E.started = true;
   }
-  // a node falling asleep gives up its (tiny) kinetic energy: booked as damping
-  E.kinetic = 0.5 * (s.kinetic2_new - s.sleep_loss2);
+  E.kinetic = 0.5 * s.kinetic2_new;
   E.damping -= dt * (s.viscous + s.local_damping);
-  E.damping += 0.5 * s.sleep_loss2;
   if (s.sleep_changes > 0.0) awake_current_ = false;
   E.contact -= dt * s.contact;
   E.friction -= dt * s.friction;

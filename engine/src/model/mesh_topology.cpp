@@ -82,6 +82,8 @@ void Model::rebuild_topology() {
     std::vector<int32_t> fill(gather_.start.begin(), gather_.start.end() - 1);
     for (int32_t s = 0; s < 3 * m; ++s) gather_.slot[fill[tris_.node[s]]++] = s;
   }
+  node_body_.resize(size_t(n));
+  for (int32_t i = 0; i < n; ++i) node_body_[i] = tris_.body[gather_.slot[gather_.start[i]] / 3];
   // Boundary edges of each body: used by one triangle of that body only. The
   // mesh may be continuous across bodies (freeze bonds), so count per body.
   std::vector<std::tuple<int32_t, int32_t, int32_t>> edges;
@@ -145,9 +147,12 @@ int32_t Model::split_off(int32_t node, int32_t body) {
   for (BoundaryCondition& bc : bcs_)
     if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
   nodes_.mass_floor[id] = nodes_.mass_floor[node];  // each side keeps what the node needed
-  // a bond event wakes the bond point (both its sides): its forces change
+  // a bond event wakes the bond point's bodies (both its sides): its forces change
   nodes_.sleep[node] = nodes_.sleep[id] = 0;
   nodes_.quiet[node] = nodes_.quiet[id] = 0;
+  if (body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
+  body_wake_[body] = 1;
+  if (size_t(node) < node_body_.size()) body_wake_[node_body_[node]] = 1;
   return id;
 }
 
@@ -162,8 +167,8 @@ bool Model::node_touches_body(int32_t node, int32_t body) const {
 }
 
 int32_t Model::body_of_node(int32_t node) const {
-  if (node < 0 || size_t(node) + 1 >= gather_.start.size()) return -1;
-  return tris_.body[gather_.slot[gather_.start[node]] / 3];
+  if (node < 0 || size_t(node) >= node_body_.size()) return -1;
+  return node_body_[node];
 }
 
 }  // namespace engine

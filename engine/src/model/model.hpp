@@ -92,9 +92,11 @@ class Model {
   void set_sleeping(bool on, double velocity, double force, int32_t quiet_steps);
   // Every node awake, quiet counters reset.
   void wake_all();
-  // Restore Nodes::sleep and Nodes::quiet (a checkpoint). Throws
-  // std::invalid_argument on a size or value out of range.
-  void restore_sleep_state(const std::vector<uint8_t>& sleep, const std::vector<int32_t>& quiet);
+  // The sleep state of every node and the open balance window (a
+  // checkpoint), and its restore. Throws std::invalid_argument on a size or
+  // value out of range.
+  SleepState sleep_state() const;
+  void restore_sleep_state(const SleepState& state);
   // Per-node mass floors [kg/m] (a checkpoint's Nodes::mass_floor). Throws
   // std::invalid_argument on a size or a negative or non-finite value.
   void set_mass_floor(const std::vector<double>& floor);
@@ -203,6 +205,10 @@ class Model {
   void update_positions();          // (7) central difference + work integration
   void guard_stability();
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
+  void update_sleep();             // after an update: wake woken bodies, sleep bodies at rest
+  void open_sleep_window();
+  void body_momenta(const std::vector<double>& cx, const std::vector<double>& cy, std::vector<double>& px,
+                    std::vector<double>& py, std::vector<double>& l) const;
   void guard_contact_reach();      // re-bound the contact step after large moves
   int32_t raise_contact_masses();  // ... and, with mass scaling on, raise the nodes it needs
   void report_added_mass();        // the mass scaling's totals into stable_
@@ -252,6 +258,9 @@ class Model {
   double contact_reach_ = INFINITY;
   std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
   std::vector<int32_t> awake_tris_;  // computed triangles while sleeping is on
+  std::vector<int32_t> node_body_;   // the body of each node's first corner (its sleeping unit)
+  std::vector<uint8_t> body_wake_;   // bodies a node woke in this update
+  SleepWindow window_;
   bool awake_current_ = false;       // awake_tris_ matches the nodes' sleep states
   // A restored model has no stored forces yet: its first evaluation computes
   // every triangle (the sleeping ones at their frozen place, as before).

@@ -22,7 +22,6 @@ struct StepSums {
   double elastic_new = 0.0;    // elastic force . v^{n+1/2}
   double elastic_old = 0.0;    // elastic force . v^{n-1/2}
   double local_damping = 0.0;  // of the local (Cundall) damping forces
-  double sleep_loss2 = 0.0;    // sum m v² of the nodes falling asleep (sleeping.hpp)
   double sleep_changes = 0.0;  // nodes whose sleep state changed
 
   StepSums& operator+=(const StepSums& o) {
@@ -40,7 +39,6 @@ struct StepSums {
     elastic_new += o.elastic_new;
     elastic_old += o.elastic_old;
     local_damping += o.local_damping;
-    sleep_loss2 += o.sleep_loss2;
     sleep_changes += o.sleep_changes;
     return *this;
   }
