@@ -334,3 +334,33 @@ def test_a_mass_scaled_run_with_a_contact_reach_resumes_into_the_same_run(mesh_p
     with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
+
+
+def test_a_run_with_the_sleeping_far_field_resumes_into_the_same_run(mesh_path, tmp_path):
+    """Sleeping on (bricks fall asleep now and then): the checkpoint carries
+    the sleep state, the frozen bodies' reference forces and the open balance
+    window, so the resumed run is the uninterrupted one bit for bit."""
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8,
+                sleep=dict(velocity=1e-3, force=1e-2, quiet_time=2e-3))
+    whole = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
+    asleep_at = []   # load steps (chunk ends) with bodies asleep
+    step = whole.model.step
+
+    def watching(n):
+        step(n)
+        if whole.phase == "load" and whole.model.sleep_counts()["asleep_nodes"] > 0:
+            asleep_at.append(whole.model.step_count)
+    whole.model.step = watching
+    whole.run()
+    assert whole.load_element_steps < whole.load_steps * whole.model.n_triangles   # some slept
+    assert asleep_at
+    run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
+                       options=RunOptions(stop_after_steps=asleep_at[len(asleep_at) // 2], **opts))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    assert run.phase == "load" and run.model.sleep_counts()["asleep_nodes"] > 0
+    again = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts))
+    again.run(resume=True)
+    with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
+        np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])

@@ -44,9 +44,8 @@ void Model::restore_sleep_state(const SleepState& s) {
   nodes_.quiet = s.quiet;
   nodes_.f_ref_x = s.f_ref_x;
   nodes_.f_ref_y = s.f_ref_y;
-  prepare_topology();
   window_ = w;
-  window_.topology = topology_version_;
+  window_.n_nodes = nodes_.size();
   body_wake_.assign(B, 0);
   awake_current_ = false;
   compute_all_next_ = true;
@@ -117,7 +116,7 @@ void Model::open_sleep_window() {
   body_momenta(window_.cx, window_.cy, window_.px, window_.py, window_.l);
   window_.start_step = step_count_;
   window_.start_time = time_;
-  window_.topology = topology_version_;
+  window_.n_nodes = nodes_.size();
 }
 
 // After each update with sleeping on: wake the bodies a node woke, then, at
@@ -135,7 +134,7 @@ void Model::update_sleep() {
     std::fill(body_wake_.begin(), body_wake_.end(), uint8_t(0));
     awake_current_ = false;
   }
-  if (window_.start_step < 0 || window_.topology != topology_version_) {
+  if (window_.start_step < 0 || window_.n_nodes != N.size()) {
     open_sleep_window();
     return;
   }

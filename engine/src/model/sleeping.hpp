@@ -70,7 +70,7 @@ inline bool wakes(const SleepParams& p, double dfx, double dfy, double weight) {
 struct SleepWindow {
   int64_t start_step = -1;  // -1: none open
   double start_time = 0.0;
-  uint64_t topology = 0;    // a split changes the bodies' node sets: reopen
+  int32_t n_nodes = 0;      // a split appends nodes to the bodies' node sets: reopen
   std::vector<double> cx, cy, px, py, l;
 };
 
