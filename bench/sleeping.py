@@ -33,9 +33,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # window of quiet_time [s], force the fraction of its weight its mean
 # resultant stays under (and an asleep node's force may move by)
 THRESHOLDS = [
-    ("sleep 1e-4 m/s, 1e-3", dict(velocity=1e-4, force=1e-3, quiet_time=2e-3)),
-    ("sleep 1e-3 m/s, 1e-3", dict(velocity=1e-3, force=1e-3, quiet_time=2e-3)),
-    ("sleep 1e-3 m/s, 1e-2", dict(velocity=1e-3, force=1e-2, quiet_time=2e-3)),
+    ("sleep 1e-4 m/s, 1e-3, 2 ms", dict(velocity=1e-4, force=1e-3, quiet_time=2e-3)),
+    ("sleep 1e-3 m/s, 1e-2, 10 ms", dict(velocity=1e-3, force=1e-2, quiet_time=1e-2)),
+    ("sleep 3e-3 m/s, 3e-2, 10 ms", dict(velocity=3e-3, force=3e-2, quiet_time=1e-2)),
 ]
 
 

@@ -76,10 +76,11 @@ SCENES = {
 # step recomputed after a bond split could differ from it in the last digits).
 # What each costs in accuracy is measured by bench/runtime_vs_error.py
 # (bench/results/runtime_vs_error.json; README "Speed against accuracy").
-# The sleeping far field (RunOptions sleep) is in no preset: on the demo scene
-# its per-node thresholds let < 3 % of the element work sleep (block
-# vibrations keep node forces at 0.1-0.3 of the node weight across the whole
-# 10 m keel), which costs more than it saves.
+# The sleeping far field (RunOptions sleep) is in no preset: on the 30 m wide
+# keel it lets 4-6 % of the element work of the first 20 mm sleep and moves
+# F^m by 0.9-14 % (bench/sleeping.py): once the first bonds fail, the whole
+# keel rings (blocks 12-15 m from the indenter at 0.1-3 mm/s, mean
+# accelerations of 0.01-0.1 g over 0.5 ms), so no body stays at rest for long.
 NUMERICS = {
     "paper": {
         "paper": dict(dt_fraction=0.8, mass_scaling_dt=2e-7),

@@ -145,7 +145,7 @@ class RunOptions:
                    settle_mass_scaling_dt=settings.get("settle_mass_scaling_dt"), numerics=name, **kw)
 
 
-SLEEP_KEYS = {"velocity": "m/s", "force": "fraction of a node's weight", "quiet_time": "s"}
+SLEEP_KEYS = {"velocity": "m/s", "force": "fraction of a body's (and a node's) weight", "quiet_time": "s"}
 
 
 def check_sleep(sleep):
