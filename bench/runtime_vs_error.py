@@ -2,7 +2,7 @@
 
 A reference run of one scene and ridge (a small time step, nothing skipped),
 then variants that trade accuracy for speed: the time step fraction, the
-sleeping far field and its thresholds, the indenter ramp. For each: wall time
+indenter ramp, the presets (the sleeping far field: bench/sleeping.py). For each: wall time
 of the load phase, element-steps computed, and the errors against the
 reference in F^m, y_I at F^m, F at 5 / 10 / 20 mm, n_t/n_s and the energy
 residual. Writes bench/results/runtime_vs_error.json and a Pareto plot (wall
@@ -31,9 +31,6 @@ from postproc import loads, results
 from postproc.summary import summarize
 
 MEAN_WINDOWS_MM = [(1, 5), (5, 10), (10, 20)]
-# sleeping far field thresholds tried (engine sleeping.hpp)
-SLEEP_DEFAULT = dict(velocity=1e-4, force=1e-3, quiet_time=1e-3)
-SLEEP_LOOSE = dict(velocity=1e-3, force=1e-2, quiet_time=1e-3)
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT_JSON = os.path.join(ROOT, "bench", "results", "runtime_vs_error.json")
 OUT_PNG = os.path.join(ROOT, "bench", "results", "runtime_vs_error.png")
@@ -52,9 +49,6 @@ def variants(scene_name):
         ("dt 0.8 (scene)", opt(), {}),
         ("dt 0.95", opt(dt_fraction=0.95), {}),
         ("dt 1.0", opt(dt_fraction=1.0), {}),
-        ("sleep", opt(sleep=SLEEP_DEFAULT), {}),
-        ("sleep loose", opt(sleep=SLEEP_LOOSE), {}),
-        ("sleep tight", opt(sleep=dict(velocity=1e-5, force=1e-4, quiet_time=1e-3)), {}),
         ("ramp 0.25 s", opt(), {"ramp_time": 0.25}),
         # balanced is the scene's numerics with contact_reach 0.1 (the single change)
         ("preset balanced", RunOptions.from_numerics(numerics(scene_name, "balanced"), name="balanced"), {}),

@@ -58,12 +58,14 @@ def main(argv=None):
         options = RunOptions.from_numerics(dict(settings, sleep=sleep), name=a.numerics)
         desc = f"{a.scene}_r{a.ridge}_{a.numerics}_" + name.replace(" ", "_").replace("/", "").replace(",", "")
         path = os.path.join(a.out_dir, desc + ".h5")
+        fresh = not os.path.exists(path)
         t0 = time.perf_counter()
         run_one(a.scene, ridge=a.ridge, overrides=dict(target_travel=a.travel_mm * 1e-3),
                 out_dir=a.out_dir, description=desc, options=options)
         m = measures(path)
         row = dict(name=name, scene=a.scene, ridge=a.ridge, numerics=a.numerics, travel_mm=a.travel_mm,
-                   sleep=sleep, file=path, wall_s=time.perf_counter() - t0,
+                   sleep=sleep, file=path,
+                   wall_s=time.perf_counter() - t0 if fresh else float("nan"),   # reused: not timed
                    wall_load_s=results.load(path).attrs.get("wall_load_s", float("nan")), **m)
         rows.append(row)
     ref = rows[0]

@@ -582,8 +582,10 @@ class Model:
                                    zip(("keys", "forces"), self._m.contact_warm_start())},
             "sleep_state": dict(self._m.sleep_state(),
                                 **{k: self._params[k] for k in SLEEP_PARAMETERS}),
-            # masses the contact reach guard raised mid-run (0: none)
+            # masses the contact reach guard raised mid-run (0: none), and where
+            # it measures moves from (a resumed run re-checks at the same steps)
             "mass_floor": np.asarray(self._m.mass_floor()),
+            "reach_origin": dict(zip(("x", "y"), self._m.reach_origin())),
         }
 
     @classmethod
@@ -616,18 +618,22 @@ class Model:
                                            np.asarray(w["forces"], dtype=float))
         if "mass_floor" in cp:
             self._m.set_mass_floor(np.asarray(cp["mass_floor"], dtype=float))
+        if "reach_origin" in cp:
+            r = cp["reach_origin"]
+            self._m.set_reach_origin(np.asarray(r["x"], dtype=float), np.asarray(r["y"], dtype=float))
         if "sleep_state" in cp:  # after positions and velocities, which wake every node
             z = cp["sleep_state"]
             self.set(sleeping=bool(np.asarray(z["sleeping"])), sleep_velocity=float(z["sleep_velocity"]),
                      sleep_force=float(z["sleep_force"]), sleep_quiet_steps=int(z["sleep_quiet_steps"]))
-            if "f_ref_x" in z:
-                self._m.restore_sleep_state(
-                    np.asarray(z["sleep"], dtype=np.uint8), np.asarray(z["quiet"], dtype=np.int32),
-                    np.asarray(z["f_ref_x"], dtype=float), np.asarray(z["f_ref_y"], dtype=float),
-                    int(np.asarray(z["window_start_step"])), float(np.asarray(z["window_start_time"])),
-                    *(np.asarray(z["window_" + k], dtype=float) for k in ("cx", "cy", "px", "py", "l")))
-            else:  # a checkpoint of the node-level sleeping (before physics version 3): all awake
-                self._m.wake_all()
+            if "f_ref_x" not in z:
+                raise ValueError("checkpoint holds the node-level sleep state of physics version 2 "
+                                 "(no f_ref_x): it cannot continue under body-level sleeping; start the "
+                                 "run again")
+            self._m.restore_sleep_state(
+                np.asarray(z["sleep"], dtype=np.uint8), np.asarray(z["quiet"], dtype=np.int32),
+                np.asarray(z["f_ref_x"], dtype=float), np.asarray(z["f_ref_y"], dtype=float),
+                int(np.asarray(z["window_start_step"])), float(np.asarray(z["window_start_time"])),
+                *(np.asarray(z["window_" + k], dtype=float) for k in ("cx", "cy", "px", "py", "l")))
 
 
 class BondsView:

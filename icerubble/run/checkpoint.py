@@ -12,6 +12,7 @@ import numpy as np
 
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
 from .recorder import ENERGY_TERMS
+from .run_identity import PHYSICS_VERSION
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
 DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
@@ -32,6 +33,7 @@ def save(run, path):
             d.attrs[k] = np.nan if v is None else v
         d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
         d.attrs["params"] = json.dumps(run.params)
+        d.attrs["physics_version"] = PHYSICS_VERSION
         write_tree(f.create_group("engine"), run.model.checkpoint())
         r = f.create_group("recorder")
         s = run.recorder.state()
@@ -104,6 +106,11 @@ def restore(run, path):
     with open_complete(path, CHECKPOINT_FORMAT) as f:
         check(f)
         d = f["driver"]
+        version = int(d.attrs.get("physics_version", 2))   # absent: written before it was recorded
+        if version != PHYSICS_VERSION:
+            raise ValueError(f"checkpoint {path} was written by physics version {version}, this code is "
+                             f"version {PHYSICS_VERSION} (settling, sleeping or forces changed): it cannot "
+                             "be continued; remove it to start the run again")
         saved = json.loads(d.attrs["params"])
         if saved != run.params:
             diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))

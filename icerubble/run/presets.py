@@ -79,7 +79,7 @@ SCENES = {
 # The sleeping far field (RunOptions sleep) is in no preset: on the 30 m wide
 # keel it lets 4-6 % of the element work of the first 20 mm sleep and moves
 # F^m by 0.9-14 % (bench/sleeping.py): once the first bonds fail, the whole
-# keel rings (blocks 12-15 m from the indenter at 0.1-3 mm/s, mean
+# keel rings (blocks 12-15 m from the indenter at 0.2-3 mm/s, mean
 # accelerations of 0.01-0.1 g over 0.5 ms), so no body stays at rest for long.
 NUMERICS = {
     "paper": {

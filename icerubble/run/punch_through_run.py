@@ -223,8 +223,12 @@ class PunchThrough:
                            body=self.mesh["body"], body_kind=self.scene.body_kind)
         self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
         # node -> body, for the block moves while settling
-        self._node_body = np.full(m.n_nodes, -1, np.int64)
-        self._node_body[np.asarray(m.triangles).ravel()] = np.repeat(np.asarray(m.body), 3)
+        # the engine's rule (sleeping): a node shared by bonded bodies belongs
+        # to the body of its lowest-numbered triangle
+        tri = np.asarray(m.triangles)
+        first = np.full(m.n_nodes, len(tri), np.int64)
+        np.minimum.at(first, tri.ravel(), np.repeat(np.arange(len(tri)), 3))
+        self._node_body = np.where(first < len(tri), np.append(np.asarray(m.body), -1)[first], -1)
         # sqrt(area) of each body: the moment arm of the settle's balance check
         area = np.bincount(np.asarray(m.body), weights=np.asarray(m.area0), minlength=len(self.scene.body_kind))
         self._body_size = np.sqrt(area)
@@ -326,18 +330,19 @@ class PunchThrough:
 
     def _momenta(self):
         """Each body's momentum and angular momentum about its centre of
-        weight, with that centre: (P (B, 2), L (B,), centre (B, 2))."""
+        weight, with that centre: ((P (B, 2), L (B,)), centre (B, 2))."""
         m = self.model
         n = len(self._node_body)
         nb, own = self._node_body, self._node_body >= 0
         B = len(self.scene.body_kind)
-
         x, mg = m.positions[:n], m.mass_phys[:n] * self.params["g"]
         c = np.stack([np.bincount(nb[own], weights=(mg * x[:, k])[own], minlength=B) for k in (0, 1)], axis=1)
         c /= self._body_weight[:, None]
         return self._momenta_about(c), c
 
     def _momenta_about(self, c):
+        """(P (B, 2), L (B,)): momenta with the inertial masses, L about the
+        points c (B, 2)."""
         m = self.model
         n = len(self._node_body)
         nb, own = self._node_body, self._node_body >= 0
@@ -391,6 +396,9 @@ class PunchThrough:
         ids = np.flatnonzero(self.scene.body_kind == 0)
         return ids, np.hypot(ux[ids], uy[ids]) / np.maximum(cnt[ids], 1)
 
+    def _body_kind_name(self, b):
+        return ("a block", "the consolidated layer", "the indenter")[int(self.scene.body_kind[b])]
+
     def _fastest_block_text(self):
         m = self.model
         v = np.hypot(*m.velocities.T)[:len(self._node_body)]
@@ -437,9 +445,9 @@ class PunchThrough:
                             f"{self.params['mu']:g}: make it at the lowest mu it is run at (mu_settle)")
                 raise RuntimeError(
                     f"the scene did not come to rest within settle_max_time={o.settle_max_time} s: "
-                    f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), max "
-                    f"largest out-of-balance {imbalance:.3g} of a body's weight, body {body} "
-                    f"(settle_accel={o.settle_accel}); "
+                    f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), "
+                    f"largest out-of-balance of a free body {imbalance:.3g} of its weight (body {body}, "
+                    f"{self._body_kind_name(body)}; settle_accel={o.settle_accel}); "
                     f"{self._fastest_block_text()}{hint}")
             self._maybe_checkpoint()
         self.settle_time = m.time - t_start

@@ -183,3 +183,23 @@ def test_mass_floors_travel_with_the_checkpoint():
     assert m._m.raised_nodes() > 0
     assert_resumes_bit_for_bit(m, lambda r: r.set(gravity=False, water=False, mu=0.0, penalty=S,
                                                   contact_reach=REACH, mass_scaling_dt=1e-12))
+
+
+def test_where_the_reach_guard_measures_from_travels_with_the_checkpoint():
+    """After the guard has taken the bound again (A has moved past reach/2),
+    it measures later moves from there, not from the mesh: a model rebuilt
+    from the checkpoint measures from the same place, so it re-checks (and
+    raises masses) at the same steps as the run it continues."""
+    m, na = towards_with_mass_scaling()
+    m.step(int(0.015 / m.dt))
+    x, y = m._m.reach_origin()
+    assert np.abs(x - m.reference_positions[:, 0]).max() > 0.5 * REACH
+    cp = m.checkpoint()
+    r = engine.Model.from_checkpoint(cp, ICE)
+    r.set(gravity=False, water=False, mu=0.0, penalty=S, contact_reach=REACH, mass_scaling_dt=1e-12, dt=m.dt)
+    r.restore_checkpoint(cp)
+    r.step(1)   # prepared: a restored model without the origin would measure from the mesh
+    m.step(1)
+    rx, ry = r._m.reach_origin()
+    mx, my = m._m.reach_origin()
+    assert np.array_equal(rx, mx) and np.array_equal(ry, my)

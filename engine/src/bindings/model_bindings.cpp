@@ -222,6 +222,10 @@ void bind_model(py::module_& m) {
         return py::array_t<double>(M.nodes().mass_floor.size(), M.nodes().mass_floor.data());
       })
       .def("set_mass_floor", &Model::set_mass_floor, py::arg("floor"))
+      .def("reach_origin", [](const Model& M) {
+        return py::make_tuple(as_array(M.reach_origin_x()), as_array(M.reach_origin_y()));
+      })
+      .def("set_reach_origin", &Model::set_reach_origin, py::arg("x"), py::arg("y"))
       .def("raised_nodes", &Model::raised_nodes)
       .def("reset_contact_masses", &Model::reset_contact_masses,
            "Back from a larger mass-scaling step: floors dropped, masses of the current target, "

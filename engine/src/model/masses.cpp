@@ -165,6 +165,14 @@ int32_t Model::reset_contact_masses() {
   return raise_contact_masses();  // only the nodes that need more than they have
 }
 
+void Model::set_reach_origin(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size() || (!x.empty() && int64_t(x.size()) != nodes_.size()))
+    bad("reach origin must have one x and one y per node (" + std::to_string(nodes_.size()) + "), got " +
+        std::to_string(x.size()) + " and " + std::to_string(y.size()));
+  reach_x_ = x;
+  reach_y_ = y;
+}
+
 void Model::set_mass_floor(const std::vector<double>& floor) {
   if (int64_t(floor.size()) != nodes_.size())
     bad("mass floor must have one entry per node (" + std::to_string(nodes_.size()) + ")");

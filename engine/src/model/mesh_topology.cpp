@@ -140,19 +140,19 @@ void Model::set_triangle_node(int32_t tri, int corner, int32_t node) {
 int32_t Model::split_off(int32_t node, int32_t body) {
   const int32_t id = add_node(nodes_.x[node], nodes_.y[node], nodes_.x0[node], nodes_.y0[node],
                               nodes_.vx[node], nodes_.vy[node]);
+  // a bond event wakes every body at the bond point (its forces change): all
+  // bodies with a corner at the node, before the corners are re-pointed
+  if (body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
   for (int32_t j = gather_.start[node]; j < gather_.start[node + 1]; ++j) {
     const int32_t s = gather_.slot[j];
+    body_wake_[tris_.body[s / 3]] = 1;
     if (tris_.body[s / 3] == body) tris_.node[s] = id;
   }
   for (BoundaryCondition& bc : bcs_)
     if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
   nodes_.mass_floor[id] = nodes_.mass_floor[node];  // each side keeps what the node needed
-  // a bond event wakes the bond point's bodies (both its sides): its forces change
   nodes_.sleep[node] = nodes_.sleep[id] = 0;
   nodes_.quiet[node] = nodes_.quiet[id] = 0;
-  if (body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
-  body_wake_[body] = 1;
-  if (size_t(node) < node_body_.size()) body_wake_[node_body_[node]] = 1;
   return id;
 }
 

@@ -90,7 +90,8 @@ class Model {
   // std::invalid_argument unless velocity >= 0, force >= 0 (finite) and
   // quiet_steps >= 1. Switching it on or off wakes every node.
   void set_sleeping(bool on, double velocity, double force, int32_t quiet_steps);
-  // Every node awake, quiet counters reset.
+  // Every node awake, quiet counters reset, pending body wakes cleared and
+  // the balance window closed (the next update opens a new one).
   void wake_all();
   // The sleep state of every node and the open balance window (a
   // checkpoint), and its restore. Throws std::invalid_argument on a size or
@@ -108,6 +109,13 @@ class Model {
   // within contact reach of stiffer boundaries). Returns the nodes raised.
   int32_t reset_contact_masses();
   int32_t raised_nodes() const { return raised_nodes_; }
+  // Where the contact reach guard measures each node's move from (the node
+  // positions of the last contact step bound; a checkpoint), and its restore.
+  // Throws std::invalid_argument unless both have one entry per node (or
+  // none: not bound yet).
+  const std::vector<double>& reach_origin_x() const { return reach_x_; }
+  const std::vector<double>& reach_origin_y() const { return reach_y_; }
+  void set_reach_origin(const std::vector<double>& x, const std::vector<double>& y);
   int32_t asleep_nodes() const;
   // Triangles the next force evaluation computes (all of them unless sleeping).
   int32_t awake_triangles();

@@ -30,7 +30,9 @@ void Model::wake_all() {
 void Model::restore_sleep_state(const SleepState& s) {
   const size_t n = size_t(nodes_.size());
   if (s.sleep.size() != n || s.quiet.size() != n || s.f_ref_x.size() != n || s.f_ref_y.size() != n)
-    bad("sleep state must have one entry per node (" + std::to_string(n) + ") in sleep, quiet, f_ref_x, f_ref_y");
+    bad("sleep state must have one entry per node (" + std::to_string(n) + "): sleep has " +
+        std::to_string(s.sleep.size()) + ", quiet " + std::to_string(s.quiet.size()) + ", f_ref_x " +
+        std::to_string(s.f_ref_x.size()) + ", f_ref_y " + std::to_string(s.f_ref_y.size()));
   for (size_t i = 0; i < n; ++i) {
     if (s.sleep[i] > 2) bad("sleep state of a node must be 0, 1 or 2 (node " + std::to_string(i) + ")");
     if (s.quiet[i] < 0) bad("quiet step count of a node must be >= 0 (node " + std::to_string(i) + ")");
@@ -39,7 +41,10 @@ void Model::restore_sleep_state(const SleepState& s) {
   const size_t B = size_t(n_bodies());
   if (w.start_step >= 0 && (w.cx.size() != B || w.cy.size() != B || w.px.size() != B || w.py.size() != B ||
                             w.l.size() != B))
-    bad("sleep window must have one entry per body (" + std::to_string(B) + ")");
+    bad("sleep window must have one entry per body (" + std::to_string(B) + "): window_cx has " +
+        std::to_string(w.cx.size()) + ", window_cy " + std::to_string(w.cy.size()) + ", window_px " +
+        std::to_string(w.px.size()) + ", window_py " + std::to_string(w.py.size()) + ", window_l " +
+        std::to_string(w.l.size()));
   nodes_.sleep = s.sleep;
   nodes_.quiet = s.quiet;
   nodes_.f_ref_x = s.f_ref_x;

@@ -15,8 +15,11 @@
 //    times its weight times its size sqrt(A). Both means are the change of
 //    its momentum and angular momentum over the window, which the update
 //    keeps exactly; internal forces cancel in them, and vibration faster
-//    than the window averages out. (Net weight of submerged ice: 0.118 of
-//    the weight, so 1e-3 is ~1 % of the gravity-buoyancy imbalance.)
+//    than the window averages out (for bonded blocks, which share nodes,
+//    the element forces through a shared node are loads on the body that
+//    does not own it). Net weight of submerged ice: ~0.1 of the weight
+//    ((rho_w - rho_i)/rho_i), so 1e-3 is ~1 % of the gravity-buoyancy
+//    imbalance.
 // A body with a held or driven node (the layer, the indenter) is loaded
 // through it and never sleeps.
 // Falling asleep sets the body's velocities to zero (that kinetic energy,
