@@ -166,9 +166,11 @@ int32_t Model::reset_contact_masses() {
 }
 
 void Model::set_reach_origin(const std::vector<double>& x, const std::vector<double>& y) {
-  if (x.size() != y.size() || (!x.empty() && int64_t(x.size()) != nodes_.size()))
-    bad("reach origin must have one x and one y per node (" + std::to_string(nodes_.size()) + "), got " +
-        std::to_string(x.size()) + " and " + std::to_string(y.size()));
+  // nodes split off since the last bound have none yet: they start from their
+  // reference places when the stable step is next taken (as in the run saved)
+  if (x.size() != y.size() || int64_t(x.size()) > nodes_.size())
+    bad("reach origin must have as many x as y, at most one per node (" + std::to_string(nodes_.size()) +
+        "), got " + std::to_string(x.size()) + " and " + std::to_string(y.size()));
   reach_x_ = x;
   reach_y_ = y;
 }

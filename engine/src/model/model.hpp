@@ -111,8 +111,8 @@ class Model {
   int32_t raised_nodes() const { return raised_nodes_; }
   // Where the contact reach guard measures each node's move from (the node
   // positions of the last contact step bound; a checkpoint), and its restore.
-  // Throws std::invalid_argument unless both have one entry per node (or
-  // none: not bound yet).
+  // Throws std::invalid_argument unless both have as many entries, at most
+  // one per node (nodes split off since the last bound have none yet).
   const std::vector<double>& reach_origin_x() const { return reach_x_; }
   const std::vector<double>& reach_origin_y() const { return reach_y_; }
   void set_reach_origin(const std::vector<double>& x, const std::vector<double>& y);
