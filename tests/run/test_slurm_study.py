@@ -126,14 +126,21 @@ def test_stopped_tasks_resume_from_their_checkpoint_to_the_same_record(cluster, 
         time.sleep(0.2)
     assert not stops, "the runs did not start loading"
     # the time-limit stop requeues the task; SLURM holds a requeued task back
-    # for a while (its begin time), released here so the test does not wait
+    # for a while (its begin time), released here so the test does not wait.
+    # Not at once: slurmd refuses a credential made in the same second as the
+    # last attempt's was revoked ("Job credential revoked", and the task ends
+    # failed), which is what SLURM's own hold avoids; 2 s after the requeue is past it.
     deadline = time.time() + WAIT_S
+    requeued_at = released = None
     while time.time() < deadline and "restart 1" not in (logs / "line3.log").read_text():
         q = subprocess.run(["squeue", "-h", "-j", f"{job}_3", "-o", "%T"], env=cluster.env,
                            capture_output=True, text=True).stdout.split()
         if q[:1] == ["PENDING"]:
-            subprocess.run(["scontrol", "update", f"JobId={job}_3", "StartTime=now"], env=cluster.env,
-                           capture_output=True)
+            requeued_at = requeued_at or time.time()
+            if not released and time.time() - requeued_at > 2.0:
+                subprocess.run(["scontrol", "update", f"JobId={job}_3", "StartTime=now"], env=cluster.env,
+                               capture_output=True)
+                released = True
         time.sleep(0.5)
     states, text = _wait(cluster, out, lambda s: s["cancelled"][0] == "interrupted" and s["timelimit"][0] == "done",
                          "the cancelled line interrupted and the requeued one done")
