@@ -462,7 +462,9 @@ class Model:
         """Energy terms [J/m] (docs/results_format.md names) and the balance residual:
         kinetic + elastic + contact + friction + damping + drag + cohesive
         - initial - work_gravity - work_buoyancy - work_boundary."""
-        return self._m.energy()
+        e = self._m.energy()
+        e.pop("started")   # bookkeeping for checkpoints, not an energy
+        return e
 
     def timings(self):
         """Cumulative wall time [s] of the parts of the step, the step count and

@@ -52,6 +52,33 @@ def test_checkpoint_continues_bit_identically():
     assert straight.bonds.counts["failed"] > 0  # the continuation went through failures
 
 
+
+def test_a_checkpoint_written_just_after_an_energy_reset_continues_the_same_ledger():
+    """A run resets its energy ledger as loading starts; a checkpoint written
+    then (before a step) starts the restored ledger at its first step too,
+    as the run itself does: the same energies, no false alarm. Before, the
+    restored ledger counted the whole strain energy of the bar as made from
+    nothing and the run stopped ('energy grew without an energy source')."""
+    straight, bp, nodes, H = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, direction="work_conjugate")
+    first, _, _, _ = pull_bar(sigma_cr=SIGMA, tau_cr=TAU, G=G, direction="work_conjugate")
+    dt = straight.params["dt"]
+    N, M = int(0.04 / dt), int(0.06 / dt)   # reset while the bar is strained, before it splits
+    for m in (straight, first):
+        m.step(N)
+        m.reset_energy()
+    straight.step(M)
+    cp = first.checkpoint()
+    again = engine.Model.from_checkpoint(cp, dict(ICE, damping=0.0))
+    again.set(gravity=False, penalty=1e9, dt=first.params["dt"])
+    supports(again, nodes)
+    again.restore_checkpoint(cp)
+    assert again.energies()["elastic"] == 0.0   # reset, not yet stepped
+    again.step(M)
+    a, b = again.energies(), straight.energies()
+    assert b["elastic"] > 0 and b["work_boundary"] > 0
+    for k in ("initial", "elastic", "kinetic", "work_boundary", "cohesive", "residual"):
+        assert a[k] == b[k], k
+
 SCRIPT = r"""
 import sys, json
 import numpy as np

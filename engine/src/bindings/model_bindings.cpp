@@ -87,6 +87,9 @@ py::dict energy_dict(const EnergyLedger& e) {
   d["elastic_midstep"] = e.elastic_midstep;
   d["contact_solver"] = e.contact_solver;
   d["friction_solver"] = e.friction_solver;
+  // a ledger reset but not yet stepped (a checkpoint written as loading
+  // starts) takes its initial energy at its first step, also when restored
+  d["started"] = e.started ? 1.0 : 0.0;
   d["residual"] = e.residual();
   d["scale"] = e.scale();
   return d;
@@ -303,7 +306,8 @@ void bind_model(py::module_& m) {
              e.elastic_midstep = get("elastic_midstep");
              e.contact_solver = get("contact_solver");
              e.friction_solver = get("friction_solver");
-             e.started = true;
+             // checkpoints written before "started" was: always after a step
+             e.started = !d.contains("started") || get("started") != 0.0;
              M.restore_energy(e);
            })
       .def("timings", [](const Model& M) {
