@@ -53,6 +53,11 @@ def save(run, path):
             g2.create_dataset("u_node", data=un)
 
 
+def _text(v):
+    """A string attribute as h5py returns it (bytes or str) as str."""
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
 def check(f):
     """Everything restore() reads, checked before any of it is used: groups,
     shapes, dtypes, finiteness and ids in range. Raises ValueError naming the
@@ -67,8 +72,7 @@ def check(f):
     for k in ("phase", "params", "vtu_entries"):
         if k not in d.attrs:
             raise ValueError(f"{where}: attribute driver/{k} missing")
-    phase = d.attrs["phase"]
-    phase = phase.decode() if isinstance(phase, bytes) else str(phase)
+    phase = _text(d.attrs["phase"])
     if phase not in ("settle", "load"):
         raise ValueError(f"{where}: driver/phase is {phase!r}, expected 'settle' or 'load'")
     for k in ("params", "vtu_entries"):
@@ -102,7 +106,19 @@ def check(f):
     read_checked(f, "recorder/energy_rows", shape=(None, 1 + len(ENERGY_TERMS)), what=what)
 
 
-def restore(run, path):
+# What a run started from another run's rest state may choose itself: the
+# loading's step and how far it goes (restore(..., from_rest=True)).
+LOADING_NUMERICS = ("dt", "target_travel")
+
+
+def restore(run, path, from_rest=False):
+    """Continue the run saved in `path`. from_rest: start this run's loading
+    from the rest state of another run of the same scene and parameters that
+    may differ in LOADING_NUMERICS only (a checkpoint written as loading
+    starts, e.g. by a settle with other numerics): this run's masses and step
+    replace the saved ones (bench/paper_peak.py compares loading numerics from
+    one rest state). The rest state's positions, velocities, bond states,
+    friction stick forces and settle record are kept: they are the rest."""
     with open_complete(path, CHECKPOINT_FORMAT) as f:
         check(f)
         d = f["driver"]
@@ -112,8 +128,14 @@ def restore(run, path):
                              f"version {PHYSICS_VERSION} (settling, sleeping or forces changed): it cannot "
                              "be continued; remove it to start the run again")
         saved = json.loads(d.attrs["params"])
-        if saved != run.params:
-            diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
+        diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
+        if from_rest:
+            diff = [k for k in diff if k not in LOADING_NUMERICS]
+            phase = _text(d.attrs["phase"])
+            if phase != "load" or int(d.attrs.get("load_steps", -1)) != 0:
+                raise ValueError(f"checkpoint {path} is not at the start of loading (phase {phase}, "
+                                 f"load steps {d.attrs.get('load_steps')}): from_rest needs a rest state")
+        if diff:
             raise ValueError(f"checkpoint {path} was written with other parameters ({', '.join(diff)}); "
                              "remove it or run with the same parameters")
         for k in DRIVER_FIELDS:
@@ -126,6 +148,16 @@ def restore(run, path):
         run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
         run.model = run.scene.restore(read_tree(f["engine"]))
         run._configure_numerics(run.model)
+        if from_rest:
+            # the saved masses and step are the other run's: this run's instead
+            # (mass scaling off included), as its own settle would have ended
+            m = run.model
+            m.set(mass_scaling_dt=run.options.mass_scaling_dt or 0.0)
+            m.set(dt=run.params["dt"])
+            m.reset_contact_masses()
+            # the reach guard measures from the rest, as after this run's own settle
+            m._m.set_reach_origin(np.asarray(m.x, float), np.asarray(m.y, float))
+            m.reset_energy()   # the ledger starts with the loading, as after a settle
         run.apply_boundary_conditions()
         r = f["recorder"]
         s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],

@@ -24,6 +24,7 @@ import signal
 import threading
 import time
 
+import h5py
 import numpy as np
 
 from .. import engine
@@ -249,6 +250,7 @@ class PunchThrough:
         self.load_steps = 0         # steps of the load phase ...
         self.load_element_steps = 0  # ... and the triangles they computed (sleeping far field)
         self.vtu_entries = []
+        self.rest_state = None      # run_from_rest: the rest state this run loaded from (its settle was that run's)
         self.model = m
 
     def _configure_numerics(self, m):
@@ -287,6 +289,52 @@ class PunchThrough:
         # wall times of this process (a resumed run: from its resume)
         self.recorder.meta.update(wall_settle_s=t1 - t0, wall_load_s=time.perf_counter() - t1)
         self.write()
+        if os.path.exists(self.ckpt_path):
+            os.remove(self.ckpt_path)
+        return self.out_path
+
+    def settle_only(self, rest_path):
+        """Settle (resuming this run's own checkpoint if there is one) and
+        write the rest state, a checkpoint at the start of loading, to
+        `rest_path`: runs that differ in their loading numerics alone start
+        from it (run_from_rest)."""
+        if os.path.abspath(rest_path) == os.path.abspath(self.ckpt_path):
+            raise ValueError(f"rest_path={rest_path!r} is this run's own checkpoint, which it removes "
+                             "when done: give the rest state another name")
+        with catching_stop_signals(self):
+            if os.path.exists(self.ckpt_path):
+                ckpt.restore(self, self.ckpt_path)
+            self._last_ckpt = time.perf_counter()
+            if self.phase == "settle":
+                self.settle()
+        ckpt.save(self, rest_path)
+        if os.path.exists(self.ckpt_path):
+            os.remove(self.ckpt_path)
+        return rest_path
+
+    def run_from_rest(self, rest_path):
+        """Load from the rest state of another run of this scene and these
+        parameters but for the step and travel (settle_only; checkpoint.restore
+        from_rest), with this run's masses and step, and write the result. An
+        interrupted run resumes from its own checkpoint. The result names the
+        rest state and the step it was settled at; its settle record
+        (settle_time, F_at_rest ...) is the rest state's."""
+        with catching_stop_signals(self):
+            if os.path.exists(self.ckpt_path):
+                ckpt.restore(self, self.ckpt_path)
+                if self.phase != "load":
+                    raise ValueError(f"{self.ckpt_path} is a checkpoint of a settle, not of a load from a "
+                                     "rest state: remove it, or resume it with run()")
+            else:
+                ckpt.restore(self, rest_path, from_rest=True)
+            with h5py.File(rest_path, "r") as f:
+                rest_dt = json.loads(f["driver"].attrs["params"])["dt"]
+            self.recorder.meta.update(rest_state_from=os.path.abspath(rest_path), rest_state_dt=rest_dt)
+            self.rest_state = rest_path
+            self._last_ckpt = t0 = time.perf_counter()
+            self.load()
+            self.recorder.meta.update(wall_load_s=time.perf_counter() - t0)
+            self.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path
@@ -597,7 +645,8 @@ class PunchThrough:
                                   load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
                                   load_element_steps=int(self.load_element_steps),
                                   sleep=json.dumps(self.options.sleep))
-        if self.options.settle_mass_scaling_dt is not None:
+        # a run loaded from a rest state did not settle at its own settle step
+        if self.options.settle_mass_scaling_dt is not None and self.rest_state is None:
             self.recorder.meta.update(settle_mass_scaling_dt=self.options.settle_mass_scaling_dt)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from icerubble.files.h5io import open_complete
+from icerubble.run import checkpoint as ckpt
 from icerubble.run.punch_through_run import MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions
 from tests.run.punch_through_scenes import brick_mesh
 
@@ -379,3 +380,50 @@ def test_a_checkpoint_of_another_physics_version_is_refused(mesh_path, tmp_path)
     again = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
     with pytest.raises(ValueError, match="physics version 2, this code is version"):
         again.run(resume=True)
+
+
+def test_a_run_loads_from_another_runs_rest_state_with_its_own_masses_and_step(mesh_path, tmp_path):
+    """bench/paper_peak.py compares loading numerics from one rest state: a
+    run started from another run's rest state (settled at another step with
+    other masses) loads with its own masses and step, exactly those it would
+    have had itself, and refuses a rest state of other parameters or one
+    that is not at the start of loading."""
+    base = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
+                       options=RunOptions(**base)).model.stable_time_step()["dt"]
+    settler = PunchThrough(mesh_path, tmp_path / "settle.h5", params=PARAMS,
+                           options=RunOptions(mass_scaling_dt=2 * dt0, **base))
+    rest = settler.settle_only(tmp_path / "rest.checkpoint.h5")
+    own = PunchThrough(mesh_path, tmp_path / "own.h5", params=PARAMS, options=RunOptions(**base))
+    assert own.params["dt"] < settler.params["dt"]
+    # as loading starts: its own masses (no mass scaling) and step, not the settler's
+    probe = PunchThrough(mesh_path, tmp_path / "p.h5", params=PARAMS, options=RunOptions(**base))
+    ckpt.restore(probe, rest, from_rest=True)
+    np.testing.assert_array_equal(probe.model.mass, own.model.mass)
+    assert probe.model.dt == own.params["dt"]
+    loader = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**base))
+    loader.run_from_rest(rest)
+    with open_complete(tmp_path / "b.h5") as f:
+        y, F = f["force/y_I"][:], f["force/F"][:]
+        assert f.attrs["rest_state_from"] == os.path.abspath(rest)
+        assert f.attrs["rest_state_dt"] == settler.params["dt"]
+        assert F[0] == settler.F_at_rest and y[-1] >= PARAMS["target_travel"]
+        assert F.max() > 10 * abs(F[0])
+    # another friction coefficient: not this run's rest state
+    other = PunchThrough(mesh_path, tmp_path / "c.h5", params=dict(PARAMS, mu=0.5), options=RunOptions(**base))
+    with pytest.raises(ValueError, match=r"other parameters \(mu\)"):
+        other.run_from_rest(rest)
+    # a checkpoint from within the settle is no rest state
+    early = PunchThrough(mesh_path, tmp_path / "d.h5", params=PARAMS,
+                         options=RunOptions(stop_after_steps=1, **base))
+    with pytest.raises(KeyboardInterrupt):
+        early.run()
+    late = PunchThrough(mesh_path, tmp_path / "e.h5", params=PARAMS, options=RunOptions(**base))
+    with pytest.raises(ValueError, match="not at the start of loading"):
+        late.run_from_rest(tmp_path / "d.checkpoint.h5")
+    # nor is that run's own checkpoint, left while settling, a load to resume
+    with pytest.raises(ValueError, match="checkpoint of a settle"):
+        PunchThrough(mesh_path, tmp_path / "d.h5", params=PARAMS, options=RunOptions(**base)).run_from_rest(rest)
+    # a rest state written where the run keeps (and removes) its own checkpoint
+    with pytest.raises(ValueError, match="rest_path=.* is this run's own checkpoint"):
+        late.settle_only(late.ckpt_path)
