@@ -1,0 +1,140 @@
+"""The cohesive peak F^m of the paper scene under each numerical preset,
+against a reference (not a test).
+
+The paper scene costs hours per preset (bench/paper_cost.py), most of it
+the settle and the slow start of the indenter's 2 s ramp. F^m comes at
+~1 mm of travel, so the runs here stop at --travel-mm (2 mm: 0.57 s of
+loading) and all start from ONE rest state, settled once with --settle-numerics:
+what differs between them is the loading's numerics alone (step, masses,
+contact reach). Each preset's own settle reaches another rest within the
+settle tolerance (every body in balance to 1e-4 of its weight), not
+compared here.
+
+    /usr/bin/python3 bench/paper_peak.py [--ridge 1] [--travel-mm 2] [--only fast balanced ...]
+
+Variants: the presets `fast`, `balanced` and `paper`, run in that order
+(measured 0.71 h and ~1 h; `paper` 3.6 million steps, ~5 h, on 2 cores), and
+on request (--only reference) `reference`: the paper preset's masses at half
+its step (0.08 µs, ~10 h).
+The errors are against the smallest step that has been run (`paper`, the
+faithful numerics: at 0.16 µs the blocks' own contact modes run at ~0.15 of
+their stable step; only the few mass-scaled nodes of tiny elements run near
+theirs). Runs are kept in --out-dir and reused; each is resumable from its
+checkpoint (run the script again). Writes bench/results/paper_peak.json.
+"""
+import argparse
+import json
+import os
+
+import h5py
+import numpy as np
+
+from icerubble.run.presets import numerics, scene
+from icerubble.run.punch_through_run import PunchThrough, RunOptions
+from icerubble.run.scene_cache import scene_files
+from postproc import loads, results
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT_JSON = os.path.join(ROOT, "bench", "results", "paper_peak.json")
+ORDER = ("fast", "balanced", "paper", "reference")
+DEFAULT = ORDER[:3]
+
+
+def variant_options(name):
+    if name == "reference":
+        return RunOptions.from_numerics(dict(numerics("paper", "paper"), dt_fraction=0.4), name="reference",
+                                        progress_every_s=60.0)
+    return RunOptions.from_numerics(numerics("paper", name), name=name, progress_every_s=60.0)
+
+
+def rest_state(mesh_path, params, out_dir, settle_numerics):
+    """The checkpoint of a run of this scene at the start of its loading
+    (settled with the preset `settle_numerics`); made once, resumable."""
+    path = os.path.join(out_dir, f"rest_{settle_numerics}.checkpoint.h5")
+    if not os.path.exists(path):
+        run = PunchThrough(mesh_path, os.path.join(out_dir, f"settle_{settle_numerics}.h5"), params,
+                           variant_options(settle_numerics))
+        run.settle_only(path)
+    return path
+
+
+def load_from_rest(name, mesh_path, params, rest, out_dir, ridge):
+    out = os.path.join(out_dir, f"{name}.h5")
+    if not os.path.exists(out):
+        PunchThrough(mesh_path, out, params, variant_options(name), meta=dict(ridge=ridge)).run_from_rest(rest)
+    with h5py.File(out, "r") as f:   # a stored run is reused only if it loaded from this rest state
+        came_from = f.attrs.get("rest_state_from", "")
+    if os.path.basename(str(came_from)) != os.path.basename(rest):
+        raise ValueError(f"{out} was loaded from the rest state {came_from!r}, not {rest!r}: move it away")
+    return out
+
+
+def measures(path, travel_mm):
+    r = results.load(path)
+    y, F = np.asarray(r.force_y), np.asarray(r.force_F)
+    i = int(np.argmax(F))
+    out = dict(F_m_kN_per_m=float(F[i]) / 1e3, y_I_peak_mm=float(y[i]) * 1e3,
+               dt=float(r.parameters["dt"]), load_steps=int(r.attrs.get("load_steps", 0)),
+               added_mass_fraction=float(r.attrs.get("added_mass_fraction", 0.0)),
+               wall_load_s=float(r.attrs.get("wall_load_s", np.nan)))
+    for a, b in ((0.1, 0.5), (0.5, 1.0), (1.0, travel_mm)):   # the plateau at the peak, and after
+        try:
+            out[f"F_mean_{a:g}_{b:g}mm_kN_per_m"] = float(loads.mean_load(y, F, a * 1e-3, b * 1e-3)) / 1e3
+        except ValueError:
+            out[f"F_mean_{a:g}_{b:g}mm_kN_per_m"] = float("nan")
+    out["n_failed"] = int(np.count_nonzero(np.isfinite(np.asarray(r.bonds["y_I_fail"], dtype=float))))
+    with h5py.File(path, "r") as f:
+        e = f["energy"]
+        out["energy_residual_rel"] = float(abs(e["residual"][-1]) / max(abs(e["work_boundary"][-1]), 1e-30))
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--ridge", type=int, default=1)
+    ap.add_argument("--travel-mm", type=float, default=2.0)
+    ap.add_argument("--settle-numerics", default="fast", choices=ORDER[:3])
+    ap.add_argument("--only", nargs="*", choices=ORDER, help="variants to run (default: fast balanced paper); those run before are reported too")
+    ap.add_argument("--out-dir", default=os.path.join("runs", "bench", "paper_peak"))
+    a = ap.parse_args(argv)
+    sc = scene("paper")
+    params = dict(sc["params"], target_travel=a.travel_mm * 1e-3)
+    out_dir = os.path.join(a.out_dir, f"ridge{a.ridge}_{a.travel_mm:g}mm")
+    os.makedirs(out_dir, exist_ok=True)
+    _, mesh_path = scene_files("paper", a.ridge)   # the scene cache of every run (runs/scenes)
+    rest = rest_state(mesh_path, params, out_dir, a.settle_numerics)
+    rows = []
+    for name in ORDER:
+        out = os.path.join(out_dir, f"{name}.h5")
+        if name not in (a.only or DEFAULT) and not os.path.exists(out):
+            continue
+        load_from_rest(name, mesh_path, params, rest, out_dir, a.ridge)
+        m = measures(out, a.travel_mm)
+        rows.append(dict(name=name, file=out, **m))
+        print(f"{name:10s} dt {m['dt'] * 1e6:5.3f} us  F^m {m['F_m_kN_per_m']:8.3f} kN/m @ "
+              f"{m['y_I_peak_mm']:6.3f} mm  failed {m['n_failed']:4d}  load {m['wall_load_s'] / 3600:5.2f} h",
+              flush=True)
+    ref = min(rows, key=lambda r: r["dt"])
+    for r in rows:
+        r["F_m_rel_err"] = abs(r["F_m_kN_per_m"] - ref["F_m_kN_per_m"]) / ref["F_m_kN_per_m"]
+        r["y_I_peak_abs_err_mm"] = abs(r["y_I_peak_mm"] - ref["y_I_peak_mm"])
+        for k in [k for k in r if k.startswith("F_mean_")]:
+            r[k.replace("_kN_per_m", "_rel_err")] = abs(r[k] - ref[k]) / abs(ref[k])
+    with h5py.File(rest, "r") as f:
+        d = f["driver"].attrs
+        rest_attrs = dict(numerics=a.settle_numerics, settle_time_s=float(d["settle_time"]),
+                          F_at_rest_N_per_m=float(d["F_at_rest"]), dt=json.loads(d["params"])["dt"])
+    os.makedirs(os.path.dirname(OUT_JSON), exist_ok=True)
+    with open(OUT_JSON, "w") as f:
+        json.dump(dict(ridge=a.ridge, travel_mm=a.travel_mm, rest_state=rest_attrs, reference=ref["name"],
+                       runs=rows), f, indent=1, default=float)
+    print(f"wrote {OUT_JSON} (errors against {ref['name']})")
+    for r in rows:
+        means = "  ".join(f"{k[7:-8]} {100 * v:5.2f} %" for k, v in r.items()
+                          if k.startswith("F_mean_") and k.endswith("_rel_err"))
+        print(f"{r['name']:10s} err F^m {100 * r['F_m_rel_err']:6.2f} %  y_I@F^m {r['y_I_peak_abs_err_mm']:6.3f} mm  "
+              f"mean F {means}  ({r['load_steps']} steps, {r['wall_load_s'] / r['load_steps'] * 1e3:.2f} ms per step)")
+
+
+if __name__ == "__main__":
+    main()
