@@ -5,7 +5,7 @@ directions (the docs/model.md §3.3 energy caveat, measured in the engine)."""
 import numpy as np
 import pytest
 
-from tests.engine.freeze_bonds_scenes import (ICE, body_nodes, elastic_force, loaded_diagonal_square,
+from tests.engine.freeze_bonds_scenes import (ICE, body_nodes, loaded_diagonal_square,
                                  step_until_split)
 
 SIGMA, TAU, G = 1e4, 5e4, 1.0

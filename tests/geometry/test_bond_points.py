@@ -10,7 +10,7 @@ def grid(nx, ny, w, h):
     xs, ys = np.linspace(0, w, nx + 1), np.linspace(0, h, ny + 1)
     X, Y = np.meshgrid(xs, ys)
     nodes = np.column_stack([X.ravel(), Y.ravel()])
-    tris, cent = [], []
+    tris = []
     for j in range(ny):
         for i in range(nx):
             a = j * (nx + 1) + i

@@ -117,7 +117,7 @@ def test_block_end_10mm_from_the_indenter_cut(x_end):
     # node); it moves to at least feature from it.
     D = box(-3.0, x_end, YB - 0.3, YB)
     m = mesh_of([D])
-    lay_l, ind, lay_r = 1, 2, 3
+    lay_l, ind = 1, 2   # the right part of the layer, 3, is not touched
     x1 = face_end(m["resolved_blocks"][0], YB)
     assert abs(x1 + 2.0) >= 0.4 * H - 1e-9
     b = bonds(m)

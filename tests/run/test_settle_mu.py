@@ -92,7 +92,7 @@ def test_same_pile_settles_and_loads_at_every_study_mu(runs, mu):
         assert f["pile"].attrs["friction"] == PILE_FRICTION
         assert f.attrs["settle_time"] == pytest.approx(run.settle_time)
         assert f.attrs["settle_max_block_move"] == pytest.approx(run.settle_max_block_move)
-        y, F = f["force/y_I"][:], f["force/F"][:]
+        y = f["force/y_I"][:]
         t_split, t_fail = f["bonds/t_split"][:], f["bonds/t_fail"][:]
     # loading started and reached its travel
     assert len(y) > 2 and y[-1] >= TRAVEL and np.all(np.diff(y) >= -1e-12)
