@@ -19,7 +19,7 @@ import numpy as np
 # Bumped whenever a change of the engine alters what a run computes (forces,
 # time step, settling, recording), so that results made before are not
 # handed back as if the new code had made them.
-PHYSICS_VERSION = 3
+PHYSICS_VERSION = 4
 
 # mesh attributes that describe the file, not the geometry
 _VOLATILE_MESH_ATTRS = {"created", "code_version", "complete", "source"}

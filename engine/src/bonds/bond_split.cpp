@@ -71,6 +71,8 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
   };
   std::vector<Group> groups;
   groups.reserve(points.size());
+  const std::vector<double> mass_before = N.mass;
+  std::vector<int32_t> split_parent;  // of each node split off, in id order
   for (int32_t p : points) {
     const int32_t i = in_.node[p];
     Group G;
@@ -87,6 +89,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     for (size_t b = 0; b + 1 < G.bodies.size(); ++b) {
       G.nodes[b] = M.split_off(i, G.bodies[b]);
       st_.parent.push_back(i);
+      split_parent.push_back(i);
     }
     st_.point_state[p] = PointState::split;
     st_.t_split[p] = time;
@@ -101,11 +104,16 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     // Forces of this step on each new node; contact shared by mass, the last
     // node taking the remainder so the total is unchanged.
     double rx = G.fcx, ry = G.fcy;
+    // Without mass scaling the pieces add up to G.mass (to round-off, which
+    // must not move the shares); with it, to what the sides now need.
+    double pieces = 0.0;
+    for (int32_t id : G.nodes) pieces += N.mass[id];
+    if (std::fabs(pieces - G.mass) <= 1e-12 * G.mass) pieces = G.mass;
     for (size_t b = 0; b < G.nodes.size(); ++b) {
       const int32_t id = G.nodes[b];
       M.regather_node(id);
       if (b + 1 < G.nodes.size()) {
-        const double w = N.mass[id] / G.mass;
+        const double w = N.mass[id] / pieces;
         W.f_con_x[id] = G.fcx * w;
         W.f_con_y[id] = G.fcy * w;
         rx -= N.f_con_x[id];
@@ -152,6 +160,8 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
       }
     }
   }
+  // after the regather: the books need the pieces' elastic forces
+  M.keep_momentum_through_split(mass_before, split_parent);
 }
 
 }  // namespace engine

@@ -20,6 +20,20 @@ constexpr double kMassMargin = 1.0 + 1e-12;
 // limit sqrt(2 m / k) to reach `need` (= target step / safety).
 inline double contact_mass_for(double k, double need) { return 0.5 * k * need * need * kMassMargin; }
 
+// A mass change that keeps a node's momentum scales its velocity v by
+// `factor`; returns what the energy books must take as damping for it beyond
+// the kinetic energy. The ledger's works run from the half-step position
+// x - dt v/2 that v implies (integrator.cpp), and its elastic energy is taken
+// there: a new v moves that point by -dt (v' - v)/2, which changes the
+// elastic energy by the elastic force's work dt f_el.(v' - v)/2 without a
+// source. (With f_el at x, not at the half step: O(dt) of this, round-off.)
+double rescale_velocity(Nodes& N, int32_t i, double factor, double dt) {
+  const double dvx = (factor - 1.0) * N.vx[i], dvy = (factor - 1.0) * N.vy[i];
+  N.vx[i] += dvx;
+  N.vy[i] += dvy;
+  return -0.5 * dt * ((N.f_int_x[i] - N.f_visc_x[i]) * dvx + (N.f_int_y[i] - N.f_visc_y[i]) * dvy);
+}
+
 }  // namespace
 
 void Model::compute_masses() {
@@ -104,9 +118,11 @@ void Model::scale_masses() {
 // nodes get the mass the current step needs, as the reference scaling would
 // have given them there: their momentum is kept (v scaled by m_old/m_new), and
 // the kinetic energy this takes out, 1/2 m_old v^2 (1 - m_old/m_new), is booked
-// as damping so the ledger still closes. The new mass is the node's floor from
+// as damping so the ledger still closes (with the half-step shift of
+// rescale_velocity). The new mass is the node's floor from
 // then on. Nodes with prescribed motion keep their velocity (the boundary
-// condition sets it). Returns the number of nodes raised.
+// condition sets it; 1/2 (m_old - m_new) v^2 is booked). Returns the number
+// of nodes raised.
 int32_t Model::raise_contact_masses() {
   std::vector<double> k;
   contact_critical_dt(contact_params_, contact_input(), &k, contact_reach_);
@@ -119,11 +135,12 @@ int32_t Model::raise_contact_masses() {
     const double m_new = contact_mass_for(k[i], need);
     const double m_old = N.mass[i];
     if (m_new <= m_old) continue;
+    const double v2 = N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i];
     if (!N.constrained[i]) {
       const double r = m_old / m_new;
-      lost += 0.5 * m_old * (N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i]) * (1.0 - r);
-      N.vx[i] *= r;
-      N.vy[i] *= r;
+      lost += 0.5 * m_old * v2 * (1.0 - r) + rescale_velocity(N, i, r, dt_);
+    } else {
+      lost += 0.5 * (m_old - m_new) * v2;  // its velocity is prescribed: only the books change
     }
     if (m_old <= N.mass_phys[i]) ++scaled_nodes_;
     added_mass_ += m_new - m_old;
@@ -134,6 +151,48 @@ int32_t Model::raise_contact_masses() {
   raised_nodes_ += raised;
   report_added_mass();
   return raised;
+}
+
+// A split node's velocity is shared by its pieces (split_off copies it), so
+// the momentum of a node and of what split off it is (sum of new masses) v:
+// scaled by m_before / (sum of new masses) it is the node's momentum before.
+// A mass that changed by round-off only (the lumped thirds summed per side in
+// another order) changes nothing: without mass scaling m+ + m- = m.
+int32_t Model::keep_momentum_through_split(const std::vector<double>& m_before,
+                                           const std::vector<int32_t>& split_parent) {
+  constexpr double kSameMass = 1e-12;  // relative: round-off of the lumped sums
+  Nodes& N = nodes_;
+  const size_t n_before = m_before.size();
+  if (n_before + split_parent.size() != size_t(N.size()))
+    bad("keep_momentum_through_split: " + std::to_string(n_before) + " nodes before and " +
+        std::to_string(split_parent.size()) + " split off do not make the " + std::to_string(N.size()) +
+        " nodes there are");
+  std::vector<double> m_group(N.mass.begin(), N.mass.begin() + n_before);
+  for (size_t j = 0; j < split_parent.size(); ++j) m_group[split_parent[j]] += N.mass[n_before + j];
+  std::vector<double> r(n_before, 1.0);
+  int32_t changed = 0;
+  for (size_t i = 0; i < n_before; ++i)
+    if (std::fabs(m_group[i] - m_before[i]) > kSameMass * m_before[i]) {
+      r[i] = m_before[i] / m_group[i];
+      ++changed;
+    }
+  if (!changed) return 0;
+  // 1/2 m v^2 booked before, less what the pieces carry after (a node with
+  // prescribed motion keeps its velocity: only the books change)
+  double lost = 0.0;
+  const auto rescale = [&](int32_t node, double factor) {
+    if (!N.constrained[node]) lost += rescale_velocity(N, node, factor, dt_);
+    lost -= 0.5 * N.mass[node] * (N.vx[node] * N.vx[node] + N.vy[node] * N.vy[node]);
+  };
+  for (size_t j = 0; j < split_parent.size(); ++j)
+    if (r[split_parent[j]] != 1.0) rescale(int32_t(n_before + j), r[split_parent[j]]);
+  for (size_t i = 0; i < n_before; ++i)
+    if (r[i] != 1.0) {
+      lost += 0.5 * m_before[i] * (N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i]);
+      rescale(int32_t(i), r[i]);
+    }
+  energy_.damping += lost;
+  return changed;
 }
 
 void Model::report_added_mass() {
@@ -153,7 +212,6 @@ int32_t Model::reset_contact_masses() {
   // velocities stay: at rest the change is tiny, and it is booked
   double before = 0.0, after = 0.0;
   for (int32_t i = 0; i < N.size(); ++i) {
-    if (N.constrained[i]) continue;
     const double v2 = N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i];
     before += 0.5 * m_old[i] * v2;
     after += 0.5 * N.mass[i] * v2;

@@ -160,6 +160,15 @@ class Model {
   // Recompute one node's sum of this step's corner forces, gravity and drag
   // (after a split gave it its own corners).
   void regather_node(int32_t node);
+  // After prepare_topology() recomputed the masses of a split: with mass
+  // scaling the pieces of a split node need not add up to its inertial mass
+  // (each side keeps the contact mass the node needed). Keeps the momentum of
+  // every node whose mass changed (with the nodes split off it: m_before
+  // holds the masses of the nodes before the split, split_parent the parent
+  // of each node added since, in order) and books the kinetic energy this
+  // changes as damping. Returns the nodes whose mass changed.
+  int32_t keep_momentum_through_split(const std::vector<double>& m_before,
+                                      const std::vector<int32_t>& split_parent);
   // Some triangle of `body` has a corner at `node`.
   bool node_touches_body(int32_t node, int32_t body) const;
 
