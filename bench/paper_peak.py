@@ -76,6 +76,8 @@ def measures(path, travel_mm):
     out = dict(F_m_kN_per_m=float(F[i]) / 1e3, y_I_peak_mm=float(y[i]) * 1e3,
                dt=float(r.parameters["dt"]), load_steps=int(r.attrs.get("load_steps", 0)),
                added_mass_fraction=float(r.attrs.get("added_mass_fraction", 0.0)),
+               # the reach guard and the splits change it as the run goes
+               added_mass_fraction_end=float(r.attrs.get("added_mass_fraction_end", np.nan)),
                wall_load_s=float(r.attrs.get("wall_load_s", np.nan)))
     for a, b in ((0.1, 0.5), (0.5, 1.0), (1.0, travel_mm)):   # the plateau at the peak, and after
         try:

@@ -325,6 +325,8 @@ class PunchThrough:
                 if self.phase != "load":
                     raise ValueError(f"{self.ckpt_path} is a checkpoint of a settle, not of a load from a "
                                      "rest state: remove it, or resume it with run()")
+                print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
+                      f"phase {self.phase}", flush=True)
             else:
                 ckpt.restore(self, rest_path, from_rest=True)
             with h5py.File(rest_path, "r") as f:

@@ -427,3 +427,32 @@ def test_a_run_loads_from_another_runs_rest_state_with_its_own_masses_and_step(m
     # a rest state written where the run keeps (and removes) its own checkpoint
     with pytest.raises(ValueError, match="rest_path=.* is this run's own checkpoint"):
         late.settle_only(late.ckpt_path)
+
+
+def test_a_load_from_a_rest_state_interrupted_resumes_into_the_same_run(mesh_path, tmp_path, capsys):
+    """A run loading from another run's rest state (run_from_rest), stopped
+    after bond points have split, resumes from its own checkpoint (not the
+    rest state again) into the uninterrupted run, bit for bit, and still names
+    the rest state it came from."""
+    base = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
+                       options=RunOptions(**base)).model.stable_time_step()["dt"]
+    settler = PunchThrough(mesh_path, tmp_path / "settle.h5", params=PARAMS,
+                           options=RunOptions(mass_scaling_dt=2 * dt0, **base))
+    rest = settler.settle_only(tmp_path / "rest.checkpoint.h5")
+    whole = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**base))
+    whole.run_from_rest(rest)
+    run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
+                       options=RunOptions(stop_after_steps=whole.model.step_count - 2000, **base))
+    with pytest.raises(KeyboardInterrupt):
+        run.run_from_rest(rest)
+    assert run.phase == "load" and run.model.bonds.counts["split"] > 0
+    assert not (tmp_path / "b.h5").exists() and os.path.exists(run.ckpt_path)
+    stopped_at = run.model.step_count
+    capsys.readouterr()
+    PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**base)).run_from_rest(rest)
+    assert f"resumed from {run.ckpt_path} at step {stopped_at}, phase load" in capsys.readouterr().out
+    with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
+        np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
+        assert b.attrs["rest_state_from"] == a.attrs["rest_state_from"] == os.path.abspath(rest)
