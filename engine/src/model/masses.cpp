@@ -20,20 +20,6 @@ constexpr double kMassMargin = 1.0 + 1e-12;
 // limit sqrt(2 m / k) to reach `need` (= target step / safety).
 inline double contact_mass_for(double k, double need) { return 0.5 * k * need * need * kMassMargin; }
 
-// A mass change that keeps a node's momentum scales its velocity v by
-// `factor`; returns what the energy books must take as damping for it beyond
-// the kinetic energy. The ledger's works run from the half-step position
-// x - dt v/2 that v implies (integrator.cpp), and its elastic energy is taken
-// there: a new v moves that point by -dt (v' - v)/2, which changes the
-// elastic energy by the elastic force's work dt f_el.(v' - v)/2 without a
-// source. (With f_el at x, not at the half step: O(dt) of this, round-off.)
-double rescale_velocity(Nodes& N, int32_t i, double factor, double dt) {
-  const double dvx = (factor - 1.0) * N.vx[i], dvy = (factor - 1.0) * N.vy[i];
-  N.vx[i] += dvx;
-  N.vy[i] += dvy;
-  return -0.5 * dt * ((N.f_int_x[i] - N.f_visc_x[i]) * dvx + (N.f_int_y[i] - N.f_visc_y[i]) * dvy);
-}
-
 }  // namespace
 
 void Model::compute_masses() {
@@ -138,7 +124,7 @@ int32_t Model::raise_contact_masses() {
     const double v2 = N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i];
     if (!N.constrained[i]) {
       const double r = m_old / m_new;
-      lost += 0.5 * m_old * v2 * (1.0 - r) + rescale_velocity(N, i, r, dt_);
+      lost += 0.5 * m_old * v2 * (1.0 - r) + rescale_velocity(i, r);
     } else {
       lost += 0.5 * (m_old - m_new) * v2;  // its velocity is prescribed: only the books change
     }
@@ -181,7 +167,7 @@ int32_t Model::keep_momentum_through_split(const std::vector<double>& m_before,
   // prescribed motion keeps its velocity: only the books change)
   double lost = 0.0;
   const auto rescale = [&](int32_t node, double factor) {
-    if (!N.constrained[node]) lost += rescale_velocity(N, node, factor, dt_);
+    if (!N.constrained[node]) lost += rescale_velocity(node, factor);
     lost -= 0.5 * N.mass[node] * (N.vx[node] * N.vx[node] + N.vy[node] * N.vy[node]);
   };
   for (size_t j = 0; j < split_parent.size(); ++j)
@@ -193,6 +179,21 @@ int32_t Model::keep_momentum_through_split(const std::vector<double>& m_before,
     }
   energy_.damping += lost;
   return changed;
+}
+
+// The ledger's works run from the half-step position x - dt v/2 that a
+// node's velocity v implies (integrator.cpp), and its elastic energy is taken
+// there: a velocity changed outside the update (a mass change that keeps the
+// momentum, a node put to sleep) moves that point by -dt (v' - v)/2, which
+// changes the elastic energy by the elastic force's work dt f_el.(v' - v)/2
+// without a source. Returns that, for the books to take as damping (with f_el
+// at x, not at the half step: O(dt) of it, round-off).
+double Model::rescale_velocity(int32_t i, double factor) {
+  Nodes& N = nodes_;
+  const double dvx = (factor - 1.0) * N.vx[i], dvy = (factor - 1.0) * N.vy[i];
+  N.vx[i] += dvx;
+  N.vy[i] += dvy;
+  return -0.5 * dt_ * ((N.f_int_x[i] - N.f_visc_x[i]) * dvx + (N.f_int_y[i] - N.f_visc_y[i]) * dvy);
 }
 
 void Model::report_added_mass() {

@@ -229,6 +229,9 @@ class Model {
   void guard_contact_reach();      // re-bound the contact step after large moves
   int32_t raise_contact_masses();  // ... and, with mass scaling on, raise the nodes it needs
   void report_added_mass();        // the mass scaling's totals into stable_
+  // v *= factor at node i; returns the energy the books must take as damping
+  // beyond the kinetic energy (the shift of the ledger's half-step point)
+  double rescale_velocity(int32_t i, double factor);
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers

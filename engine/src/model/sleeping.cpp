@@ -169,16 +169,17 @@ void Model::update_sleep() {
     }
   }
   if (any) {
-    double lost = 0.0;
+    double lost = 0.0, shift = 0.0;
     for (int32_t i = 0; i < N.size(); ++i) {
       if (!falls[node_body_[i]]) continue;
       lost += 0.5 * N.mass[i] * (N.vx[i] * N.vx[i] + N.vy[i] * N.vy[i]);
-      N.vx[i] = N.vy[i] = 0.0;
+      shift += rescale_velocity(i, 0.0);
+      N.vx[i] = N.vy[i] = 0.0;   // exactly
       N.sleep[i] = 1;
     }
     // that kinetic energy is taken out: booked as damping, the ledger still closes
     energy_.kinetic -= lost;
-    energy_.damping += lost;
+    energy_.damping += lost + shift;
     awake_current_ = false;
   }
   open_sleep_window();
