@@ -382,18 +382,24 @@ def test_a_checkpoint_of_another_physics_version_is_refused(mesh_path, tmp_path)
         again.run(resume=True)
 
 
+def rest_state_of_another_run(mesh_path, tmp_path):
+    """The options of a plain run, a run settled at another step with other
+    masses (mass scaling to twice the plain step), and its rest state."""
+    base = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
+    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
+                       options=RunOptions(**base)).model.stable_time_step()["dt"]
+    settler = PunchThrough(mesh_path, tmp_path / "settle.h5", params=PARAMS,
+                           options=RunOptions(mass_scaling_dt=2 * dt0, **base))
+    return base, settler, settler.settle_only(tmp_path / "rest.checkpoint.h5")
+
+
 def test_a_run_loads_from_another_runs_rest_state_with_its_own_masses_and_step(mesh_path, tmp_path):
     """bench/paper_peak.py compares loading numerics from one rest state: a
     run started from another run's rest state (settled at another step with
     other masses) loads with its own masses and step, exactly those it would
     have had itself, and refuses a rest state of other parameters or one
     that is not at the start of loading."""
-    base = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
-    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
-                       options=RunOptions(**base)).model.stable_time_step()["dt"]
-    settler = PunchThrough(mesh_path, tmp_path / "settle.h5", params=PARAMS,
-                           options=RunOptions(mass_scaling_dt=2 * dt0, **base))
-    rest = settler.settle_only(tmp_path / "rest.checkpoint.h5")
+    base, settler, rest = rest_state_of_another_run(mesh_path, tmp_path)
     own = PunchThrough(mesh_path, tmp_path / "own.h5", params=PARAMS, options=RunOptions(**base))
     assert own.params["dt"] < settler.params["dt"]
     # as loading starts: its own masses (no mass scaling) and step, not the settler's
@@ -434,12 +440,7 @@ def test_a_load_from_a_rest_state_interrupted_resumes_into_the_same_run(mesh_pat
     after bond points have split, resumes from its own checkpoint (not the
     rest state again) into the uninterrupted run, bit for bit, and still names
     the rest state it came from."""
-    base = dict(threads=1, progress_every_s=1e9, vtu=False, dt_fraction=0.8)
-    dt0 = PunchThrough(mesh_path, tmp_path / "x.h5", params=PARAMS,
-                       options=RunOptions(**base)).model.stable_time_step()["dt"]
-    settler = PunchThrough(mesh_path, tmp_path / "settle.h5", params=PARAMS,
-                           options=RunOptions(mass_scaling_dt=2 * dt0, **base))
-    rest = settler.settle_only(tmp_path / "rest.checkpoint.h5")
+    base, settler, rest = rest_state_of_another_run(mesh_path, tmp_path)
     whole = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**base))
     whole.run_from_rest(rest)
     run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,

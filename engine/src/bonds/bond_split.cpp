@@ -108,7 +108,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     // must not move the shares); with it, to what the sides now need.
     double pieces = 0.0;
     for (int32_t id : G.nodes) pieces += N.mass[id];
-    if (std::fabs(pieces - G.mass) <= 1e-12 * G.mass) pieces = G.mass;
+    if (std::fabs(pieces - G.mass) <= Model::kSameMass * G.mass) pieces = G.mass;
     for (size_t b = 0; b < G.nodes.size(); ++b) {
       const int32_t id = G.nodes[b];
       M.regather_node(id);

@@ -146,7 +146,6 @@ int32_t Model::raise_contact_masses() {
 // another order) changes nothing: without mass scaling m+ + m- = m.
 int32_t Model::keep_momentum_through_split(const std::vector<double>& m_before,
                                            const std::vector<int32_t>& split_parent) {
-  constexpr double kSameMass = 1e-12;  // relative: round-off of the lumped sums
   Nodes& N = nodes_;
   const size_t n_before = m_before.size();
   if (n_before + split_parent.size() != size_t(N.size()))

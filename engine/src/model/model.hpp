@@ -169,6 +169,9 @@ class Model {
   // changes as damping. Returns the nodes whose mass changed.
   int32_t keep_momentum_through_split(const std::vector<double>& m_before,
                                       const std::vector<int32_t>& split_parent);
+  // Relative difference below which masses are the same: the round-off of
+  // lumped thirds summed per side in another order (m+ + m- = m unscaled).
+  static constexpr double kSameMass = 1e-12;
   // Some triangle of `body` has a corner at `node`.
   bool node_touches_body(int32_t node, int32_t body) const;
 
