@@ -187,3 +187,26 @@ def test_a_split_under_mass_scaling_keeps_momentum_and_closes_the_energy_books()
     assert np.abs(dp).max() < 1e-12 * scale
     e = m.energies()
     assert abs(e["residual"]) < 1e-8 * e["scale"]
+
+
+def test_a_crack_closed_again_is_met_by_contact_at_once():
+    """The contact module reuses its candidate pairs while no node has moved
+    farther than its skin (millimetres here), but a split changes which
+    triangles can touch: the crack faces shared nodes before it, so no pair
+    of them was a candidate. Blocks flung apart by 0.1 mm and sent back
+    across the crack must meet there in contact (the node-to-node crack
+    closure alone would keep the faces apart without one touching pair)."""
+    m, bp, nodes = two_block_bar(sigma_cr=SIGMA, tau_cr=TAU, G=0.2)
+    fly_apart(m, {0: (-0.05, 0.0), 1: (0.05, 0.0)}, steps=200)
+    assert m.bonds.counts["split"] == len(bp)
+    assert m.touching_pairs == 0
+    # the pieces split off a node start where it is: the original nodes show every move
+    moved = np.abs(m.positions[:len(nodes)] - nodes).max()
+    m.set_velocities(-m.velocities)
+    touching = 0
+    for _ in range(60):
+        m.step(10)
+        touching = max(touching, m.touching_pairs)
+        moved = max(moved, np.abs(m.positions[:len(nodes)] - nodes).max())
+    assert moved < 0.1 * 0.05   # within the skin (0.1 x an element): the candidate list was not rebuilt for motion
+    assert touching > 0

@@ -48,6 +48,10 @@ struct ContactInput {
   const int32_t* surface_tris = nullptr;
   double dt = 0.0;
   int32_t threads = 0;  // OpenMP threads for the contact passes; 0: OpenMP default
+  // The host's count of its topology changes (triangles, bodies, surface
+  // list), if it keeps one; 0: unknown, the solver then hashes the topology
+  // every step to see whether its candidate list still belongs to it.
+  uint64_t topology_version = 0;
   // Optional kinematic constraints (nullptr: none). constrained[n] bit 0: vx
   // prescribed, bit 1: vy prescribed. Friction treats a prescribed component
   // as immovable, moving at v_bc (the prescribed velocity at t + dt/2) if
@@ -119,6 +123,22 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
                                       std::vector<double>* node_stiffness = nullptr,
                                       double reach = INFINITY);
 
+// contact_critical_dt in its two parts: the stiffness of each (node, body),
+// which takes the geometry and is the cost of it (sorting every edge, walking
+// every boundary), and the step of given masses, a pass over those entries.
+// The model takes the step of its reference configuration twice per bond
+// event (for the masses, then for the step with them): the stiffness is
+// computed once for both. The result is that of contact_critical_dt, bit for bit.
+struct ContactStiffness {
+  std::vector<int32_t> node;     // per (node, body) with a share of the node: ascending node, then body
+  std::vector<double> k, area;   // its stiffness [N/m per m] and area around the node [m²]
+  std::vector<double> node_area; // per node: area of all its triangles [m²]
+  int32_t n_nodes = 0;
+};
+ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& in, double reach = INFINITY);
+ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,
+                                      std::vector<double>* node_stiffness = nullptr);
+
 class ContactSolver {
  public:
   // Adds normal contact forces to fx, fy (length n_nodes). Returns the number
@@ -168,6 +188,7 @@ class ContactSolver {
   int64_t rebuilds_ = 0;
   bool have_list_ = false;
   uint64_t list_signature_ = 0;     // surface triangles, nodes, bodies of the list
+  uint64_t list_topology_ = 0;      // the host's topology_version of the list (0: unknown)
   std::vector<double> xref_, yref_; // node positions when the list was built
   std::vector<PairContact> results_;
   std::vector<uint8_t> hit_;

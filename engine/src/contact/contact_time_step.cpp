@@ -188,9 +188,12 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
 
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
                                       std::vector<double>* node_stiffness, double reach) {
-  if (node_stiffness) node_stiffness->assign(in.n_nodes, 0.0);
-  ContactStableStep out;
-  out.dt = INFINITY;
+  return contact_critical_dt(contact_stiffness(p, in, reach), in.mass, node_stiffness);
+}
+
+ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& in, double reach) {
+  ContactStiffness out;
+  out.n_nodes = in.n_nodes;
   // Each body on its own: an edge is a boundary edge of a body if no other
   // triangle of the same body uses it, and a node shared by several bodies
   // (a freeze-bond point of a continuous mesh) counts once per body with that
@@ -241,7 +244,10 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
     }
     i = j;
   }
-  if (len.empty()) return out;
+  if (len.empty()) {
+    out.node_area.assign(in.n_nodes, 0.0);
+    return out;
+  }
   const std::vector<double> target = target_terms(len, alt, ea, eb, ebody, in.x, in.y, reach);
   for (size_t e = 0; e < len.size(); ++e) {
     const double ke = 1.5 * p.penalty * (len[e] / alt[e] + target[e]);
@@ -251,7 +257,8 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
   // Mass share of each body at a node: its triangles' share of the area around
   // the node (lumped masses are 1/3 of each triangle's mass; equal densities
   // of the bodies meeting at a node are assumed, as for ice on ice).
-  std::vector<double> node_area(in.n_nodes, 0.0);
+  std::vector<double>& node_area = out.node_area;
+  node_area.assign(in.n_nodes, 0.0);
   for (int32_t t = 0; t < in.n_tri; ++t) {
     const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
     const double A = 0.5 * std::fabs((in.x[v[1]] - in.x[v[0]]) * (in.y[v[2]] - in.y[v[0]]) -
@@ -272,9 +279,24 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
       area += shares[j].area;
       ++j;
     }
-    const int32_t n = shares[i].node;
-    const double m = node_area[n] > 0.0 ? in.mass[n] * area / node_area[n] : 0.0;
+    out.node.push_back(shares[i].node);
+    out.k.push_back(k);
+    out.area.push_back(area);
     i = j;
+  }
+  return out;
+}
+
+ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,
+                                      std::vector<double>* node_stiffness) {
+  if (node_stiffness) node_stiffness->assign(s.n_nodes, 0.0);
+  ContactStableStep out;
+  out.dt = INFINITY;
+  const std::vector<double>& node_area = s.node_area;
+  for (size_t e = 0; e < s.node.size(); ++e) {
+    const int32_t n = s.node[e];
+    const double k = s.k[e], area = s.area[e];
+    const double m = node_area[n] > 0.0 ? mass[n] * area / node_area[n] : 0.0;
     if (node_stiffness && k > 0.0 && area > 0.0)
       (*node_stiffness)[n] = std::max((*node_stiffness)[n], k * node_area[n] / area);
     if (!(k > 0.0) || !(m > 0.0) || !std::isfinite(m)) continue;

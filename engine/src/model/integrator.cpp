@@ -36,7 +36,7 @@ StableStep Model::stable_step() {
     // small, and it is then the same before and after bond points split
     // (per-body shares), up to round-off.
     const ContactStableStep contact =
-        contact_possible_ ? contact_critical_dt(contact_params_, reference_contact_input(), nullptr, contact_reach_)
+        contact_possible_ ? contact_critical_dt(reference_contact_stiffness(), nodes_.mass.data())
                           : ContactStableStep{};
     // where the reach guard measures moves from (a split node starts from its
     // reference place: an earlier re-check at most)

@@ -87,7 +87,7 @@ void Model::scale_masses() {
   if (contact_possible_) {
     std::vector<double> k;
     // in the reference configuration: a resumed run gets the masses of the run it continues
-    contact_critical_dt(contact_params_, reference_contact_input(), &k, contact_reach_);
+    contact_critical_dt(reference_contact_stiffness(), nodes_.mass.data(), &k);
     for (int32_t i = 0; i < nodes_.size(); ++i)
       if (k[i] > 0.0) M[i] = std::max(M[i], contact_mass_for(k[i], need));
   }

@@ -243,6 +243,10 @@ class Model {
   void build_constraints();
   ContactInput contact_input() const;
   ContactInput reference_contact_input() const;
+  // The contact stiffness of the reference configuration, computed once per
+  // topology, reach and penalty: the masses and the stable step both need it
+  // after every bond event.
+  const ContactStiffness& reference_contact_stiffness();
   [[noreturn]] void fail(const std::string& what, int32_t node, int32_t tri) const;
   int32_t body_of_node(int32_t node) const;
 
@@ -280,6 +284,9 @@ class Model {
   SleepParams sleep_;
   double contact_reach_ = INFINITY;
   std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
+  ContactStiffness ref_stiffness_;
+  uint64_t ref_stiffness_topology_ = ~uint64_t(0);
+  double ref_stiffness_reach_ = 0.0, ref_stiffness_penalty_ = 0.0;
   std::vector<int32_t> awake_tris_;  // computed triangles while sleeping is on
   std::vector<int32_t> node_body_;   // the body of each node's first corner (its sleeping unit)
   std::vector<uint8_t> body_wake_;   // bodies a node woke in this update
