@@ -13,7 +13,7 @@ compared here.
     /usr/bin/python3 bench/paper_peak.py [--ridge 1] [--travel-mm 2] [--only fast balanced ...]
 
 Variants: the presets `fast`, `balanced` and `paper`, run in that order
-(measured 0.71 h and ~1 h; `paper` 3.6 million steps, ~5 h, on 2 cores), and
+(measured 0.55 h and 0.76 h; `paper` 3.6 million steps, ~4 h, on 2 cores), and
 on request (--only reference) `reference`: the paper preset's masses at half
 its step (0.08 µs, ~10 h).
 The errors are against the smallest step that has been run (`paper`, the
