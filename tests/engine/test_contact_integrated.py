@@ -208,3 +208,20 @@ def test_a_look_at_the_forces_changes_nothing_that_follows(theta, mu):
     (xa, va, ea), (xb, vb, eb) = runs
     assert np.array_equal(xa, xb) and np.array_equal(va, vb)
     assert ea == eb
+
+
+def test_the_candidate_list_follows_a_change_of_topology():
+    """The contact module keeps its candidate pairs while no node moves farther
+    than the skin, and builds them again when the mesh's topology changes, also
+    when the node count does not (a corner re-pointed; bond splits add nodes,
+    which alone would force a build): the model's topology count tells it."""
+    m, nodes, tri, na, dt = closing_blocks(gap=0.05)
+    m.set_velocities(np.zeros((len(nodes), 2)))
+    m.step(5)
+    assert m._m.contact_list_builds == 1   # at rest: one build, reused
+    t, c = 0, 0
+    m._m.set_triangle_node(t, c, int(tri[t, c]))  # the same node: a topology change in name only
+    m.step(1)
+    assert m._m.contact_list_builds == 2
+    m.step(5)
+    assert m._m.contact_list_builds == 2

@@ -333,6 +333,7 @@ void bind_model(py::module_& m) {
       })
       .def("add_node", &Model::add_node)
       .def("set_triangle_node", &Model::set_triangle_node)
+      .def_property_readonly("contact_list_builds", &Model::contact_list_builds)
       .def("rebuild_topology", &Model::rebuild_topology)
       .def("prepare", &Model::prepare_topology)
       .def_property_readonly("n_nodes", [](Model& M) { return M.nodes().size(); })

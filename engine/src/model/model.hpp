@@ -200,6 +200,7 @@ class Model {
   double energy_tolerance() const { return energy_tolerance_; }
   bool check_stable_dt() const { return check_stable_dt_; }
   int32_t touching_pairs() const { return contact_.touching_pairs(); }
+  int64_t contact_list_builds() const { return contact_.rebuilds(); }  // broad-phase builds so far
   size_t memory_bytes() const;
 
   // --- freeze bonds (freeze_bonds.hpp; splitting edits the topology) ---
