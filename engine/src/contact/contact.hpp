@@ -132,8 +132,7 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
 struct ContactStiffness {
   std::vector<int32_t> node;     // per (node, body) with a share of the node: ascending node, then body
   std::vector<double> k, area;   // its stiffness [N/m per m] and area around the node [m²]
-  std::vector<double> node_area; // per node: area of all its triangles [m²]
-  int32_t n_nodes = 0;
+  std::vector<double> node_area; // per node: area of all its triangles [m²] (n_nodes entries)
 };
 ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& in, double reach = INFINITY);
 ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,

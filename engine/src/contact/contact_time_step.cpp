@@ -193,7 +193,6 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
 
 ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& in, double reach) {
   ContactStiffness out;
-  out.n_nodes = in.n_nodes;
   // Each body on its own: an edge is a boundary edge of a body if no other
   // triangle of the same body uses it, and a node shared by several bodies
   // (a freeze-bond point of a continuous mesh) counts once per body with that
@@ -289,7 +288,7 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
 
 ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,
                                       std::vector<double>* node_stiffness) {
-  if (node_stiffness) node_stiffness->assign(s.n_nodes, 0.0);
+  if (node_stiffness) node_stiffness->assign(s.node_area.size(), 0.0);
   ContactStableStep out;
   out.dt = INFINITY;
   const std::vector<double>& node_area = s.node_area;

@@ -98,12 +98,14 @@ void Model::guard_contact_reach() {
     worst = std::max(worst, dx * dx + dy * dy);
   }
   if (worst <= half * half) return;
-  const ContactStableStep c = contact_critical_dt(contact_params_, contact_input(), nullptr, contact_reach_);
+  // the stiffness of the current configuration, for the step and any raise
+  const ContactStiffness now = contact_stiffness(contact_params_, contact_input(), contact_reach_);
+  const ContactStableStep c = contact_critical_dt(now, nodes_.mass.data());
   reach_x_ = nodes_.x;
   reach_y_ = nodes_.y;
   const double limit = kTimeStepSafety * c.dt;
   if (check_stable_dt_ && dt_ > limit * kRoundOff && mass_scaling_dt_ > 0.0) {
-    raise_contact_masses();   // mass scaling is allowed: scale the nodes that now need it
+    raise_contact_masses(now);  // mass scaling is allowed: scale the nodes that now need it
     return;
   }
   if (check_stable_dt_ && dt_ > limit * kRoundOff)

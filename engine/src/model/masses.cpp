@@ -109,9 +109,9 @@ void Model::scale_masses() {
 // then on. Nodes with prescribed motion keep their velocity (the boundary
 // condition sets it; 1/2 (m_old - m_new) v^2 is booked). Returns the number
 // of nodes raised.
-int32_t Model::raise_contact_masses() {
+int32_t Model::raise_contact_masses(const ContactStiffness& now) {
   std::vector<double> k;
-  contact_critical_dt(contact_params_, contact_input(), &k, contact_reach_);
+  contact_critical_dt(now, nodes_.mass.data(), &k);
   const double need = dt_ / kTimeStepSafety;
   Nodes& N = nodes_;
   double lost = 0.0;
@@ -220,7 +220,8 @@ int32_t Model::reset_contact_masses() {
   if (!(contact_possible_ && std::isfinite(contact_reach_) && mass_scaling_dt_ > 0.0)) return 0;
   reach_x_ = N.x;  // the reach guard measures moves from here
   reach_y_ = N.y;
-  return raise_contact_masses();  // only the nodes that need more than they have
+  // only the nodes that need more than they have
+  return raise_contact_masses(contact_stiffness(contact_params_, contact_input(), contact_reach_));
 }
 
 void Model::set_reach_origin(const std::vector<double>& x, const std::vector<double>& y) {

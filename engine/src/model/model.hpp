@@ -231,7 +231,9 @@ class Model {
   void body_momenta(const std::vector<double>& cx, const std::vector<double>& cy, std::vector<double>& px,
                     std::vector<double>& py, std::vector<double>& l) const;
   void guard_contact_reach();      // re-bound the contact step after large moves
-  int32_t raise_contact_masses();  // ... and, with mass scaling on, raise the nodes it needs
+  // ... and, with mass scaling on, raise the nodes the contact stiffness of the
+  // current configuration (`now`) needs
+  int32_t raise_contact_masses(const ContactStiffness& now);
   void report_added_mass();        // the mass scaling's totals into stable_
   // v *= factor at node i; returns the energy the books must take as damping
   // beyond the kinetic energy (the shift of the ledger's half-step point)
