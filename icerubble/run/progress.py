@@ -27,7 +27,7 @@ class Progress:
             self.start_travel = y_I
         wall = now - self.t0
         done = y_I - self.start_travel
-        left = self.target - y_I
+        left = max(self.target - y_I, 0.0)   # the last step overshoots the target
         if done > 0 and wall > 0:
             eta = f"{left * wall / done:8.0f} s"
         else:

@@ -2,8 +2,10 @@
 `resubmit`, against a one-node SLURM started on this machine (tests/local_slurm.py).
 If SLURM cannot start here the tests fail saying why; they do not skip.
 
-The table is the tiny scene (8 blocks) with 15 mm of travel: a run takes
-~15 s, long enough to be stopped in the middle of loading.
+The table is the tiny scene (8 blocks) with 60 mm of travel: its loading
+takes ~8 s, several times the ~1.5 s it takes the test to see loading begin
+and stop the run (at 15 mm the loading took 2 s, and once ended before the
+stop reached it).
 """
 import os
 import subprocess
@@ -16,7 +18,7 @@ import pytest
 from icerubble.files.h5io import open_complete
 from tests.local_slurm import LocalSlurm
 
-TRAVEL = 0.015
+TRAVEL = 0.060
 WAIT_S = 400
 
 
@@ -49,13 +51,18 @@ def _states(text):
     return got
 
 
-def _wait(cluster, out, until, what):
+def _wait(cluster, out, until, what, wrong=lambda states: None):
+    """Polls `study status` until `until(states)`; fails at once when
+    `wrong(states)` says why the wait cannot end well."""
     deadline = time.time() + WAIT_S
     while time.time() < deadline:
         text = _study(cluster, "status", str(out), cwd=out).stdout
         states = _states(text)
         if until(states):
             return states, text
+        why = wrong(states)
+        if why:
+            raise AssertionError(f"{what}: {why}:\n{text}")
         time.sleep(1)
     raise AssertionError(f"{what}: not within {WAIT_S} s:\n{text}")
 
@@ -133,6 +140,7 @@ def test_stopped_tasks_resume_from_their_checkpoint_to_the_same_record(cluster, 
     deadline = time.time() + WAIT_S
     requeued_at = released = None
     while time.time() < deadline and "restart 1" not in (logs / "line3.log").read_text():
+        assert "[study] wrote" not in (logs / "line3.log").read_text(), "line 3 ended before SIGUSR1 reached it"
         q = subprocess.run(["squeue", "-h", "-j", f"{job}_3", "-o", "%T"], env=cluster.env,
                            capture_output=True, text=True).stdout.split()
         if q[:1] == ["PENDING"]:
@@ -143,7 +151,8 @@ def test_stopped_tasks_resume_from_their_checkpoint_to_the_same_record(cluster, 
                 released = True
         time.sleep(0.5)
     states, text = _wait(cluster, out, lambda s: s["cancelled"][0] == "interrupted" and s["timelimit"][0] == "done",
-                         "the cancelled line interrupted and the requeued one done")
+                         "the cancelled line interrupted and the requeued one done",
+                         wrong=lambda s: s.get("cancelled", ("",))[0] == "done" and "line 2 ended before scancel reached it")
     assert "stopped by SIGTERM" in states["cancelled"][1] and "phase load" in states["cancelled"][1], text
     assert (out / "cancelled.checkpoint.h5").exists()
     assert "stopped by SIGUSR1" in (logs / "line3.log").read_text()
