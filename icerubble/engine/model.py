@@ -486,6 +486,12 @@ class Model:
     def touching_pairs(self):
         return self._m.touching_pairs
 
+    @property
+    def thread_count(self):
+        """The threads a step's sums are split over (threads, or OpenMP's
+        default for 0): results agree across counts only to round-off."""
+        return self._m.thread_count()
+
     def memory_bytes(self):
         """Bytes held by the engine's arrays."""
         return self._m.memory_bytes()

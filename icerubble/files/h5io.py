@@ -7,6 +7,7 @@ carrying the final name is complete even if the machine died while writing
 """
 import datetime
 import os
+import socket
 import subprocess
 
 import h5py
@@ -47,11 +48,13 @@ class AtomicH5:
     """Context manager: ``with AtomicH5(path, fmt) as f:`` writes path.part,
     then sets root ``complete = 1`` and renames to path on a clean exit. On an
     exception the .part file stays (for inspection) and path is not touched.
+    writer_part: the .part file named by host and process too, for a file
+    that several processes may write at once (the last rename wins).
     """
 
-    def __init__(self, path, fmt, format_version=1):
+    def __init__(self, path, fmt, format_version=1, writer_part=False):
         self.path = os.fspath(path)
-        self.part = self.path + ".part"
+        self.part = self.path + (f".{socket.gethostname()}.{os.getpid()}.part" if writer_part else ".part")
         self.fmt = fmt
         self.format_version = format_version
         self.file = None

@@ -11,7 +11,8 @@ import h5py
 import numpy as np
 
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
-from .recorder import ENERGY_TERMS
+from .recorder import ENERGY_TERMS, snapshot_travels
+from .rest_states import SETTLE_FREE
 from .run_identity import PHYSICS_VERSION
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
@@ -25,13 +26,19 @@ def checkpoint_path(out_path):
     return (out_path[:-3] if out_path.endswith(".h5") else out_path) + ".checkpoint.h5"
 
 
-def save(run, path):
-    with AtomicH5(path, CHECKPOINT_FORMAT) as f:
+def save(run, path, driver_attrs=None, shared=False):
+    """driver_attrs: more attributes of /driver (a shared rest state's settle
+    identity); shared: a file other runs may be writing at the same time."""
+    with AtomicH5(path, CHECKPOINT_FORMAT, writer_part=shared) as f:
         d = f.create_group("driver")
+        for k, v in (driver_attrs or {}).items():
+            d.attrs[k] = v
         for k in DRIVER_FIELDS:
             v = getattr(run, k)
             d.attrs[k] = np.nan if v is None else v
         d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
+        if run.recorder.meta.get("rest_state_shared"):   # the result names it after a resume too
+            d.attrs["rest_state_shared_from"] = run.recorder.meta["rest_state_from"]
         d.attrs["params"] = json.dumps(run.params)
         d.attrs["physics_version"] = PHYSICS_VERSION
         write_tree(f.create_group("engine"), run.model.checkpoint())
@@ -107,18 +114,23 @@ def check(f):
 
 
 # What a run started from another run's rest state may choose itself: the
-# loading's step and how far it goes (restore(..., from_rest=True)).
+# loading's step and how far it goes, and what the settle never reads
+# (rest_states.SETTLE_FREE: bond strengths, the indenter's ramp), which are
+# then this run's own (restore(..., from_rest=True)).
 LOADING_NUMERICS = ("dt", "target_travel")
 
 
-def restore(run, path, from_rest=False):
+def restore(run, path, from_rest=False, shared=False):
     """Continue the run saved in `path`. from_rest: start this run's loading
     from the rest state of another run of the same scene and parameters that
     may differ in LOADING_NUMERICS only (a checkpoint written as loading
     starts, e.g. by a settle with other numerics): this run's masses and step
     replace the saved ones (bench/paper_peak.py compares loading numerics from
     one rest state). The rest state's positions, velocities, bond states,
-    friction stick forces and settle record are kept: they are the rest."""
+    friction stick forces and settle record are kept: they are the rest.
+    shared: start this run's loading from a shared rest state
+    (rest_states.py), made by a settle with this run's numerics and threads:
+    restored as saved, with this run's SETTLE_FREE parameters."""
     with open_complete(path, CHECKPOINT_FORMAT) as f:
         check(f)
         d = f["driver"]
@@ -129,8 +141,9 @@ def restore(run, path, from_rest=False):
                              "be continued; remove it to start the run again")
         saved = json.loads(d.attrs["params"])
         diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
-        if from_rest:
-            diff = [k for k in diff if k not in LOADING_NUMERICS]
+        if from_rest or shared:
+            free = SETTLE_FREE + (LOADING_NUMERICS if from_rest else ())
+            diff = [k for k in diff if k not in free]
             phase = _text(d.attrs["phase"])
             if phase != "load" or int(d.attrs.get("load_steps", -1)) != 0:
                 raise ValueError(f"checkpoint {path} is not at the start of loading (phase {phase}, "
@@ -146,7 +159,12 @@ def restore(run, path, from_rest=False):
                 v = v.decode()
             setattr(run, k, v.item() if hasattr(v, "item") else v)
         run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
-        run.model = run.scene.restore(read_tree(f["engine"]))
+        if "rest_state_shared_from" in d.attrs and not (from_rest or shared):
+            run.recorder.meta.update(rest_state_from=_text(d.attrs["rest_state_shared_from"]), rest_state_shared=1)
+        engine_state = read_tree(f["engine"])
+        if from_rest or shared:
+            _own_bonds(run, engine_state, path)
+        run.model = run.scene.restore(engine_state)
         run._configure_numerics(run.model)
         if from_rest:
             # the saved masses and step are the other run's: this run's instead
@@ -168,4 +186,19 @@ def restore(run, path, from_rest=False):
                  snapshots=[(r["snapshots"][k].attrs["t"], r["snapshots"][k].attrs["y_I"],
                              r["snapshots"][k]["u_elem"][...], r["snapshots"][k]["u_node"][...])
                             for k in sorted(r["snapshots"])])
+        if from_rest or shared:   # no snapshot taken yet: this run's own travels
+            s["pending_snaps"] = snapshot_travels(run.params["target_travel"])
         run.recorder.restore(s)
+
+
+def _own_bonds(run, cp, path):
+    """A rest state's bonds with this run's strengths, fracture energies and
+    force direction: the settle held every bond and read none of them
+    (rest_states.SETTLE_FREE), so the rest is this run's own but for these."""
+    b, own = cp["bond_input"], run.scene.bond_points
+    if not np.array_equal(np.asarray(b["node"]), np.asarray(own.node, dtype=np.asarray(b["node"]).dtype)):
+        raise ValueError(f"checkpoint {path}: its bond points are not this run's (split, or another mesh): "
+                         "not a rest state of this scene")
+    for k in ("sigma_cr", "tau_cr", "G"):
+        b[k] = np.asarray(getattr(own, k), dtype=float)
+    cp["bond_params"]["direction"] = run.params["force_direction"]

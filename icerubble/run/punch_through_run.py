@@ -29,6 +29,9 @@ import numpy as np
 
 from .. import engine
 from . import checkpoint as ckpt
+from . import rest_states as RS
+from . import run_identity as RI
+from ..files.h5io import open_complete
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
 from .progress import Progress
@@ -169,7 +172,11 @@ def check_sleep(sleep):
 
 
 class PunchThrough:
-    def __init__(self, mesh_path, out_path, params=None, options=None, meta=None):
+    def __init__(self, mesh_path, out_path, params=None, options=None, meta=None, rest_dir=None):
+        """rest_dir: a folder of shared rest states (rest_states.py): the run
+        loads from the rest state of an earlier run that differs from it only
+        in what the settle never reads, or settles and leaves its own there
+        (None: every run settles itself)."""
         # everything that can be wrong with the input fails here, before any work
         self.params = P.validate(params or {})
         self.options = options or RunOptions()
@@ -252,6 +259,11 @@ class PunchThrough:
         self.vtu_entries = []
         self.rest_state = None      # run_from_rest: the rest state this run loaded from (its settle was that run's)
         self.model = m
+        self.shared_rest = None     # (path, settle identity) of the shared rest state, rest_dir given
+        if rest_dir is not None:
+            ident = RS.settle_identity(self.params, self.mesh, self.options, m.thread_count,
+                                       model=self.meta.get("model", "fem-dem"))
+            self.shared_rest = (RS.rest_state_path(rest_dir, self.mesh_path, ident), RI.to_json(ident))
 
     def _configure_numerics(self, m):
         """The contact step's reach and the loading's mass scaling, on a model
@@ -280,10 +292,14 @@ class PunchThrough:
             ckpt.restore(self, self.ckpt_path)
             print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
                   f"phase {self.phase}", flush=True)
+        elif self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
+            self._load_shared_rest()
         self._last_ckpt = time.perf_counter()
         t0 = time.perf_counter()
         if self.phase == "settle":
             self.settle()
+            if self.shared_rest is not None:   # for the runs that differ only in what the settle never read
+                self._share_rest()
         t1 = time.perf_counter()
         self.load()
         # wall times of this process (a resumed run: from its resume)
@@ -292,6 +308,40 @@ class PunchThrough:
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path
+
+    def _share_rest(self):
+        """Leave the rest state for the runs that differ from this one only in
+        what the settle never reads. Runs settling at once (a study's tasks)
+        each write their own part file; the files are equal bit for bit, the
+        last rename wins. A folder that cannot be written costs only the reuse."""
+        path, ident = self.shared_rest
+        if os.path.exists(path):
+            return
+        try:
+            ckpt.save(self, path, driver_attrs=dict(settle_identity=ident), shared=True)
+        except OSError as e:
+            print(f"[punch-through] warning: the rest state could not be shared as {path} ({e}); "
+                  "the run goes on", flush=True)
+            return
+        print(f"[punch-through] rest state shared as {path}", flush=True)
+
+    def _load_shared_rest(self):
+        """Start loading from the shared rest state (rest_states.py), after
+        checking that it was made by the same settle."""
+        path, ident = self.shared_rest
+        with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
+            stored = f["driver"].attrs.get("settle_identity")
+        stored = stored.decode() if isinstance(stored, bytes) else stored
+        if stored != ident:
+            why = "; ".join(RI.differences(json.loads(stored), json.loads(ident))) if stored else \
+                "it records no settle identity"
+            raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
+                             "move it away")
+        ckpt.restore(self, path, shared=True)
+        self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1)
+        self.rest_state = path
+        print(f"[punch-through] loads from the shared rest state {path} (settled by an earlier run that "
+              "differs only in what the settle never reads)", flush=True)
 
     def settle_only(self, rest_path):
         """Settle (resuming this run's own checkpoint if there is one) and

@@ -24,10 +24,13 @@ MODELS = ("fem-dem", "rigid-dem")
 
 
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
-            resume=True, options=None, numerics_name=None, model="fem-dem"):
+            resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True):
     """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
     numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS);
-    model: "fem-dem", or "rigid-dem" (only inside YADE: the blocks are YADE polyhedra)."""
+    model: "fem-dem", or "rigid-dem" (only inside YADE: the blocks are YADE polyhedra);
+    share_rest: load from (or leave) the shared rest state of the runs of this
+    scene that differ only in what the settle never reads (rest_states.py):
+    the same result, bit for bit, without the settle."""
     if model not in MODELS:
         raise ValueError(f"model={model!r} is unknown: valid values are {', '.join(MODELS)}")
     sc = scene(scene_name)
@@ -69,10 +72,13 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
         return out
     with RI.RunLock(out):
+        # runs of this ridge that differ only in what the settle never reads
+        # (the tau_cr sweep) settle once: rest states kept beside the scene's files
         run = PunchThrough(mesh_path, out, params=params, options=options,
                            meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
                                      scene=scene_name, run_id=rid,
-                                     run_identity=RI.to_json(ident)))
+                                     run_identity=RI.to_json(ident)),
+                           rest_dir=os.path.dirname(mesh_path) if share_rest else None)
         run.run(resume=resume)
     print(f"[study] wrote {out} ({time.perf_counter() - t0:.0f} s)", flush=True)
     return out

@@ -129,7 +129,7 @@ def test_a_dt_column_is_the_step_used_not_replaced(folder, monkeypatch, over, dt
     seen = {}
 
     class Capture:
-        def __init__(self, mesh_path, out, params, options, meta):
+        def __init__(self, mesh_path, out, params, options, meta, rest_dir=None):
             seen.update(dt=params["dt"], fraction=options.dt_fraction)
             raise RuntimeError("captured")
     monkeypatch.setattr(study, "PunchThrough", Capture)

@@ -178,6 +178,7 @@ void bind_model(py::module_& m) {
       .def("set_energy_tolerance", &Model::set_energy_tolerance)
       .def("set_local_damping", &Model::set_local_damping)
       .def("set_threads", &Model::set_threads)
+      .def("thread_count", &Model::thread_count)
       .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
       .def("set_contact_reach", &Model::set_contact_reach, py::arg("reach"))
       .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),

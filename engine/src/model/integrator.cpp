@@ -53,9 +53,13 @@ StableStep Model::stable_step() {
 
 bool Model::use_threads() const { return tris_.size() >= kMinParallelTriangles; }
 
+int Model::thread_count() const {
+  return std::min(threads_ > 0 ? threads_ : omp_get_max_threads(), kMaxThreads);
+}
+
 void Model::prepare() {
   stable_step();
-  const int nt = std::min(threads_ > 0 ? threads_ : omp_get_max_threads(), kMaxThreads);
+  const int nt = thread_count();
   partial_.assign(size_t(nt), ThreadSums{});
 }
 

@@ -183,6 +183,8 @@ class Model {
   // Node -> triangle corners, in the fixed order of every per-node sum.
   const NodeGather& gather() const { return gather_; }
   int threads() const { return threads_; }  // 0: OpenMP default
+  // the threads a step's sums are split over (what their rounding depends on)
+  int thread_count() const;
   const std::vector<int32_t>& surface_triangles() const { return surface_tris_; }
   const std::vector<uint8_t>& surface_nodes() const { return on_surface_; }
   const EnergyLedger& energy() const { return energy_; }

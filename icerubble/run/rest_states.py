@@ -1,0 +1,58 @@
+"""Shared rest states: runs of one scene that differ only in what the settle
+never reads settle once.
+
+The settle (punch_through_run.PunchThrough.settle) holds every freeze bond
+(none is checked, none splits) and leaves the indenter free until it holds it
+at rest. So it reads neither the bond points' strengths and fracture energy
+nor the indenter's ramp and travel: SETTLE_FREE. The paper's study sweeps
+tau_cr over five values for each ridge and mu; with a shared rest state the
+first of the five to settle writes it next to the scene's mesh and the other
+four load from it (checkpoint.restore(from_rest=True), with their own
+strengths), skipping a settle that costs ~0.45 h of the ~1.5 h to 20 mm on
+the paper scene (README "Speed against accuracy").
+
+A run that loads from a shared rest state gives the result its own settle
+would have given, bit for bit: the key is everything else the settle reads
+(the run identity without SETTLE_FREE, the settle's options) and the thread
+count, since sums over threads round differently. tests/run/test_rest_states.py
+checks both: the rest states of two runs differing in every SETTLE_FREE
+parameter are equal bit for bit, and a run from another's rest state writes
+the result of its own settle.
+"""
+import hashlib
+import os
+
+from . import run_identity as RI
+
+# Parameters the settle does not read (see above); a run that differs in
+# these alone loads from another run's rest state.
+SETTLE_FREE = ("tau_cr", "sigma_cr", "G", "strength_bottom_fraction", "force_direction",
+               "v_final", "ramp_time", "target_travel")
+
+# RunOptions of the settle itself (not in the run identity: their defaults
+# are every study's, but a rest state is shared only under the same ones)
+SETTLE_OPTIONS = ("settle_max_time", "settle_min_time", "settle_velocity", "settle_accel",
+                  "settle_hold_time")
+
+
+def settle_identity(params, mesh, options, threads, model="fem-dem"):
+    """Everything that makes a rest state: the run identity without the
+    SETTLE_FREE parameters, the settle's options and the thread count."""
+    ident = RI.identity({k: v for k, v in params.items() if k not in SETTLE_FREE}, mesh, options)
+    ident["settle_options"] = {k: RI._plain(getattr(options, k)) for k in SETTLE_OPTIONS}
+    ident["threads"] = int(threads)
+    ident["model"] = model
+    return ident
+
+
+def settle_key(ident):
+    return hashlib.sha256(RI.to_json(ident).encode()).hexdigest()[:20]
+
+
+def rest_state_path(rest_dir, mesh_path, ident):
+    """Where the shared rest state of `ident` is kept: beside the scene's
+    files, named by the mesh and the settle key."""
+    stem = os.path.basename(os.fspath(mesh_path))
+    stem = stem[:-3] if stem.endswith(".h5") else stem
+    stem = stem[:-5] if stem.endswith("_mesh") else stem
+    return os.path.join(os.fspath(rest_dir), f"{stem}_rest_{settle_key(ident)}.checkpoint.h5")
