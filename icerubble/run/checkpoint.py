@@ -39,6 +39,7 @@ def save(run, path, driver_attrs=None, shared=False):
         d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
         if run.recorder.meta.get("rest_state_shared"):   # the result names it after a resume too
             d.attrs["rest_state_shared_from"] = run.recorder.meta["rest_state_from"]
+            d.attrs["rest_state_code_version"] = run.recorder.meta["rest_state_code_version"]
         d.attrs["params"] = json.dumps(run.params)
         d.attrs["physics_version"] = PHYSICS_VERSION
         write_tree(f.create_group("engine"), run.model.checkpoint())
@@ -113,17 +114,18 @@ def check(f):
     read_checked(f, "recorder/energy_rows", shape=(None, 1 + len(ENERGY_TERMS)), what=what)
 
 
-# What a run started from another run's rest state may choose itself: the
-# loading's step and how far it goes, and what the settle never reads
+# What a run started from another run's rest state (restore(..., from_rest=True))
+# may choose itself: the loading's step and how far it goes, and, as a run
+# from a shared rest state (shared=True), what the settle never reads
 # (rest_states.SETTLE_FREE: bond strengths, the indenter's ramp), which are
-# then this run's own (restore(..., from_rest=True)).
+# then this run's own.
 LOADING_NUMERICS = ("dt", "target_travel")
 
 
 def restore(run, path, from_rest=False, shared=False):
     """Continue the run saved in `path`. from_rest: start this run's loading
     from the rest state of another run of the same scene and parameters that
-    may differ in LOADING_NUMERICS only (a checkpoint written as loading
+    may differ in LOADING_NUMERICS and SETTLE_FREE only (a checkpoint written as loading
     starts, e.g. by a settle with other numerics): this run's masses and step
     replace the saved ones (bench/paper_peak.py compares loading numerics from
     one rest state). The rest state's positions, velocities, bond states,
@@ -160,7 +162,9 @@ def restore(run, path, from_rest=False, shared=False):
             setattr(run, k, v.item() if hasattr(v, "item") else v)
         run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
         if "rest_state_shared_from" in d.attrs and not (from_rest or shared):
-            run.recorder.meta.update(rest_state_from=_text(d.attrs["rest_state_shared_from"]), rest_state_shared=1)
+            run.rest_state = _text(d.attrs["rest_state_shared_from"])
+            run.recorder.meta.update(rest_state_from=_text(d.attrs["rest_state_shared_from"]), rest_state_shared=1,
+                                     rest_state_code_version=_text(d.attrs.get("rest_state_code_version", "")))
         engine_state = read_tree(f["engine"])
         if from_rest or shared:
             _own_bonds(run, engine_state, path)

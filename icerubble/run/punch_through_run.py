@@ -331,6 +331,7 @@ class PunchThrough:
         path, ident = self.shared_rest
         with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
             stored = f["driver"].attrs.get("settle_identity")
+            made_by = f.attrs.get("code_version", "")
         stored = stored.decode() if isinstance(stored, bytes) else stored
         if stored != ident:
             why = "; ".join(RI.differences(json.loads(stored), json.loads(ident))) if stored else \
@@ -338,7 +339,10 @@ class PunchThrough:
             raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
                              "move it away")
         ckpt.restore(self, path, shared=True)
-        self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1)
+        # the code that settled (the key holds its physics version, not its commit)
+        made_by = made_by.decode() if isinstance(made_by, bytes) else str(made_by)
+        self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1,
+                                  rest_state_code_version=made_by)
         self.rest_state = path
         print(f"[punch-through] loads from the shared rest state {path} (settled by an earlier run that "
               "differs only in what the settle never reads)", flush=True)
@@ -697,8 +701,10 @@ class PunchThrough:
                                   load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
                                   load_element_steps=int(self.load_element_steps),
                                   sleep=json.dumps(self.options.sleep))
-        # a run loaded from a rest state did not settle at its own settle step
-        if self.options.settle_mass_scaling_dt is not None and self.rest_state is None:
+        # a run loaded from another run's rest state (run_from_rest) did not
+        # settle at its own settle step; one from a shared rest state did (it is in the key)
+        if self.options.settle_mass_scaling_dt is not None and (
+                self.rest_state is None or self.recorder.meta.get("rest_state_shared")):
             self.recorder.meta.update(settle_mass_scaling_dt=self.options.settle_mass_scaling_dt)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)

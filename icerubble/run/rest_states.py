@@ -7,9 +7,11 @@ at rest. So it reads neither the bond points' strengths and fracture energy
 nor the indenter's ramp and travel: SETTLE_FREE. The paper's study sweeps
 tau_cr over five values for each ridge and mu; with a shared rest state the
 first of the five to settle writes it next to the scene's mesh and the other
-four load from it (checkpoint.restore(from_rest=True), with their own
+four load from it (checkpoint.restore(shared=True), with their own
 strengths), skipping a settle that costs ~0.45 h of the ~1.5 h to 20 mm on
-the paper scene (README "Speed against accuracy").
+the paper scene (README "Speed against accuracy"). Only runs that start
+after the rest state is written find it: runs that start together (a
+SLURM array's tasks, yade-batch -j 2) all settle.
 
 A run that loads from a shared rest state gives the result its own settle
 would have given, bit for bit: the key is everything else the settle reads

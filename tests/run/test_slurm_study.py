@@ -166,6 +166,8 @@ def test_stopped_tasks_resume_from_their_checkpoint_to_the_same_record(cluster, 
     for stopped, whole in (("cancelled", "strong"), ("timelimit", "weak")):
         log = (logs / f"line{2 if stopped == 'cancelled' else 3}.log").read_text()
         assert "[punch-through] resumed from" in log and "phase load" in log
+        # they started after strong and weak had left their rest state: no settle of their own
+        assert "loads from the shared rest state" in log and "[settle]" not in log, log
         for a, b in zip(_force(out / f"{stopped}.h5"), _force(out / f"{whole}.h5")):
             np.testing.assert_array_equal(a, b)
     assert not (out / "cancelled.checkpoint.h5").exists()
