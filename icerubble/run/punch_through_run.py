@@ -260,6 +260,7 @@ class PunchThrough:
         self.rest_state = None      # run_from_rest: the rest state this run loaded from (its settle was that run's)
         self.model = m
         self.shared_rest = None     # (path, settle identity) of the shared rest state, rest_dir given
+        self._shared_rest_damaged = False   # the file at its name could not be read: written again
         if rest_dir is not None:
             ident = RS.settle_identity(self.params, self.mesh, self.options, m.thread_count,
                                        model=self.meta.get("model", "fem-dem"))
@@ -315,7 +316,7 @@ class PunchThrough:
         each write their own part file; the files are equal bit for bit, the
         last rename wins. A folder that cannot be written costs only the reuse."""
         path, ident = self.shared_rest
-        if os.path.exists(path):
+        if os.path.exists(path) and not self._shared_rest_damaged:
             return
         try:
             ckpt.save(self, path, driver_attrs=dict(settle_identity=ident), shared=True)
@@ -329,9 +330,18 @@ class PunchThrough:
         """Start loading from the shared rest state (rest_states.py), after
         checking that it was made by the same settle."""
         path, ident = self.shared_rest
-        with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
-            stored = f["driver"].attrs.get("settle_identity")
-            made_by = f.attrs.get("code_version", "")
+        try:
+            with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
+                ckpt.check(f)
+                stored = f["driver"].attrs.get("settle_identity")
+                made_by = f.attrs.get("code_version", "")
+        except (ValueError, OSError) as e:
+            # files are written whole and renamed, so only outside damage does
+            # this: the run settles itself and writes the rest state again
+            print(f"[punch-through] warning: the shared rest state cannot be read ({e}); this run "
+                  "settles itself and replaces it", flush=True)
+            self._shared_rest_damaged = True
+            return
         stored = stored.decode() if isinstance(stored, bytes) else stored
         if stored != ident:
             why = "; ".join(RI.differences(json.loads(stored), json.loads(ident))) if stored else \

@@ -150,3 +150,24 @@ def test_a_run_from_a_shared_rest_state_is_the_run_that_settles_itself(mesh_path
     shutil.copy(a.shared_rest[0], c.shared_rest[0])
     with pytest.raises(ValueError, match=r"not made by this run.s settle \(mu: stored 0.3, asked 0.5"):
         c.run()
+
+
+def test_a_damaged_shared_rest_state_is_settled_again_and_replaced(mesh_path, tmp_path, capsys):
+    """A file at the rest state's name that cannot be read (damaged outside:
+    the runs write whole files and rename them) does not stop the runs of
+    its key: the next settles itself, says so, and writes it again."""
+    shared = tmp_path / "scene"
+    shared.mkdir()
+    run = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**OPTS), rest_dir=shared)
+    path = run.shared_rest[0]
+    with open(path, "wb") as f:
+        f.write(b"not an HDF5 file")
+    run.run()
+    out = capsys.readouterr().out
+    assert "shared rest state cannot be read" in out and "rest state shared as" in out
+    with open_complete(path) as f:
+        assert f["driver"].attrs["settle_identity"] == run.shared_rest[1]
+    own = PunchThrough(mesh_path, tmp_path / "own.h5", params=PARAMS, options=RunOptions(**OPTS))
+    own.run()
+    ra, ro = _records(tmp_path / "a.h5")[0], _records(tmp_path / "own.h5")[0]
+    assert [k for k in ro if not _same(ra[k], ro[k])] == []
