@@ -200,7 +200,7 @@ def _own_bonds(run, cp, path):
     force direction: the settle held every bond and read none of them
     (rest_states.SETTLE_FREE), so the rest is this run's own but for these."""
     b, own = cp["bond_input"], run.scene.bond_points
-    if not np.array_equal(np.asarray(b["node"]), np.asarray(own.node, dtype=np.asarray(b["node"]).dtype)):
+    if not np.array_equal(b["node"], own.node):
         raise ValueError(f"checkpoint {path}: its bond points are not this run's (split, or another mesh): "
                          "not a rest state of this scene")
     for k in ("sigma_cr", "tau_cr", "G"):

@@ -21,7 +21,6 @@ checks both: the rest states of two runs differing in every SETTLE_FREE
 parameter are equal bit for bit, and a run from another's rest state writes
 the result of its own settle.
 """
-import hashlib
 import os
 
 from . import run_identity as RI
@@ -47,14 +46,10 @@ def settle_identity(params, mesh, options, threads, model="fem-dem"):
     return ident
 
 
-def settle_key(ident):
-    return hashlib.sha256(RI.to_json(ident).encode()).hexdigest()[:20]
-
-
 def rest_state_path(rest_dir, mesh_path, ident):
     """Where the shared rest state of `ident` is kept: beside the scene's
-    files, named by the mesh and the settle key."""
+    files, named by the mesh and the settle identity's hash (as a run's run_id)."""
     stem = os.path.basename(os.fspath(mesh_path))
     stem = stem[:-3] if stem.endswith(".h5") else stem
     stem = stem[:-5] if stem.endswith("_mesh") else stem
-    return os.path.join(os.fspath(rest_dir), f"{stem}_rest_{settle_key(ident)}.checkpoint.h5")
+    return os.path.join(os.fspath(rest_dir), f"{stem}_rest_{RI.run_id(ident)}.checkpoint.h5")

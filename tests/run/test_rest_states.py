@@ -10,6 +10,7 @@ import pytest
 
 from icerubble.files.h5io import open_complete
 from icerubble.run import rest_states as RS
+from icerubble.run import run_identity as RI
 from icerubble.run.punch_through_run import PunchThrough, RunOptions
 from tests.run.punch_through_scenes import brick_mesh
 from tests.run.test_punch_through import PARAMS
@@ -81,7 +82,7 @@ def test_the_settle_reads_none_of_the_settle_free_parameters(mesh_path, tmp_path
 
 def test_the_key_holds_what_the_settle_reads(mesh_path):
     run = PunchThrough(mesh_path, os.devnull + ".h5", params=PARAMS, options=RunOptions(**OPTS))
-    key = lambda params=PARAMS, options=RunOptions(**OPTS), threads=1: RS.settle_key(  # noqa: E731
+    key = lambda params=PARAMS, options=RunOptions(**OPTS), threads=1: RI.run_id(  # noqa: E731
         RS.settle_identity(dict(run.params, **params), run.mesh, options, threads))
     assert key(dict(PARAMS, **OTHER)) == key()
     for changed in (dict(mu=0.1), dict(E=3e9), dict(penalty=3e10), dict(dt=4e-6), dict(rho_w=1020.0)):
