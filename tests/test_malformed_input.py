@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 from icerubble.files.h5io import open_complete
+from tests.commands import ICERUBBLE, env as command_env
 from tests.h5_edits import broken, replace
 from tests.paths import DATA, ROOT
 
@@ -409,7 +410,8 @@ def test_the_commands_exit_0_when_the_input_is_good(good, tmp_path):
     for args in (["run-figures", good["result"], "-o", str(tmp_path / "fig")],
                  ["summary", str(runs), "-o", str(tmp_path / "summary.csv")],
                  ["study", "check", os.path.join(ROOT, "data", "study_tiny.table")]):
-        r = subprocess.run(["icerubble", *args], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        r = subprocess.run([*ICERUBBLE, *args], cwd=tmp_path, env=command_env(), capture_output=True, text=True,
+                           timeout=300)
         assert r.returncode == 0, f"{args}: exit {r.returncode}\n{r.stdout}{r.stderr}"
     assert list((tmp_path / "fig").glob("*.png")) and (tmp_path / "summary.csv").exists()
 
@@ -431,10 +433,10 @@ def test_malformed_input_is_refused_clearly_before_any_work(name, good, tmp_path
         text = str(e.value)
     else:
         if door == "cli":
-            cmd, env = ["icerubble", *what], os.environ
+            cmd, env = [*ICERUBBLE, *what], command_env()
         else:
             script, table = what
-            env = dict(os.environ, YADE_BATCH=_table(d, table) + ":2")
+            env = command_env(YADE_BATCH=_table(d, table) + ":2")
             before = _files(d)
             cmd = ["yade", "-n", "-x", os.path.join(ROOT, "yade_scripts", script)]
         r = subprocess.run(cmd, env=env, cwd=d, capture_output=True, text=True, timeout=300)

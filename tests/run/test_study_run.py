@@ -1,17 +1,16 @@
 """`icerubble study run`: a table run here ends with each line's outcome and a
 non-zero exit when any line did not finish (yade-batch itself exits 0)."""
 import os
-import subprocess
 
 import h5py
 
 from icerubble.files.h5io import open_complete
 from icerubble.run import study_outcome as SO
+from tests.commands import icerubble
 
 
 def _study(*args, cwd):
-    return subprocess.run(["icerubble", "study", *args], cwd=cwd, capture_output=True, text=True,
-                          timeout=600)
+    return icerubble("study", *args, cwd=cwd, timeout=600)
 
 
 def test_a_table_run_reports_each_line_and_fails_when_one_line_fails(tmp_path):

@@ -7,6 +7,7 @@ import subprocess
 import pytest
 
 from icerubble.run.table_check import check_table
+from tests.commands import env as command_env, icerubble
 from tests.paths import ROOT
 
 HEAD = "description ridge mu tau_cr scene\n"
@@ -65,7 +66,7 @@ def test_the_batch_driver_refuses_a_bad_table_before_any_line_runs(tmp_path):
     too, with the message naming it, and nothing is written."""
     table = tmp_path / "t.table"
     table.write_text(HEAD + GOOD + "r2 1 abc 5e3 'small'\n")
-    env = dict(os.environ, YADE_BATCH=f"{table}:2")
+    env = command_env(YADE_BATCH=f"{table}:2")
     r = subprocess.run(["yade", "-n", "-x", os.path.join(ROOT, "yade_scripts", "punch_through.py")],
                        env=env, capture_output=True, text=True, timeout=120, cwd=str(tmp_path))
     assert r.returncode != 0
@@ -76,8 +77,8 @@ def test_the_batch_driver_refuses_a_bad_table_before_any_line_runs(tmp_path):
 def test_the_study_command_exits_nonzero_listing_the_problems(tmp_path):
     table = tmp_path / "t.table"
     table.write_text(HEAD + "r1 1 abc 5e3 'small'\n")
-    r = subprocess.run(["icerubble", "study", "check", str(table)], capture_output=True, text=True, timeout=60)
+    r = icerubble("study", "check", table, timeout=60)
     assert r.returncode == 1 and "line 2, column mu" in r.stdout
     table.write_text(HEAD + GOOD)
-    r = subprocess.run(["icerubble", "study", "check", str(table)], capture_output=True, text=True, timeout=60)
+    r = icerubble("study", "check", table, timeout=60)
     assert r.returncode == 0 and "every line can run" in r.stdout
