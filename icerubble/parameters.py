@@ -99,6 +99,10 @@ def check_value(name, value, spec=None):
         if value not in spec.choices:
             raise ValueError(f"parameter {name}={value!r} is invalid: valid values are {spec.range_text()}")
         return value
+    # True is 1 to float(): a table's `mu True` would run at mu = 1
+    if isinstance(value, bool):
+        raise ValueError(f"parameter {name}={value!r} is a boolean, not a number; valid range "
+                         f"{spec.range_text()} {spec.unit}")
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -117,6 +121,15 @@ def require_range(name, value, lo=None, hi=None, lo_open=False):
     """check_value for a setting outside Table 1 (mesh sizes, tolerances): a
     finite number in [lo, hi] (lo excluded with lo_open)."""
     return check_value(name, value, Parameter(None, "", lo=lo, hi=hi, lo_open=lo_open))
+
+
+def require_whole(name, value, lo=0):
+    """A whole number >= lo (a seed, a count): refuses 1.5 and True, which
+    int() would silently read as 1."""
+    whole = isinstance(value, int) or (isinstance(value, float) and value.is_integer())
+    if isinstance(value, bool) or not whole or value < lo:
+        raise ValueError(f"{name}={value!r} must be a whole number >= {lo} ({lo}, {lo + 1}, {lo + 2}, ...)")
+    return int(value)
 
 
 class Checked(dict):

@@ -25,6 +25,7 @@ extruded 1 m in z, motion in the x-y plane only):
   FEM-DEM settle and was still going). The pile file records it as `friction`.
 Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
 """
+import os
 import sys
 import time
 
@@ -41,10 +42,19 @@ from yade import Vector3
 
 from icerubble.files.pile_file import write_pile
 from icerubble.geometry import pile
-from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range
+from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
+from icerubble.run.table_check import reader_problems
 
 # every touching pair prints a warning each step otherwise (docs/yade_notes.md)
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)
+
+# what YADE's reader would read otherwise than the table says (a last line
+# without its newline, a column named twice), before it reads it
+if os.environ.get("YADE_BATCH"):
+    _table = os.environ["YADE_BATCH"].split(":")[0]
+    _problems = reader_problems(_table)
+    if _problems:
+        sys.exit(f"make_pile: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems))
 
 utils.readParamsFromTable(
     seed=1,                # random generator seed (block sizes, tilts, velocities)
@@ -79,9 +89,9 @@ except KeyError:
 
 def validate(P):
     r = require_range
-    r("seed", P.seed, 0)
+    require_whole("seed", P.seed, 0)   # counts and seeds: int() would read 1.5 or True as 1
     r("domain_width (m)", P.domain_width, 0.0, lo_open=True)
-    r("n_blocks", P.n_blocks, 0)
+    require_whole("n_blocks", P.n_blocks, 0)
     r("keel_depth (m)", P.keel_depth, 0.0, lo_open=True)
     r("porosity_guess", P.porosity_guess, 0.0, 0.95)
     pile.validate_block_sizes(P.t_min, P.t_max, P.l_min, P.l_max)
@@ -94,7 +104,7 @@ def validate(P):
     r("dt_safety", P.dt_safety, 0.0, 1.0, lo_open=True)
     r("ke_per_block (J/m)", P.ke_per_block, 0.0, lo_open=True)
     r("check_interval (s)", P.check_interval, 0.0, lo_open=True)
-    r("n_quiet", P.n_quiet, 1)
+    require_whole("n_quiet", P.n_quiet, 1)
     r("max_time (s)", P.max_time, 0.0, lo_open=True)
     r("rho_i (kg/m^3)", P.rho_i, 0.0, lo_open=True)
     r("rho_w (kg/m^3)", P.rho_w, P.rho_i, lo_open=True)  # blocks must float

@@ -30,9 +30,10 @@ from icerubble.run.table_check import check_table
 # The whole table is checked before this line runs (YADE would otherwise stop
 # at the first bad value with a NameError naming no column).
 if os.environ.get("YADE_BATCH"):
-    _problems = check_table(os.environ["YADE_BATCH"].split(":")[0])
+    _table = os.environ["YADE_BATCH"].split(":")[0]
+    _problems = check_table(_table)
     if _problems:
-        sys.exit("punch_through: the table has problems, no line runs:\n  " + "\n  ".join(_problems))
+        sys.exit(f"punch_through: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems))
 
 # results go beside the scripts' checkout (runs/), whatever the working folder
 _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")

@@ -22,6 +22,7 @@ import time
 
 import h5py
 
+from .. import parameters as P
 from ..files.pile_file import read_pile
 from ..geometry import mesh_order, meshing
 from .presets import scene
@@ -59,8 +60,7 @@ def run_phase1(pile_path, seed, pile_params, threads=1):
 def scene_files(name, ridge, root="runs", threads=1):
     """(pile_path, mesh_path) of scene `name`, ridge number `ridge` (its seed)."""
     sc = scene(name)
-    if int(ridge) < 0:
-        raise ValueError(f"ridge={ridge} must be an integer >= 0 (it seeds the pile)")
+    ridge = P.require_whole("ridge", ridge, 0)   # it seeds the pile
     # absolute: phase 1 runs YADE in another folder
     d = os.path.join(os.path.abspath(root), "scenes")
     os.makedirs(d, exist_ok=True)

@@ -1,6 +1,7 @@
 """One run of the study: scene files + parameters -> result file."""
 import json
 import os
+import re
 import time
 
 import h5py
@@ -23,6 +24,21 @@ def run_name(scene_name, ridge, params):
 MODELS = ("fem-dem", "rigid-dem")
 
 
+# A line's description names its result file, OUT/<description>.h5: a plain
+# name, so that no line writes outside OUT ('/', '..') or to a hidden file
+RESULT_NAME = re.compile(r"[A-Za-z0-9_+=,-][A-Za-z0-9._+=,-]*")
+RESULT_NAME_CHARS = "letters, digits and . _ - + = , (not first: .)"
+
+
+def result_name_problem(description):
+    """Why `description` cannot name a result file (None: it can)."""
+    if not RESULT_NAME.fullmatch(description):
+        return f"is not a plain file name: use only {RESULT_NAME_CHARS}"
+    if len(description) > 200:   # with .checkpoint.h5 and _fields/ it must fit a file name (255)
+        return f"is {len(description)} characters long: at most 200"
+    return None
+
+
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
             resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True):
     """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
@@ -38,6 +54,9 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     params = P.validate(dict(sc["params"], **(overrides or {})))   # fail before any work
     if not description or description == "default":
         description = run_name(scene_name, ridge, params) + ("_rigid" if model == "rigid-dem" else "")
+    why = result_name_problem(description)
+    if why:
+        raise ValueError(f"description {description!r} {why} (it names the result file in {out_dir})")
     os.makedirs(out_dir, exist_ok=True)
     _, mesh_path = scene_files(scene_name, ridge, root=out_dir)
     out = os.path.join(out_dir, description + ".h5")

@@ -10,6 +10,12 @@ each value is parsed as the Python literal YADE will evaluate, and each line is
 validated as the run will validate it. Every problem is reported as
 ``line N, column C: ...``.
 
+Where YADE's reader would silently run something else than the text says,
+the table is refused (reader_problems): a last line without its newline
+(YADE cuts every line's last character, the newline it expects: ``mu 0.35``
+runs at 0.3), a column named twice (the last value wins), a table of column
+names only (nothing runs, and the study would report success).
+
     icerubble study check TABLE
 """
 import ast
@@ -18,7 +24,7 @@ import re
 
 from .. import parameters as P
 from .presets import NUMERICS, SCENES
-from .study import MODELS
+from .study import MODELS, result_name_problem
 
 # Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
 DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model"}
@@ -38,7 +44,9 @@ def read_table(path):
     if not lines:
         raise ValueError(f"table {path!r} has no column names (it is empty)")
     (_, head), body = lines[0], lines[1:]
-    columns = [c[:-1] if c.endswith("!") else c for c in head.split()]
+    columns = head.split()
+    if "description" not in columns:   # YADE keeps a '!' in the names of a table with a description
+        columns = [c[:-1] if c.endswith("!") else c for c in columns]
     rows, previous = [], {}
     for n, text in body:
         cells = text.split()
@@ -74,13 +82,15 @@ def check_table(path):
     (an empty list: every line can run)."""
     columns, rows = read_table(path)
     known = DRIVER_COLUMNS | set(P.TABLE_1)
-    problems = []
+    problems = reader_problems(path)
     for c in columns:
         if c.startswith("!"):   # an environment variable for the line (YADE: !OMP_NUM_THREADS)
             continue
         if c not in known:
             near = difflib.get_close_matches(c, sorted(known), n=1, cutoff=0.4)
             hint = f"; did you mean {near[0]!r}?" if near else ""
+            if c.endswith("!") and "description" in columns:
+                hint += " (YADE keeps the '!' in a column's name when the table has a description column)"
             problems.append(f"line {_head_line(path)}, column {c}: not a parameter{hint} "
                             f"(valid: {', '.join(sorted(known))})")
     descriptions = {}
@@ -90,12 +100,62 @@ def check_table(path):
             continue
         problems += _check_line(n, row, known)
         d = row.get("description")
-        if d is not None:
+        if d is None:   # YADE makes one of the values (yade.utils.TableParamReader)
+            d = _yade_description(path, row)
+            why = result_name_problem(d)
+            if why:
+                problems.append(f"line {n}: the result's name YADE makes of the values, {d!r}, {why}; "
+                                "add a description column")
+            continue
+        why = result_name_problem(d)
+        if why:
+            problems.append(f"line {n}, column description: {d!r} {why}")
+        else:
             if d in descriptions:
                 problems.append(f"line {n}, column description: {d!r} also on line {descriptions[d]} "
                                 "(both runs would write the same result file)")
             descriptions.setdefault(d, n)
     return problems
+
+
+def reader_problems(path):
+    """What YADE's reader would read otherwise than the table says, or not at
+    all: 'line N: ...' strings (any table of a YADE script, whatever its columns)."""
+    with open(path, "rb") as f:
+        raw = f.read().decode(errors="replace")
+    problems = []
+    last_n = raw.count("\n") + 1
+    last = raw.rsplit("\n", 1)[-1]
+    # YADE cuts the last character of every line, which is its newline but for
+    # the last line of a file that does not end with one
+    kept, cut = _uncommented(last).strip(), _uncommented(last[:-1]).strip()
+    if last and kept != cut:
+        read_as = next((b for a, b in zip(kept.split(), cut.split() + [""]) if a != b), "")
+        problems.append(f"line {last_n}: {kept!r} has no final newline; YADE's reader would drop its last character "
+                        f"({kept.split()[-1]!r} read as {read_as!r}): end the file with a newline")
+    head_n, head = _head(path)
+    first = {}
+    for i, c in enumerate(head, 1):
+        if c in first:
+            problems.append(f"line {head_n}, column {c}: named twice (columns {first[c]} and {i}); YADE "
+                            "would keep the last column's values: drop one")
+        first.setdefault(c, i)
+    if head and not any(_uncommented(t).strip() for t in raw.split("\n")[head_n:]):
+        problems.append(f"line {head_n}: column names only, no lines to run: add one line of values per run")
+    return problems
+
+
+def _uncommented(text):
+    return re.sub(r"\s*#.*", "", text)
+
+
+def _yade_description(path, row):
+    """The description YADE gives a line of a table without a description
+    column: name=value of the columns marked '!' (all without one), quotes removed."""
+    _, head = _head(path)
+    marked = [c[:-1] for c in head if c.endswith("!")] or head
+    text = ",".join(f"{c.replace('!', '')}={row.get(c, '')}" for c in marked)
+    return text.replace("'", "").replace('"', "")
 
 
 def _check_line(n, row, known):
@@ -117,8 +177,9 @@ def _check_line(n, row, known):
                         f"{', '.join(sorted(SCENES))}")
         return problems
     ridge = values.pop("ridge", 1)
-    if not (isinstance(ridge, int) and ridge >= 0):
-        problems.append(f"line {n}, column ridge: {ridge!r} must be a whole number >= 0 (it seeds the pile)")
+    if isinstance(ridge, bool) or not (isinstance(ridge, int) and ridge >= 0):
+        problems.append(f"line {n}, column ridge: {ridge!r} must be a whole number >= 0 (0, 1, 2, ...: "
+                        "it seeds the pile)")
     preset = values.pop("numerics", None)
     if preset is not None and preset not in NUMERICS[scene_name]:
         problems.append(f"line {n}, column numerics: {preset!r} is not a preset of scene {scene_name}; "
@@ -126,8 +187,12 @@ def _check_line(n, row, known):
     model = values.pop("model", "fem-dem")
     if model not in MODELS:
         problems.append(f"line {n}, column model: {model!r} is not a model; valid: {', '.join(MODELS)}")
-    for c in ("out_dir", "resume"):
-        values.pop(c, None)
+    resume = values.pop("resume", True)
+    if resume not in (True, False):   # the driver takes bool(resume): 'no' would resume
+        problems.append(f"line {n}, column resume: {resume!r} must be True or False")
+    out_dir = values.pop("out_dir", "")
+    if not isinstance(out_dir, str):
+        problems.append(f"line {n}, column out_dir: {out_dir!r} must be a folder's name in quotes, e.g. 'runs'")
     for c, v in values.items():
         try:
             P.check_value(c, v)
@@ -142,8 +207,13 @@ def _check_line(n, row, known):
 
 
 def _head_line(path):
-    with open(path) as f:
+    return _head(path)[0]
+
+
+def _head(path):
+    """(line number, column names as written) of the table's first non-empty line."""
+    with open(path, errors="replace") as f:
         for i, text in enumerate(f, 1):
-            if re.sub(r"\s*#.*", "", text).strip():
-                return i
-    return 1
+            if _uncommented(text).strip():
+                return i, _uncommented(text).split()
+    return 1, []
