@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from icerubble.files.h5io import open_complete
-from tests.commands import ICERUBBLE, env as command_env
+from tests.commands import ICERUBBLE, env as command_env, icerubble
 from tests.h5_edits import broken, replace
 from tests.paths import DATA, ROOT
 
@@ -55,7 +55,7 @@ def good(tmp_path_factory):
                            options=RunOptions(stop_after_steps=8000, **opts))
     with pytest.raises(KeyboardInterrupt):
         stopped.run()
-    return dict(pile=PILE, mesh=str(d / "mesh.h5"), result=str(d / "result.h5"),
+    return dict(pile=PILE, bricks=str(d / "pile.h5"), mesh=str(d / "mesh.h5"), result=str(d / "result.h5"),
                 checkpoint=str(d / "stopped.checkpoint.h5"))
 
 
@@ -538,3 +538,48 @@ def test_malformed_input_is_refused_clearly_before_any_work(name, good, tmp_path
     assert not made, f"{name}: left files that look complete: {made}"
     with h5py.File(good["result"], "r") as f:   # the intact inputs are untouched
         assert int(f.attrs["complete"]) == 1
+
+
+# ---- issue 25: nothing lost ---------------------------------------------------
+
+def _bytes(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def _refused(r, message):
+    text = r.stdout + r.stderr
+    assert r.returncode == 2, f"exit {r.returncode}\n{text}"
+    assert "Traceback" not in text, text
+    assert re.search(message, text), f"the message does not say {message!r}:\n{text}"
+
+
+@pytest.mark.parametrize("target, extra, message", [
+    ("result", [], r"mesh file '.*out\.h5' exists: name another file, or give --overwrite"),
+    ("result", ["--overwrite"], r"mesh file '.*out\.h5' has format 'icerubble-run'.*--overwrite replaces only"),
+    ("text", ["--overwrite"], r"mesh file '.*out\.h5' is not an HDF5 file.*--overwrite replaces only"),
+    ("pile", ["--overwrite"], r"mesh file '.*pile\.h5' is the input pile"),
+])
+def test_mesh_never_replaces_a_file_that_is_not_its_own_mesh(good, tmp_path, target, extra, message):
+    """Before: `icerubble mesh PILE MESH` replaced any MESH, its own pile included."""
+    pile = tmp_path / "pile.h5"
+    pile.write_bytes(_bytes(good["bricks"]))
+    out = {"result": tmp_path / "out.h5", "text": tmp_path / "out.h5", "pile": pile}[target]
+    if target == "result":
+        out.write_bytes(_bytes(good["result"]))
+    elif target == "text":
+        out.write_text("a file of another program\n")
+    before = _bytes(out)
+    r = icerubble("mesh", pile, out, "--element-size", "0.3", *extra, cwd=tmp_path)
+    _refused(r, message)
+    assert _bytes(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted({"pile.h5", out.name})
+
+
+def test_mesh_overwrite_replaces_an_icerubble_mesh(good, tmp_path):
+    out = tmp_path / "mesh.h5"
+    out.write_bytes(_bytes(good["mesh"]))
+    r = icerubble("mesh", good["bricks"], out, "--element-size", "0.4", "--overwrite", cwd=tmp_path)
+    assert r.returncode == 0, r.stdout + r.stderr
+    with open_complete(out, "icerubble-mesh") as f:
+        assert f.attrs["element_size"] == 0.4

@@ -1,14 +1,39 @@
 """`icerubble mesh`: mesh a settled pile (phase 1 output) for the punch-through phase.
 
-    icerubble mesh pile.h5 mesh.h5 [--element-size 0.1] [...]
+    icerubble mesh pile.h5 mesh.h5 [--element-size 0.1] [--overwrite] [...]
+
+An existing MESH is kept unless --overwrite is given, and even then only an
+icerubble mesh is replaced: never the input pile, never another file.
 
 From Python or a YADE script: icerubble.geometry.meshing.mesh_pile_file.
 Contact rule: icerubble/geometry/contact_resolution.py; file layout: docs/pile_and_mesh.md.
 """
 import argparse
+import os
 import time
 
+from ..files.h5io import open_complete
+from ..files.mesh_file import MESH_FORMAT
+from ..files.output_path import check_output_file
 from . import meshing
+
+
+def check_mesh_output(pile, mesh, overwrite):
+    """Refuse (ValueError) a MESH whose writing would lose a file: the input
+    pile itself, an existing file without --overwrite, or with it anything
+    but an icerubble mesh (a result, a pile, a file of another program)."""
+    check_output_file(mesh, "mesh file")
+    if not os.path.exists(mesh):
+        return
+    if os.path.exists(pile) and os.path.samefile(pile, mesh):
+        raise ValueError(f"mesh file {mesh!r} is the input pile: writing it would replace the pile; "
+                         "name another mesh file")
+    if not overwrite:
+        raise ValueError(f"mesh file {mesh!r} exists: name another file, or give --overwrite to replace it")
+    try:
+        open_complete(mesh, MESH_FORMAT, what="mesh file").close()
+    except ValueError as e:
+        raise ValueError(f"{e}; --overwrite replaces only a complete icerubble mesh: name another file") from None
 
 
 def main(argv=None):
@@ -27,7 +52,9 @@ def main(argv=None):
     ap.add_argument("--fuzzy", type=float, default=1e-3,
                     help="gmsh/OCC boolean tolerance (m), < eps_sep/2, default 1e-3")
     ap.add_argument("--indenter-width", type=float, default=4.0, help="m, default 4 (paper)")
+    ap.add_argument("--overwrite", action="store_true", help="replace an existing icerubble mesh file MESH")
     a = ap.parse_args(argv)
+    check_mesh_output(a.pile, a.mesh, a.overwrite)
     t0 = time.perf_counter()
     m = meshing.mesh_pile_file(a.pile, a.mesh, element_size=a.element_size, gap_tol=a.gap_tol,
                                min_bond_length=a.min_bond_length, min_feature=a.min_feature,
