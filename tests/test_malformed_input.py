@@ -583,3 +583,58 @@ def test_mesh_overwrite_replaces_an_icerubble_mesh(good, tmp_path):
     assert r.returncode == 0, r.stdout + r.stderr
     with open_complete(out, "icerubble-mesh") as f:
         assert f.attrs["element_size"] == 0.4
+
+
+FAKE_YADE_BATCH = r'''#!/usr/bin/python3
+"""yade-batch standing in for the real one: each line of the table 'runs' for
+a few seconds, writes a complete result and a log that names it."""
+import os, sys, time
+import h5py
+from icerubble.run import study_outcome as SO
+from icerubble.run.table_check import read_table
+table = sys.argv[-2]
+time.sleep(float(os.environ["FAKE_LINE_SECONDS"]))
+for n, row, _ in read_table(table)[1]:
+    out = os.path.join(os.environ["ICERUBBLE_OUT_DIR"], row["description"] + ".h5")
+    with h5py.File(out, "w") as f:
+        f.attrs["format"] = SO.RESULT_FORMAT
+        f.attrs["complete"] = 1
+    with open(SO.log_path(".", n), "w") as f:
+        f.write(f"{SO.RESULT_MARK}{out}\n{SO.BATCH_SUMMARY}\nstatus : 0 (OK)\n")
+'''
+
+
+def test_a_second_study_run_of_one_table_into_one_folder_is_refused_at_once(tmp_path):
+    """Before: the second run deleted the first one's line logs and the first
+    reported its complete line as failed. Now the second is refused, naming
+    the first (its pid); the first ends with its line done and its log kept."""
+    import shutil
+    import time
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    fake = bin_dir / "yade-batch"
+    fake.write_text(FAKE_YADE_BATCH)
+    fake.chmod(0o755)
+    path = f"{bin_dir}{os.pathsep}{os.environ['PATH']}"
+    table = shutil.copy(os.path.join(ROOT, "data", "study_tiny.table"), tmp_path / "tiny.table")
+    args = [*ICERUBBLE, "study", "run", str(table), "--out", str(tmp_path / "out")]
+    first = subprocess.Popen(args, cwd=tmp_path, env=command_env(PATH=path, FAKE_LINE_SECONDS="4"),
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lock = tmp_path / "out" / "logs" / "tiny" / "run.lock"
+    for _ in range(300):   # until the first holds the lock
+        if lock.exists() and "process" in lock.read_text():
+            break
+        time.sleep(0.05)
+    second = icerubble("study", "run", table, "--out", tmp_path / "out", cwd=tmp_path, PATH=path,
+                       FAKE_LINE_SECONDS="0")
+    assert first.poll() is None, "the first run ended before the second started: make its line longer"
+    _refused(second, rf"already being run into .*out by process {first.pid} on ")
+    text = first.communicate(timeout=120)[0]
+    assert first.returncode == 0, text
+    assert re.search(r"\n +done (\d+) of \1 lines\n", text) and "failed" not in text, text
+    logs = tmp_path / "out" / "logs" / "tiny"
+    assert sorted(p.name for p in logs.glob("line*.log")) == ["line5.log", "line6.log", "line7.log"]
+    # the lock went with its process: the next run goes ahead
+    third = icerubble("study", "run", table, "--out", tmp_path / "out", cwd=tmp_path, PATH=path,
+                      FAKE_LINE_SECONDS="0")
+    assert third.returncode == 0, third.stdout + third.stderr

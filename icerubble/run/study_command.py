@@ -26,7 +26,7 @@ import subprocess
 from . import slurm
 from . import study_outcome as SO
 from .scene_cache import ROOT
-from .study_folder import load_study, open_study, studies, table_of
+from .study_folder import load_study, open_study, studies, study_dir, study_lock, table_of
 from .table_check import check_table
 
 PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")
@@ -98,6 +98,11 @@ def run_local(table, out, jobs=1, job_threads=2):
     line's outcome and returns the exit status (1 if any line did not finish)."""
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
+    with study_lock(study_dir(out, table)):   # one run of a table into a folder at a time
+        return _run_locked(table, out, jobs, job_threads)
+
+
+def _run_locked(table, out, jobs, job_threads):
     log_dir, study = open_study(table, out, "local")
     for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):

@@ -5,11 +5,17 @@
     OUT/logs/<table>/study.json      the table's name, where it runs (local or
                                      slurm), the sbatch options and every job id
     OUT/logs/<table>/line<N>.log     table line N's log, one per line
+    OUT/logs/<table>/run.lock        held (flock) by the `icerubble study run` of
+                                     this table into OUT, with its host and pid
 
 so that `icerubble study status OUT` can tell each line's outcome afterwards.
 """
+import contextlib
+import fcntl
 import json
 import os
+import socket
+import time
 
 STUDY_FILE = "study.json"
 
@@ -49,6 +55,35 @@ def open_study(table, out, scheduler, **settings):
                  **settings)
     save_study(log_dir, study)
     return log_dir, study
+
+
+@contextlib.contextmanager
+def study_lock(log_dir):
+    """Held while this table runs into this folder: a second run of it at once
+    would delete the first one's line logs (each run starts afresh) and read
+    the other's lines as its own, so it is refused at once, naming the first.
+    An flock is released by the kernel when its process ends, however it ends:
+    no stale lock to clear by hand."""
+    os.makedirs(log_dir, exist_ok=True)
+    path = os.path.join(log_dir, "run.lock")
+    f = open(path, "a+")
+    try:
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            f.seek(0)
+            holder = f.read().strip() or "another process"
+            raise ValueError(f"this table is already being run into {os.path.dirname(os.path.dirname(log_dir))} "
+                             f"by {holder} (lock {path}): wait for it to end (`icerubble study status` "
+                             "tells its lines), or run into another --out") from None
+        f.seek(0)
+        f.truncate()
+        f.write(f"process {os.getpid()} on {socket.gethostname()}, started "
+                f"{time.strftime('%Y-%m-%d %H:%M:%S')}\n")
+        f.flush()
+        yield
+    finally:
+        f.close()   # releases the lock
 
 
 def table_of(log_dir, study):
