@@ -17,6 +17,9 @@ import os
 import sys
 import traceback
 
+from icerubble import cli
+from icerubble.files.output_path import check_output_folder, whole_file
+
 from . import figures_deformation, figures_failure, figures_force, results, summary, tables
 from .catalog import Catalog, Missing
 
@@ -80,7 +83,7 @@ def make_variant(runs, out_dir, tau_ref, plug_force, report):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m postproc.make_figures", description=__doc__,
+    ap = argparse.ArgumentParser(prog="icerubble figures", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results_dir", help="folder of run results (*.h5), searched recursively")
     ap.add_argument("-o", "--out-dir", default="figures", help="output folder (default ./figures)")
@@ -93,6 +96,7 @@ def main(argv=None):
         ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
     if args.tau_ref_kPa <= 0 or args.plug_force < 0:
         ap.error("--tau-ref-kPa must be > 0 and --plug-force >= 0")
+    check_output_folder(args.out_dir, "--out-dir")
 
     runs, skipped = results.load_folder(args.results_dir)
     skipped = [f"- skipped: {why}" for why in skipped]
@@ -116,7 +120,7 @@ def main(argv=None):
     if not runs:
         lines.append("No readable run result: nothing could be made.")
     text = "\n".join(lines) + "\n"
-    with open(os.path.join(args.out_dir, "MISSING.md"), "w") as fh:
+    with whole_file(os.path.join(args.out_dir, "MISSING.md")) as fh:
         fh.write(text)
     print(text)
     if not runs:
@@ -125,4 +129,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(cli.run("figures", sys.argv[1:]))

@@ -29,6 +29,8 @@ import sys
 
 import numpy as np
 
+from icerubble import cli, exit_status
+from icerubble.files.output_path import check_output_folder, whole_file
 from icerubble.parameters import GRAVITY, RHO_I, RHO_W
 
 from . import loads, plug, shear_strength
@@ -81,7 +83,7 @@ def read_csv(path, disp_unit=None, force_unit=None, disp_column=None, force_colu
     """(y_I [m], F [N/m]) from a measured CSV (see module doc). Defaults when neither
     the header nor an option says: mm and kN/m."""
     if not os.path.isfile(path):
-        raise ValueError(f"CSV {path!r}: no such file")
+        raise ValueError(f"CSV {path!r}: " + ("a folder, not a file" if os.path.isdir(path) else "no such file"))
     with open(path, newline="") as fh:
         rows = [r for r in csv.reader(line for line in fh if line.strip() and not line.lstrip().startswith("#"))]
     if not rows:
@@ -205,7 +207,7 @@ def _interval(text):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m postproc.measured", description=__doc__,
+    ap = argparse.ArgumentParser(prog="icerubble measured", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv")
     ap.add_argument("--keel-depth", type=float, required=True, metavar="H", help="rubble thickness h [m]")
@@ -235,16 +237,18 @@ def main(argv=None):
         res = analyse(y, F, args.keel_depth, args.indenter_width, args.porosity,
                       args.interval or DEFAULT_INTERVALS_MM, args.alpha, args.plug_force,
                       args.rho_i, args.rho_w, args.g)
+        if args.out_dir:
+            check_output_folder(args.out_dir, "--out-dir")
     except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+        print(f"icerubble measured: error: {exc}", file=sys.stderr)
+        return exit_status.USAGE
     text = report_text(res, args.csv)
     print(text, end="")
     if args.out_dir:
         os.makedirs(args.out_dir, exist_ok=True)
-        with open(os.path.join(args.out_dir, "report.md"), "w") as fh:
+        with whole_file(os.path.join(args.out_dir, "report.md")) as fh:
             fh.write("```\n" + text + "```\n")
-        with open(os.path.join(args.out_dir, "result.csv"), "w", newline="") as fh:
+        with whole_file(os.path.join(args.out_dir, "result.csv"), newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["quantity", "value", "unit"])
             w.writerows([["F_m", f"{res['F_m'] / 1e3:.6g}", "kN/m"], ["y_I_peak", f"{res['y_I_peak'] * 1e3:.6g}", "mm"]]
@@ -259,4 +263,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(cli.run("measured", sys.argv[1:]))

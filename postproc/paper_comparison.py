@@ -17,6 +17,9 @@ import sys
 
 import numpy as np
 
+from icerubble import cli
+from icerubble.files.output_path import check_output_file, whole_file
+
 from . import displaced_area as dA
 from . import loads, plug, results, shear_strength, summary
 from .failure_plane import mean_sd
@@ -186,21 +189,23 @@ def table(rows, runs):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m postproc.paper_comparison", description=__doc__,
+    ap = argparse.ArgumentParser(prog="icerubble compare", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results_dir")
     ap.add_argument("-o", "--out", help="also write the Markdown table here")
     a = ap.parse_args(argv)
+    if a.out:
+        check_output_file(a.out, "--out")
     rows, runs = rows_and_runs(a.results_dir)
     if not rows:
-        sys.exit(f"paper_comparison: no complete run results under {a.results_dir}")
+        raise ValueError(f"no complete run results under {a.results_dir}")
     text = table(rows, runs)
     print(text)
     if a.out:
-        with open(a.out, "w") as f:
+        with whole_file(a.out) as f:
             f.write(text + "\n")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(cli.run("compare", sys.argv[1:]))

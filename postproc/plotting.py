@@ -3,6 +3,8 @@ import os
 
 import matplotlib
 
+from icerubble.files.output_path import whole_file
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -34,7 +36,8 @@ def save(fig, out_dir, stem, caption):
     paths = []
     for ext in ("png", "pdf"):
         p = os.path.join(out_dir, f"{stem}.{ext}")
-        fig.savefig(p)
+        with whole_file(p, "wb") as fh:   # a full disk leaves no figure that looks whole
+            fig.savefig(fh, format=ext)
         paths.append(p)
     plt.close(fig)
     return paths

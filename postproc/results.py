@@ -197,6 +197,11 @@ def load(path):
             raise ResultFileError(f"{path}: /mesh/body ids must lie in [0, {len(body_kind)})")
         area = read("mesh/area", (len(body),), units="m^2")
         centroid = read("mesh/centroid", (len(body), 2), units="m")
+        if "snapshots" in f:   # their u_y figures draw the triangles: checked before any figure is made
+            nodes = read("mesh/nodes", (None, 2), units="m")
+            tris = read("mesh/triangles", (len(body), 3), kind="i")
+            if tris.size and (tris.min() < 0 or tris.max() >= len(nodes)):
+                raise ResultFileError(f"{path}: /mesh/triangles node ids must lie in [0, {len(nodes)})")
 
         missing = {}
         snapshots = []

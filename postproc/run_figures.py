@@ -1,12 +1,14 @@
 """Figures of one run: its F-y_I record (as Figs. 6-7) and its u_y field (as
 Figs. 16, 19) at a chosen indenter travel.
 
-    /usr/bin/python3 -m postproc.run_figures RUN.h5 [-o OUT_DIR] [--y-I-mm 30]
+    icerubble run-figures RUN.h5 [-o OUT_DIR] [--y-I-mm 30]
 """
 import argparse
 import os
 import sys
 
+from icerubble import cli
+from icerubble.files.output_path import check_output_folder
 
 from . import loads, plotting, results
 from .catalog import Missing
@@ -47,16 +49,13 @@ def displacement_field(run, y_I, out_dir, x_lim=None):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(prog="icerubble run-figures", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", help="a result file (.h5)")
     ap.add_argument("-o", "--out-dir", default=None, help="default: beside the run file")
     ap.add_argument("--y-I-mm", type=float, default=None, help="travel of the u_y figure; default: last snapshot")
     a = ap.parse_args(argv)
-    try:
-        run = results.load(a.run)
-    except (ValueError, OSError) as e:
-        sys.exit(f"run_figures: error: {e}")
-    out = a.out_dir or os.path.dirname(os.path.abspath(a.run))
+    run = results.load(a.run)   # a ValueError naming the file: refused before any figure
+    out = check_output_folder(a.out_dir or os.path.dirname(os.path.abspath(a.run)), "--out-dir")
     os.makedirs(out, exist_ok=True)
     made = force_record(run, out)
     if run.snapshots:
@@ -73,4 +72,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(cli.run("run-figures", sys.argv[1:]))

@@ -9,6 +9,9 @@ import sys
 
 import numpy as np
 
+from icerubble import cli
+from icerubble.files.output_path import check_output_file, whole_file
+
 from . import failure_plane, loads, plug, results, shear_strength
 
 F20_TRAVEL = 20e-3  # m: the paper's "after the steep decrease" instant (Figs. 13-15, Table 2)
@@ -82,7 +85,7 @@ def _fmt(v):
 
 def write_csv(rows, path):
     """Write summary rows (dicts with COLUMNS) to ``path``; NaN becomes an empty cell."""
-    with open(path, "w", newline="") as fh:
+    with whole_file(path, newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=COLUMNS)
         w.writeheader()
         for r in rows:
@@ -90,7 +93,7 @@ def write_csv(rows, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m postproc.summary", description=__doc__)
+    ap = argparse.ArgumentParser(prog="icerubble summary", description=__doc__)
     ap.add_argument("results_dir")
     ap.add_argument("-o", "--output", default="summary.csv")
     ap.add_argument("--plug-force", type=float, default=shear_strength.CYLINDRICAL_PLUG_FORCE,
@@ -98,6 +101,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if not os.path.isdir(args.results_dir):
         ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
+    check_output_file(args.output, "--output")
     runs, skipped = results.load_folder(args.results_dir)
     for why in skipped:
         print(f"skipped: {why}", file=sys.stderr)
@@ -110,4 +114,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(cli.run("summary", sys.argv[1:]))

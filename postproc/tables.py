@@ -4,6 +4,8 @@ import os
 
 import numpy as np
 
+from icerubble.files.output_path import whole_file
+
 from . import shear_strength
 from .catalog import Missing
 
@@ -19,11 +21,11 @@ def _pm(ms, digits=2):
 
 def _write(out_dir, stem, header, body, caption):
     paths = [os.path.join(out_dir, stem + ".csv"), os.path.join(out_dir, stem + ".md")]
-    with open(paths[0], "w", newline="") as fh:
+    with whole_file(paths[0], newline="") as fh:
         w = csv.writer(fh)
         w.writerow(header)
         w.writerows(body)
-    with open(paths[1], "w") as fh:
+    with whole_file(paths[1]) as fh:
         fh.write(f"{caption}\n\n| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n")
         for row in body:
             fh.write("| " + " | ".join(str(c) for c in row) + " |\n")

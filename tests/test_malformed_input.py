@@ -13,6 +13,7 @@ through each door.
 import os
 import re
 import subprocess
+import sys
 
 import h5py
 import numpy as np
@@ -476,6 +477,115 @@ def api_study_boolean_ridge(d, g):
     return lambda: run_one("tiny", True, out_dir=os.path.join(d, "runs"))
 
 
+# Operating-system errors: a file where a folder is wanted and the reverse, a
+# damaged file where a result goes, an input found bad only after a figure was
+# written; each named in one line (exit 2: checked before any work).
+
+def _runs(d, g):
+    os.makedirs(os.path.join(d, "runs"))
+    os.link(g["result"], os.path.join(d, "runs", "result.h5"))
+    return os.path.join(d, "runs")
+
+
+@case("cli", r"icerubble summary: error: --output '.*dir' is a folder, not a file")
+def cli_summary_into_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["summary", _runs(d, g), "-o", os.path.join(d, "dir")]
+
+
+@case("cli", r"icerubble compare: error: --out '.*f/c\.md': '.*f' is a file, not a folder")
+def cli_compare_under_a_file(d, g):
+    return ["compare", _runs(d, g), "-o", os.path.join(_text(d, "f", "x\n"), "c.md")]
+
+
+@case("cli", r"icerubble run-figures: error: --out-dir '.*f' is a file, not a folder")
+def cli_run_figures_into_a_file(d, g):
+    return ["run-figures", g["result"], "-o", _text(d, "f", "x\n")]
+
+
+@case("cli", r"icerubble figures: error: --out-dir '.*f' is a file, not a folder")
+def cli_figures_into_a_file(d, g):
+    return ["figures", _runs(d, g), "-o", _text(d, "f", "x\n")]
+
+
+@case("cli", r"icerubble mesh: error: mesh file '.*f/mesh\.h5': '.*f' is a file, not a folder")
+def cli_mesh_under_a_file(d, g):
+    return ["mesh", g["pile"], os.path.join(_text(d, "f", "x\n"), "mesh.h5")]
+
+
+@case("cli", r"icerubble mesh: error: mesh file '.*dir' is a folder, not a file")
+def cli_mesh_into_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["mesh", g["pile"], os.path.join(d, "dir")]
+
+
+@case("cli", r"icerubble measured: error: --out-dir '.*f' is a file, not a folder")
+def cli_measured_into_a_file(d, g):
+    return _measured(d, "y_I [mm],F [kN/m]\n0,0\n1,1\n2,3\n3,1\n") + ["-o", _text(d, "f", "x\n")]
+
+
+@case("cli", r"icerubble measured: error: CSV '.*dir': a folder, not a file")
+def cli_measured_of_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["measured", os.path.join(d, "dir"), "--keel-depth", "4", "--indenter-width", "4", "--porosity", "0.3"]
+
+
+@case("cli", r"icerubble study: error: --out '.*f' is a file, not a folder")
+def cli_study_run_into_a_file(d, g):
+    return ["study", "run", _table(d, "description scene\na 'tiny'\n"), "--out", _text(d, "f", "x\n")]
+
+
+@case("cli", r"icerubble demo: error: --out-dir '.*f' is a file, not a folder")
+def cli_demo_into_a_file(d, g):
+    return ["demo", "--out-dir", _text(d, "f", "x\n")]
+
+
+@case("cli", r"icerubble study: error: table '.*dir' cannot be read: Is a directory")
+def cli_study_check_of_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["study", "check", os.path.join(d, "dir")]
+
+
+@case("cli", r"icerubble summary: error: No space left on device: /dev/full")
+def cli_summary_onto_a_full_disk(d, g):
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full here")
+    return ["summary", _runs(d, g), "-o", "/dev/full"]
+
+
+@case("cli", r"icerubble run-figures: error: result file '.*r\.h5', dataset 'mesh/triangles': dtype float64, "
+             r"expected integers")
+def cli_run_figures_of_float_triangle_ids(d, g):
+    # before: the force figure was written, then an IndexError traceback
+    def floats(f):
+        replace("mesh/triangles", f["mesh/triangles"][...].astype(float))(f)
+    return ["run-figures", broken(g["result"], d, floats, name="r.h5"), "-o", os.path.join(d, "fig")]
+
+
+@case("yade", r"punch_through: error: .*bad\.h5 exists but cannot be read as a result.*move it away")
+def yade_punch_through_damaged_file_at_the_result(d, g):
+    _text(d, "bad.h5", "not a result\n")
+    return "punch_through.py", f"description scene out_dir\nbad 'tiny' '{d}'\n"
+
+
+@case("api", r"r\.h5 exists but cannot be read as a result")
+def api_study_truncated_file_at_the_result(d, g):
+    from icerubble.run.study import run_one
+    with open(g["result"], "rb") as f:
+        head = f.read(4096)
+    with open(os.path.join(d, "r.h5"), "wb") as f:   # a copy cut short
+        f.write(head)
+    return lambda: run_one("tiny", 1, out_dir=d, description="r")
+
+
+# Command-line conventions: one exit status per kind of outcome, every usage
+# line names `icerubble <command>`.
+
+@case("cli", r"usage: icerubble COMMAND")
+def cli_no_command(d, g):
+    return []
+
+
 # ---- the checks -------------------------------------------------------------
 
 def _files(d):
@@ -638,3 +748,104 @@ def test_a_second_study_run_of_one_table_into_one_folder_is_refused_at_once(tmp_
     third = icerubble("study", "run", table, "--out", tmp_path / "out", cwd=tmp_path, PATH=path,
                       FAKE_LINE_SECONDS="0")
     assert third.returncode == 0, third.stdout + third.stderr
+
+
+# ---- issue 25: operating-system errors met while working ------------------------
+
+def _main(args, capsys):
+    from icerubble import cli
+    status = cli.main(args)
+    return status, capsys.readouterr().err
+
+
+def test_a_full_disk_leaves_no_file_that_looks_whole(good, tmp_path, capsys, monkeypatch):
+    """ENOSPC in the middle of writing the summary: exit 1, one line naming
+    the file, and neither the file nor its part left behind."""
+    import csv
+    import errno
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    os.link(good["result"], runs / "result.h5")
+
+    def full(self, row):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    monkeypatch.setattr(csv.DictWriter, "writerow", full)
+    out = tmp_path / "summary.csv"
+    status, err = _main(["summary", str(runs), "-o", str(out)], capsys)
+    assert status == 1
+    assert re.fullmatch(rf"icerubble summary: error: No space left on device: {re.escape(str(out))}\n", err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["runs"]
+
+
+def test_a_folder_that_cannot_be_written_is_refused_before_any_work(good, tmp_path, capsys, monkeypatch):
+    """EACCES (as root chmod does not stop a write: os.access stands in)."""
+    from icerubble.files import output_path
+    monkeypatch.setattr(output_path.os, "access", lambda path, mode: False)
+    status, err = _main(["run-figures", good["result"], "-o", str(tmp_path / "fig")], capsys)
+    assert status == 2
+    assert re.fullmatch(rf"icerubble run-figures: error: --out-dir '.*fig': folder '{re.escape(str(tmp_path))}' "
+                        r"cannot be written \(permission denied\)\n", err), err
+    assert list(tmp_path.iterdir()) == []
+
+
+# ---- issue 25: command-line conventions -----------------------------------------
+
+def test_version_names_the_package_and_the_code():
+    import tomllib
+    with open(os.path.join(ROOT, "pyproject.toml"), "rb") as f:
+        version = tomllib.load(f)["project"]["version"]
+    r = icerubble("--version")
+    assert r.returncode == 0 and r.stdout.startswith(f"icerubble {version}"), r.stdout + r.stderr
+
+
+def test_help_lists_every_command_and_every_study_action():
+    from icerubble.cli import COMMANDS
+    from icerubble.run.study_command import ACTIONS
+    r = icerubble("--help")
+    assert r.returncode == 0
+    listed = [ln.split()[0] for ln in r.stdout.splitlines() if ln.startswith("  ") and ln.strip()]
+    assert [c for c in listed if c in COMMANDS] == list(COMMANDS)
+    assert [a for a in listed if a in ACTIONS] == list(ACTIONS)
+    assert re.search(r"exit status.*\n.*0 success; 2 bad input.*1 a run.*75 interrupted", r.stdout, re.S)
+    # the study's own parser offers exactly these actions
+    study = icerubble("study", "--help")
+    assert "{" + ",".join(ACTIONS) + "}" in study.stdout
+    bare = icerubble()
+    assert bare.returncode == 2 and bare.stderr == r.stdout
+
+
+@pytest.mark.parametrize("args", [["figures"], ["run-figures"], ["summary"], ["compare"], ["measured"], ["mesh"],
+                                  ["study"], ["study", "run"], ["study", "check"], ["demo"]])
+def test_every_usage_line_names_icerubble_and_the_command(args):
+    r = icerubble(*args, "--help")
+    assert r.returncode == 0 and r.stdout.startswith(f"usage: icerubble {' '.join(args)} "), r.stdout[:200]
+
+
+@pytest.mark.parametrize("args", [
+    ["study", "check", "TABLE"],                       # a table with a typo
+    ["run-figures", "missing.h5"],                     # an input that does not exist
+    ["compare", "missing"],
+    ["figures", "missing"],
+    ["summary", "missing"],
+    ["demo", "--ridge", "-1", "--out-dir", "x"],       # a value out of range
+    ["measured", "x.csv", "--keel-depth", "4", "--indenter-width", "4", "--porosity", "2"],
+    ["mesh", "missing.h5", "mesh.h5"],
+    ["study", "flee"],                                 # argparse's own refusals
+    ["punch"],
+])
+def test_bad_input_exits_2_in_every_command(tmp_path, args):
+    """Before: the same kind of mistake exited 1 in study check, run-figures,
+    compare and demo, 2 elsewhere."""
+    (tmp_path / "TABLE").write_text("description mu_typo\na 0.3\n")
+    r = icerubble(*args, cwd=tmp_path)
+    assert r.returncode == 2, f"{args}: exit {r.returncode}\n{r.stdout}{r.stderr}"
+    assert "Traceback" not in r.stdout + r.stderr
+    assert not (tmp_path / "x").exists() and not (tmp_path / "mesh.h5").exists()
+
+
+def test_the_modules_entry_points_follow_the_same_convention(tmp_path):
+    """`python3 -m postproc.run_figures` (as the docs once said) answers as `icerubble run-figures`."""
+    r = subprocess.run([sys.executable, "-m", "postproc.run_figures", "missing.h5"], cwd=tmp_path,
+                       env=command_env(), capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert r.stderr.startswith("icerubble run-figures: error: result file 'missing.h5' does not exist")

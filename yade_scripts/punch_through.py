@@ -46,6 +46,7 @@ utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", o
 from yade.params import table
 from yade.wrapper import O
 
+from icerubble.cli import os_error_text
 from icerubble.run.punch_through_run import RunInterrupted
 from icerubble.run.study import run_one
 from icerubble.run.study_outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESULT_MARK
@@ -64,5 +65,7 @@ except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written,
     sys.exit(EXIT_INTERRUPTED)
 except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability
     sys.exit(f"punch_through: error: {e}")
+except OSError as e:   # a full disk, a folder that cannot be written: one line in the line's log
+    sys.exit(f"punch_through: error: {os_error_text(e)}")
 print(RESULT_MARK + os.path.abspath(out), flush=True)   # what `icerubble study` reads as done
 utils.waitIfBatch()

@@ -4,7 +4,10 @@ folder that cannot be written) is named at once as bad input, not found as an
 operating-system error after an hour of work or after half the outputs.
 
 A missing folder is not a mistake: the writers make it (os.makedirs).
+A text output is written whole or not at all (whole_file), as the HDF5
+files are (h5io.AtomicH5): a full disk leaves no file that looks complete.
 """
+import contextlib
 import os
 
 
@@ -35,3 +38,28 @@ def _check_parents(folder, what, path):
         raise ValueError(f"{what} {path!r}: {existing!r} is a file, not a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
         raise ValueError(f"{what} {path!r}: folder {existing!r} cannot be written (permission denied)")
+
+
+@contextlib.contextmanager
+def whole_file(path, mode="w", **open_kw):
+    """open() for writing `path` as PATH.part, renamed to PATH once written
+    whole; on any error the part is removed and an OSError names `path`. A
+    path that exists and is not a regular file (/dev/stdout, /dev/full) is
+    written in place: renaming over it would replace the device."""
+    path = os.fspath(path)
+    regular = not os.path.exists(path) or os.path.isfile(path)
+    target = path + ".part" if regular else path
+    if regular:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    try:
+        with open(target, mode, **open_kw) as f:
+            yield f
+        if regular:
+            os.replace(target, path)
+    except BaseException as e:
+        if regular:
+            with contextlib.suppress(OSError):
+                os.remove(target)
+        if isinstance(e, OSError) and e.filename is None:   # a failed write names no file
+            e.filename = path
+        raise

@@ -14,6 +14,10 @@ import time
 
 from postproc import run_figures
 
+from .. import cli, exit_status
+from ..files.output_path import check_output_folder
+
+from .punch_through_run import RunInterrupted
 from .study import run_one
 
 
@@ -23,12 +27,17 @@ def main(argv=None):
     ap.add_argument("--out-dir", default=os.path.join("runs", "demo"), help="default runs/demo")
     ap.add_argument("--travel-mm", type=float, default=30.0, help="indenter travel (default 30 mm)")
     a = ap.parse_args(argv)
+    check_output_folder(a.out_dir, "--out-dir")
     t0 = time.perf_counter()
-    try:
+    try:   # bad input (a ValueError) is refused by run_one before any work: icerubble says so, exit 2
         out = run_one("demo", ridge=a.ridge, overrides=dict(target_travel=a.travel_mm * 1e-3),
                       out_dir=a.out_dir)
-    except (ValueError, RuntimeError) as e:   # bad input, another run stored or in progress
-        sys.exit(f"demo: error: {e}")
+    except RunInterrupted as e:   # a signal: the checkpoint is written, `icerubble demo` again resumes
+        print(f"icerubble demo: interrupted: {e}", file=sys.stderr)
+        return exit_status.INTERRUPTED
+    except RuntimeError as e:   # another run in progress, an instability
+        print(f"icerubble demo: error: {e}", file=sys.stderr)
+        return exit_status.FAILED
     figs = run_figures.main([out, "-o", os.path.join(a.out_dir, "figures")])
     print(f"\ndemo finished in {time.perf_counter() - t0:.0f} s")
     print(f"  result (HDF5, docs/results_format.md): {out}")
@@ -39,4 +48,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(cli.run("demo", sys.argv[1:]))

@@ -57,9 +57,10 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     why = result_name_problem(description)
     if why:
         raise ValueError(f"description {description!r} {why} (it names the result file in {out_dir})")
-    os.makedirs(out_dir, exist_ok=True)
-    _, mesh_path = scene_files(scene_name, ridge, root=out_dir)
     out = os.path.join(out_dir, description + ".h5")
+    if os.path.exists(out):
+        stored_identity(out)   # a damaged file there is refused before the scene is made
+    _, mesh_path = scene_files(scene_name, ridge, root=out_dir)   # checks the ridge before it makes out_dir
     if options is None:
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
         if "dt" in (overrides or {}):
@@ -105,7 +106,12 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
 
 def stored_identity(path):
     """The identity recorded in a result file (None if it records none)."""
-    with h5py.File(path, "r") as f:
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:   # damaged from outside, or not HDF5: never taken for (or replaced by) a run
+        raise ValueError(f"{path} exists but cannot be read as a result ({e}): move it away, or give this "
+                         "run another description") from None
+    with f:
         text = f.attrs.get("run_identity")
     if text is None:
         return None

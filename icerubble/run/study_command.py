@@ -1,6 +1,6 @@
 """`icerubble study`: a study is a yade-batch table of punch-through runs.
 
-    icerubble study check TABLE     every line checked before any runs: exit 1 and
+    icerubble study check TABLE     every line checked before any runs: exit 2 and
                                     'line N, column C: ...' for each problem
     icerubble study run TABLE [--local] [--out DIR] [--jobs N] [--job-threads T]
                                     the table's lines here, through yade-batch; ends
@@ -23,6 +23,8 @@ import os
 import shutil
 import subprocess
 
+from .. import exit_status
+from ..files.output_path import check_output_folder
 from . import slurm
 from . import study_outcome as SO
 from .scene_cache import ROOT
@@ -33,13 +35,23 @@ PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")
 DEFAULT_OUT = os.path.join(ROOT, "runs")
 
 
+# the actions of `icerubble study` (`icerubble --help` lists them from here)
+ACTIONS = {
+    "check": "check a table as a whole",
+    "run": "run a table here through yade-batch, then report each line",
+    "submit": "submit a table to SLURM as a job array",
+    "status": "each line's state",
+    "resubmit": "send the lines without a complete result again",
+}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="icerubble study", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="action", required=True)
-    c = sub.add_parser("check", help="check a table as a whole")
+    c = sub.add_parser("check", help=ACTIONS["check"])
     c.add_argument("table")
-    r = sub.add_parser("run", help="run a table here through yade-batch, then report each line")
+    r = sub.add_parser("run", help=ACTIONS["run"])
     r.add_argument("table")
     r.add_argument("--local", action="store_true", help="run here (the only way `run` runs)")
     r.add_argument("--out", default=DEFAULT_OUT,
@@ -47,7 +59,7 @@ def main(argv=None):
                         "overrides it, relative to the current folder)")
     r.add_argument("--jobs", type=int, default=1, help="lines run at once (default 1)")
     r.add_argument("--job-threads", type=int, default=2, help="threads of each line (default 2)")
-    s = sub.add_parser("submit", help="submit a table to SLURM as a job array")
+    s = sub.add_parser("submit", help=ACTIONS["submit"])
     s.add_argument("table")
     s.add_argument("--slurm", action="store_true", required=True, help="the scheduler (SLURM)")
     s.add_argument("--out", default=DEFAULT_OUT, help="folder of the results (default runs/)")
@@ -57,17 +69,19 @@ def main(argv=None):
     s.add_argument("--account")
     s.add_argument("--sbatch-arg", action="append", default=[], metavar="ARG",
                    help="any further sbatch option, e.g. --sbatch-arg=--mem=8G (repeatable)")
-    st = sub.add_parser("status", help="each line's state")
+    st = sub.add_parser("status", help=ACTIONS["status"])
     st.add_argument("out", nargs="?", default=DEFAULT_OUT)
-    rs = sub.add_parser("resubmit", help="send the lines without a complete result again")
+    rs = sub.add_parser("resubmit", help=ACTIONS["resubmit"])
     rs.add_argument("out", nargs="?", default=DEFAULT_OUT)
     a = ap.parse_args(argv)
     if a.action == "run":
         for name, value in (("jobs", a.jobs), ("job-threads", a.job_threads)):
             if value < 1:
                 raise ValueError(f"--{name} = {value}: must be a whole number >= 1")
+    if a.action in ("run", "submit"):
+        check_output_folder(a.out, "--out")
     if a.action in ("check", "run", "submit") and not check(a.table):
-        return 1
+        return exit_status.USAGE   # refused before any line runs
     if a.action == "run":
         return run_local(a.table, a.out, a.jobs, a.job_threads)
     if a.action == "submit":

@@ -13,6 +13,7 @@ are pending or running (icerubble/run/slurm.py).
 """
 import os
 
+from .. import exit_status
 from ..files.h5io import open_complete
 from .table_check import read_table
 
@@ -22,7 +23,7 @@ RESULT_MARK = "punch_through: result "
 # ... or when a signal stopped it after its checkpoint was written; it then
 # exits with EXIT_INTERRUPTED (EX_TEMPFAIL: try again)
 INTERRUPTED_MARK = "punch_through: interrupted: "
-EXIT_INTERRUPTED = 75
+EXIT_INTERRUPTED = exit_status.INTERRUPTED
 # yade-batch appends this block to each line's log when the line ends (the
 # SLURM job script writes the same); the job script starts each attempt with JOB_START
 BATCH_SUMMARY = "=================== JOB SUMMARY"

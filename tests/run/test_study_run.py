@@ -42,7 +42,7 @@ def test_a_bad_table_runs_no_line(tmp_path):
     table = tmp_path / "bad.table"
     table.write_text("description scene mu_typo\nx 'tiny' 0.3\n")
     r = _study("run", str(table), "--out", str(tmp_path / "out"), cwd=tmp_path)
-    assert r.returncode == 1
+    assert r.returncode == 2   # bad input, refused before any work
     assert "line 1, column mu_typo" in r.stdout and "did you mean 'mu'" in r.stdout
     assert not (tmp_path / "out").exists()
 

@@ -78,7 +78,7 @@ def test_the_study_command_exits_nonzero_listing_the_problems(tmp_path):
     table = tmp_path / "t.table"
     table.write_text(HEAD + "r1 1 abc 5e3 'small'\n")
     r = icerubble("study", "check", table, timeout=60)
-    assert r.returncode == 1 and "line 2, column mu" in r.stdout
+    assert r.returncode == 2 and "line 2, column mu" in r.stdout   # refused before any work
     table.write_text(HEAD + GOOD)
     r = icerubble("study", "check", table, timeout=60)
     assert r.returncode == 0 and "every line can run" in r.stdout
