@@ -35,6 +35,17 @@ CASES = [
      "line 2: parameter c_w=10000.0 is used only with drag_model='linear'"),
     ("line numbers count comments and blank lines", "# a study\n\n" + HEAD + "\n# next\nr1 1 0.3 0 'small'\n",
      "line 6, column tau_cr"),
+    # what YADE's reader (utils.TableParamReader, yade 2023) reads otherwise than written
+    ("a last line without its newline", HEAD + "r1 1 0.35 5000 'small'",
+     "line 2: \"r1 1 0.35 5000 'small'\" has no final newline; YADE's reader would drop its last character "
+     "(\"'small'\" read as \"'small\")"),
+    ("a column named twice", "description mu tau_cr mu\nr1 0.3 5e3 0.05\n",
+     "line 1, column mu: named twice (columns 2 and 4)"),
+    ("column names only", "# to come\n" + HEAD + "# r1 1 0.3 5e3 'small'\n", "line 2: column names only"),
+    ("a boolean ridge", HEAD + "r1 True 0.3 5e3 'small'\n", "line 2, column ridge: True must be a whole number"),
+    ("a boolean strength", HEAD + "r1 1 0.3 True 'small'\n", "line 2, column tau_cr: parameter tau_cr=True is a boolean"),
+    ("a description with a folder", HEAD + "runs/r1 1 0.3 5e3 'small'\n",
+     "line 2, column description: 'runs/r1' is not a plain file name"),
 ]
 
 
