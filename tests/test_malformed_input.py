@@ -578,6 +578,18 @@ def api_study_truncated_file_at_the_result(d, g):
     return lambda: run_one("tiny", 1, out_dir=d, description="r")
 
 
+@case("cli", r"icerubble run-figures: error: result file '.*dir' is a folder, not a file")
+def cli_run_figures_of_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["run-figures", os.path.join(d, "dir"), "-o", os.path.join(d, "fig")]
+
+
+@case("cli", r"icerubble mesh: error: pile file '.*dir' is a folder, not a file")
+def cli_mesh_of_a_folder(d, g):
+    os.makedirs(os.path.join(d, "dir"))
+    return ["mesh", os.path.join(d, "dir"), os.path.join(d, "mesh.h5")]
+
+
 # Command-line conventions: one exit status per kind of outcome, every usage
 # line names `icerubble <command>`.
 

@@ -87,6 +87,8 @@ def open_complete(path, fmt=None, what="file"):
     path = os.fspath(path)
     if path.endswith(".part"):
         raise ValueError(f"{what} {path!r} is partially written (.part): what wrote it did not finish")
+    if os.path.isdir(path):
+        raise ValueError(f"{what} {path!r} is a folder, not a file")
     if not os.path.isfile(path):
         raise ValueError(f"{what} {path!r} does not exist")
     try:
