@@ -25,6 +25,7 @@ extruded 1 m in z, motion in the x-y plane only):
   FEM-DEM settle and was still going). The pile file records it as `friction`.
 Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
 """
+import os
 import sys
 import time
 
@@ -38,6 +39,13 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
                           Law2_PolyhedraGeom_PolyhedraPhys_Volumetric, NewtonIntegrator,
                           PyRunner)
 from yade import Vector3
+
+# This checkout's package, not whichever one is installed (an editable install
+# points at one checkout; a worktree is another): YADE puts neither the
+# script's folder nor the working folder on sys.path.
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
+                                                        else __file__)))
+sys.path.insert(0, _ROOT)
 
 from icerubble.files.pile_file import write_pile
 from icerubble.geometry import pile

@@ -24,6 +24,13 @@ import sys
 
 from yade import utils
 
+# This checkout's package, not whichever one is installed (an editable install
+# points at one checkout; a worktree is another): YADE puts neither the
+# script's folder nor the working folder on sys.path.
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
+                                                        else __file__)))
+sys.path.insert(0, _ROOT)
+
 from icerubble import parameters as P
 from icerubble.run.table_check import check_table
 
@@ -34,10 +41,8 @@ if os.environ.get("YADE_BATCH"):
     if _problems:
         sys.exit("punch_through: the table has problems, no line runs:\n  " + "\n  ".join(_problems))
 
-# results go beside the scripts' checkout (runs/), whatever the working folder
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
-                                                        else __file__)))
 
+# results go beside the scripts' checkout (runs/), whatever the working folder;
 # Table 1 parameters default to None: "the scene's value, else Table 1".
 _OUT = os.environ.get("ICERUBBLE_OUT_DIR") or os.path.join(_ROOT, "runs")
 utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", out_dir=_OUT, resume=True,
