@@ -63,7 +63,7 @@ try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None,
                   model=table.model)
-except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written, a rerun resumes
+except RunInterrupted as e:   # a scheduler's signal or Ctrl-C: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)
 except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability

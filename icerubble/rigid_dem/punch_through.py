@@ -137,7 +137,7 @@ class RigidPunchThrough:
         """Settle, hold, load and write the result. With `resume`, a checkpoint
         of this run (OUT.checkpoint.h5, written while loading) is taken up where
         it was; a run stopped while settling starts again. SIGTERM and SIGUSR1
-        (a scheduler's stop) write the checkpoint after the current chunk and
+        (a scheduler's stop) and SIGINT (Ctrl-C) write the checkpoint after the current chunk and
         raise RunInterrupted."""
         with catching_stop_signals(self):
             return self._run(resume)

@@ -14,7 +14,9 @@ import time
 
 from postproc import run_figures
 
+from .punch_through_run import RunInterrupted
 from .study import run_one
+from .study_outcome import EXIT_INTERRUPTED
 
 
 def main(argv=None):
@@ -27,6 +29,9 @@ def main(argv=None):
     try:
         out = run_one("demo", ridge=a.ridge, overrides=dict(target_travel=a.travel_mm * 1e-3),
                       out_dir=a.out_dir)
+    except RunInterrupted as e:   # Ctrl-C or a signal: the checkpoint is written
+        print(f"demo: interrupted: {e} (the same `icerubble demo` command resumes it)", file=sys.stderr)
+        sys.exit(EXIT_INTERRUPTED)
     except (ValueError, RuntimeError) as e:   # bad input, another run stored or in progress
         sys.exit(f"demo: error: {e}")
     figs = run_figures.main([out, "-o", os.path.join(a.out_dir, "figures")])

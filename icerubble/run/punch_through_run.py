@@ -13,8 +13,8 @@
 A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
 the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
-before it stops a job) writes its checkpoint at once and stops with
-RunInterrupted.
+before it stops a job) or SIGINT (Ctrl-C) writes its checkpoint at once and
+stops with RunInterrupted (the YADE script then exits 75).
 """
 import contextlib
 import json
@@ -53,8 +53,10 @@ MEAN_FORCE_MIN_TRAVEL = 1e-9
 
 # What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
 # node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
-# and SIGUSR1 (sbatch --signal, some minutes before the time limit).
-STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1)
+# and SIGUSR1 (sbatch --signal, some minutes before the time limit); and
+# SIGINT, Ctrl-C: a person stopping a run wants to keep the hours it has
+# computed as much as a scheduler does.
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1, signal.SIGINT)
 
 
 class RunInterrupted(RuntimeError):
@@ -64,13 +66,17 @@ class RunInterrupted(RuntimeError):
 
 @contextlib.contextmanager
 def catching_stop_signals(run):
-    """While inside: SIGTERM and SIGUSR1 only set run._stop_signal (the run
-    checks it between its chunks of steps); the previous handlers come back
-    after. Outside the main thread (where Python takes no handlers) nothing
-    is caught."""
+    """While inside: SIGTERM, SIGUSR1 and SIGINT only set run._stop_signal
+    (the run checks it between its chunks of steps); the previous handlers
+    come back after. A second Ctrl-C while the first is pending raises
+    KeyboardInterrupt at once, as Python's own handler (the last checkpoint
+    on disk stays whole: it is written atomically). Outside the main thread
+    (where Python takes no handlers) nothing is caught."""
     run._stop_signal = None
 
     def note(signum, frame):
+        if signum == signal.SIGINT and run._stop_signal is not None:
+            raise KeyboardInterrupt("Ctrl-C twice: stopped at once, without a checkpoint of this moment")
         run._stop_signal = signum
     catch = threading.current_thread() is threading.main_thread()
     previous = {s: signal.signal(s, note) for s in STOP_SIGNALS} if catch else {}
@@ -251,7 +257,7 @@ class PunchThrough:
         self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
-        self._stop_signal = None    # set by SIGTERM / SIGUSR1 while running
+        self._stop_signal = None    # set by SIGTERM / SIGUSR1 / SIGINT while running
         self.F_at_rest = math.nan
         self.t_settle = None        # model time when settling started
         self.load_steps = 0         # steps of the load phase ...

@@ -10,7 +10,8 @@ import pytest
 
 from icerubble.files.h5io import open_complete
 from icerubble.run import checkpoint as ckpt
-from icerubble.run.punch_through_run import MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions
+from icerubble.run.punch_through_run import (MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions,
+                                             catching_stop_signals)
 from tests.run.punch_through_scenes import brick_mesh
 
 # A short, fast punch: a 0.2 s ramp and 3 mm of travel. Coarse (0.2 m)
@@ -133,12 +134,12 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
     assert not (tmp_path / "run.checkpoint.h5").exists()
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGUSR1])
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGUSR1, signal.SIGINT])
 def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh_path, tmp_path, finished,
                                                                             signum):
-    """SIGTERM (scancel, preemption) or SIGUSR1 (before a time limit) while
-    loading: the run writes its checkpoint and stops with RunInterrupted; run
-    again it ends with the uninterrupted record, bit for bit."""
+    """SIGTERM (scancel, preemption), SIGUSR1 (before a time limit) or SIGINT
+    (Ctrl-C) while loading: the run writes its checkpoint and stops with
+    RunInterrupted; run again it ends with the uninterrupted record, bit for bit."""
     run0, out0 = finished
 
     class Signalled(PunchThrough):
@@ -161,6 +162,21 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
     with h5py.File(out0) as a, h5py.File(out) as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
+
+
+def test_a_second_ctrl_c_stops_at_once():
+    """The first Ctrl-C asks for a stop at the end of the chunk (a checkpoint
+    is written then); a second one, for a person who will not wait, raises
+    KeyboardInterrupt at once, as Python's own handler does."""
+    class Run:
+        pass
+    run = Run()
+    with catching_stop_signals(run):
+        os.kill(os.getpid(), signal.SIGINT)
+        assert run._stop_signal == signal.SIGINT
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 @pytest.mark.parametrize("bad,word", [(dict(tau_cr=0.0), "tau_cr"), (dict(sigma_cr=-1.0), "sigma_cr"),
