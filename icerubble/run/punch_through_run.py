@@ -355,7 +355,7 @@ class PunchThrough:
             raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
                              "move it away")
         ckpt.restore(self, path, shared=True)
-        # the code that settled (the key holds its physics version, not its commit)
+        # the code that settled, for people (the key holds its source hash, code_identity.py)
         made_by = made_by.decode() if isinstance(made_by, bytes) else str(made_by)
         self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1,
                                   rest_state_code_version=made_by)

@@ -8,10 +8,12 @@ import h5py
 import numpy as np
 import pytest
 
-from icerubble.files.h5io import open_complete
+from icerubble.code_identity import source_hash
+from icerubble.files.h5io import code_version, open_complete
 from icerubble.run import checkpoint as ckpt
 from icerubble.run.punch_through_run import (MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions,
                                              catching_stop_signals)
+from tests.h5_edits import broken
 from tests.run.punch_through_scenes import brick_mesh
 
 # A short, fast punch: a 0.2 s ramp and 3 mm of travel. Coarse (0.2 m)
@@ -396,6 +398,40 @@ def test_a_checkpoint_of_another_physics_version_is_refused(mesh_path, tmp_path)
     again = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
     with pytest.raises(ValueError, match="physics version 2, this code is version"):
         again.run(resume=True)
+
+
+def test_a_checkpoint_of_other_code_is_refused_and_one_of_this_code_resumes(mesh_path, tmp_path, finished):
+    """Only the code that wrote a checkpoint continues it (code_identity.py):
+    a checkpoint recording another source hash, or none (written before they
+    were recorded), is refused naming the code that wrote it, the code that
+    runs and what to do; the untouched one resumes into the run in one go."""
+    _, out0 = finished
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False)
+    run = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(stop_after_steps=1, **opts))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    saved = tmp_path / "a.checkpoint.h5"
+
+    def other_code(f):
+        f.attrs["source_hash"], f.attrs["code_version"] = "0123456789abcdef", "0.1.0+gdeadbee"
+
+    def older_code(f):
+        del f.attrs["source_hash"]
+    for edit, says in ((other_code, r"written by code 0\.1\.0\+gdeadbee \(source 0123456789abcdef\)"),
+                       (older_code, r"before checkpoints recorded the source")):
+        folder = tmp_path / edit.__name__
+        folder.mkdir()
+        broken(saved, folder, edit)
+        again = PunchThrough(mesh_path, folder / "a.h5", params=PARAMS, options=RunOptions(**opts))
+        with pytest.raises(ValueError, match=says) as e:
+            again.run(resume=True)
+        assert f"this is code {code_version()} (source {source_hash()})" in str(e.value)
+        assert "Delete the checkpoint" in str(e.value) and "with the code that wrote it" in str(e.value)
+        assert not (folder / "a.h5").exists()
+    PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts)).run(resume=True)
+    with h5py.File(out0) as a, h5py.File(tmp_path / "a.h5") as b:
+        assert b.attrs["source_hash"] == a.attrs["source_hash"] == source_hash()
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
 
 
 def rest_state_of_another_run(mesh_path, tmp_path):
