@@ -34,7 +34,7 @@ from . import run_identity as RI
 from ..files.h5io import open_complete
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
-from .progress import Progress
+from .progress import Progress, loading_eta_text, settle_eta_text
 from .recorder import RunRecorder
 from .scene import Scene
 from ..files.vtu import write_pvd, write_vtu
@@ -547,13 +547,15 @@ class PunchThrough:
         if self.t_settle is None or not math.isfinite(self.t_settle):
             self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
         t_start = self.t_settle
-        prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
+        prog = Progress("settle", m.step_count, every_s=o.progress_every_s,
+                        eta=lambda t, rate: settle_eta_text(t, o.settle_max_time, dt, rate))
         while True:
             before, t0 = self._momenta(), m.time
             m.step(chunk)
             vmax, imbalance, body = self._out_of_balance(before, m.time - t0)
             t_rel = m.time - t_start
-            prog.update(m.step_count, m.time, 0.0)
+            prog.update(m.step_count, t_rel, lambda: f"max speed {vmax:.2g} m/s (at rest < {o.settle_velocity:g})"
+                        f"  out of balance {imbalance:.2g} (< {o.settle_accel:g})")
             # at rest = slow AND in balance: a low speed alone is also what the
             # first steps after switching gravity on look like
             if t_rel >= o.settle_min_time and vmax < o.settle_velocity and imbalance < o.settle_accel:
@@ -622,7 +624,9 @@ class PunchThrough:
         m, p, o = self.model, self.params, self.options
         dt = self.model.dt
         chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
-        prog = Progress(p["target_travel"], every_s=o.progress_every_s)
+        prog = Progress("punch-through", m.step_count, every_s=o.progress_every_s,
+                        eta=lambda t, rate: loading_eta_text(t, p["target_travel"], p["v_final"],
+                                                             p["ramp_time"], dt, rate))
         # force samples of the load loop so far (the first row is the rest
         # force of settle): a resumed run samples the energy at the same ones
         k = len(self.recorder.force_rows) - 1
@@ -653,12 +657,15 @@ class PunchThrough:
                 self.recorder.energy(t_rel, m.energies())
             if self.recorder.wants_snapshot(y_I):
                 self.snapshot(t_rel, y_I)
-            prog.update(m.step_count, t_rel, y_I, F, extra=self._bond_text)
+            prog.update(m.step_count, t_rel, lambda: self._load_text(y_I, F))
             if y_I >= p["target_travel"]:
                 break
             self._maybe_checkpoint()
-        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True, extra=self._bond_text)
+        prog.update(m.step_count, m.time - self.t_load, self._load_text(y_I, F), force=True)
         self.recorder.energy(m.time - self.t_load, m.energies())
+
+    def _load_text(self, y_I, F):
+        return f"y_I {y_I * 1e3:8.3f} mm  F {F / 1e3:9.3f} kN/m  {self._bond_text()}"
 
     def _bond_text(self):
         c = self.model.bonds.counts
