@@ -18,6 +18,13 @@ import sys
 
 from yade.wrapper import O
 
+# This checkout's package, not whichever one is installed (an editable install
+# points at one checkout; a worktree is another): YADE puts neither the
+# script's folder nor the working folder on sys.path.
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
+                                                        else __file__)))
+sys.path.insert(0, _ROOT)
+
 from icerubble.rigid_dem.snapshot import fem_dem_state
 from icerubble.rigid_dem.yade_state import load_into_yade
 

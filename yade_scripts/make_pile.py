@@ -40,6 +40,13 @@ from yade.wrapper import (O, PolyhedraMat, ForceResetter, InsertionSortCollider,
                           PyRunner)
 from yade import Vector3
 
+# This checkout's package, not whichever one is installed (an editable install
+# points at one checkout; a worktree is another): YADE puts neither the
+# script's folder nor the working folder on sys.path.
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
+                                                        else __file__)))
+sys.path.insert(0, _ROOT)
+
 from icerubble.files.pile_file import write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole

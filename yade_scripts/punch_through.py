@@ -24,6 +24,13 @@ import sys
 
 from yade import utils
 
+# This checkout's package, not whichever one is installed (an editable install
+# points at one checkout; a worktree is another): YADE puts neither the
+# script's folder nor the working folder on sys.path.
+_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
+                                                        else __file__)))
+sys.path.insert(0, _ROOT)
+
 from icerubble import parameters as P
 from icerubble.run.table_check import check_table
 
@@ -35,10 +42,8 @@ if os.environ.get("YADE_BATCH"):
     if _problems:
         sys.exit(f"punch_through: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems))
 
-# results go beside the scripts' checkout (runs/), whatever the working folder
-_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[0].endswith(".py")
-                                                        else __file__)))
 
+# results go beside the scripts' checkout (runs/), whatever the working folder;
 # Table 1 parameters default to None: "the scene's value, else Table 1".
 _OUT = os.environ.get("ICERUBBLE_OUT_DIR") or os.path.join(_ROOT, "runs")
 utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", out_dir=_OUT, resume=True,
@@ -60,7 +65,7 @@ try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None,
                   model=table.model)
-except RunInterrupted as e:   # a scheduler's signal: the checkpoint is written, a rerun resumes
+except RunInterrupted as e:   # a scheduler's signal or Ctrl-C: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)
 except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability

@@ -31,6 +31,7 @@ import numpy as np
 # run with threads=1.
 
 from icerubble import _engine  # noqa: E402
+from icerubble.openmp_threads import default_threads  # noqa: E402
 from icerubble.parameters import GRAVITY, RHO_W  # noqa: E402
 
 InstabilityError = _engine.InstabilityError
@@ -62,7 +63,8 @@ PARAMETERS = {
     "check_energy": (True, "stop when energy grows without a source"),
     "energy_tolerance": (0.1, "stop when the energy balance residual exceeds this "
                               "fraction of the energy terms, > 0"),
-    "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores"),
+    "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores as the process started "
+                   "(openmp_threads.default_threads, whatever changed OpenMP's setting since)"),
     "local_damping": (0.0, "local non-viscous (Cundall) damping in [0, 1), for reaching rest; "
                            "its work is booked as damping"),
     "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
@@ -228,7 +230,9 @@ class Model:
         if "energy_tolerance" in params:
             self._m.set_energy_tolerance(p["energy_tolerance"])
         if "threads" in params:
-            self._m.set_threads(p["threads"])
+            # 0 is resolved here, not by the engine from OpenMP's live setting,
+            # which gmsh and others change for the whole process (openmp_threads.py)
+            self._m.set_threads(p["threads"] or default_threads())
         if "local_damping" in params:
             self._m.set_local_damping(p["local_damping"])
         if "mass_scaling_dt" in params:
@@ -488,8 +492,9 @@ class Model:
 
     @property
     def thread_count(self):
-        """The threads a step's sums are split over (threads, or OpenMP's
-        default for 0): results agree across counts only to round-off."""
+        """The threads a step's sums are split over (threads, or for 0 the
+        process's OpenMP default, openmp_threads.default_threads): results
+        agree across counts only to round-off."""
         return self._m.thread_count()
 
     def memory_bytes(self):

@@ -14,10 +14,13 @@ import h5py
 import numpy as np
 
 from .. import __version__
+from ..code_identity import source_hash
 
 
 def code_version():
-    """Package version plus the git commit of the checkout, if there is one."""
+    """Package version plus the git commit of the checkout, if there is one:
+    for people to read; whether two codes compute alike is source_hash's
+    (code_identity.py)."""
     here = os.path.dirname(os.path.abspath(__file__))
     try:
         rev = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
@@ -67,6 +70,7 @@ class AtomicH5:
         a["format"] = self.fmt
         a["format_version"] = self.format_version
         a["code_version"] = code_version()
+        a["source_hash"] = source_hash()   # what a checkpoint must match to be continued
         a["created"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
         a["complete"] = 0
         return self.file

@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 
+from ..openmp_threads import openmp_threads_kept
 from ..parameters import require_range
 from . import pile as _pile
 from . import mesh_order
@@ -85,68 +86,71 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     owner_rank = np.r_[np.arange(nb) + 3, [0, 1, 2]]  # overlap slivers: plates first, then lower id
 
     t0 = time.perf_counter()
-    gmsh.initialize(readConfigFiles=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
-        gmsh.model.add("pile")
-        # OCC fuzzy booleans: corners and faces closer than `fuzzy` are one
-        # (round-off and sub-mm mismatches of the contact rule would otherwise
-        # leave sub-mm curves that force tiny elements); unbonded contacts are
-        # kept apart by eps_sep > 2 fuzzy.
-        gmsh.option.setNumber("Geometry.ToleranceBoolean", fuzzy)
-        occ = gmsh.model.occ
-        tags = [_surface(occ, p) for p in polys] + [_surface(occ, p) for p in plates]
-        _, child_map = occ.fragment([(2, t) for t in tags], [])
-        occ.synchronize()
-        times["fragment"] = time.perf_counter() - t0
-        parents = {}
-        for body, children in enumerate(child_map):
-            for dim, tag in children:
-                if dim == 2:
-                    parents.setdefault(tag, []).append(body)
-        surf_body = {}
-        n_slivers, sliver_area = 0, 0.0
-        for tag, bodies in parents.items():
-            surf_body[tag] = min(bodies, key=lambda b: owner_rank[b])
-            if len(bodies) > 1:
-                n_slivers += 1
-                sliver_area += occ.getMass(2, tag)
-        t0 = time.perf_counter()
-        gmsh.option.setNumber("Mesh.MeshSizeMax", element_size)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.option.setNumber("Mesh.Algorithm", algorithm)
-        # near a short curve the size follows its length, so small features get
-        # small, well-shaped triangles instead of slivers; 1.6 x the length: the
-        # short curve stays one element edge and the triangles next to it are not
-        # smaller than it (at 1.0 x, gmsh puts ~0.6 L altitudes around a curve L)
-        curve_len = {c: occ.getMass(1, c) for _, c in gmsh.model.getEntities(1)}
-        # curves the clean-up could not lengthen (both ends held by other bonds)
-        # still force elements of their size: count them
-        lens = np.array(list(curve_len.values()))
-        info["n_short_curves"] = int((lens < (1.0 - 1e-6) * feature).sum())
-        info["shortest_curve"] = float(lens.min())
-        for _, pt in gmsh.model.getEntities(0):
-            up, _ = gmsh.model.getAdjacencies(0, pt)
-            lmin = min((curve_len[c] for c in up), default=element_size)
-            gmsh.model.mesh.setSize([(0, pt)], min(element_size, 1.6 * lmin))
-        gmsh.model.mesh.generate(2)
-        times["mesh"] = time.perf_counter() - t0
-        node_tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = np.full(int(node_tags.max()) + 1, -1, np.int64)
-        index[node_tags] = np.arange(len(node_tags))
-        nodes = coords.reshape(-1, 3)[:, :2].copy()
-        tris, body = [], []
-        for tag, b in surf_body.items():
-            etypes, _, enodes = gmsh.model.mesh.getElements(2, tag)
-            for et, en in zip(etypes, enodes):
-                if et != 2:
-                    raise RuntimeError(f"gmsh returned element type {et} on surface {tag}; "
-                                       "expected 3-node triangles")
-                t3 = index[np.asarray(en, np.int64)].reshape(-1, 3)
-                tris.append(t3)
-                body.append(np.full(len(t3), b, np.int32))
-    finally:
-        gmsh.finalize()
+    # gmsh.initialize() sets the process's OpenMP thread count to 1 and keeps it
+    # so: put back, or a run that meshes its scene computes on one thread
+    with openmp_threads_kept():
+        gmsh.initialize(readConfigFiles=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 1 if verbose else 0)
+            gmsh.model.add("pile")
+            # OCC fuzzy booleans: corners and faces closer than `fuzzy` are one
+            # (round-off and sub-mm mismatches of the contact rule would otherwise
+            # leave sub-mm curves that force tiny elements); unbonded contacts are
+            # kept apart by eps_sep > 2 fuzzy.
+            gmsh.option.setNumber("Geometry.ToleranceBoolean", fuzzy)
+            occ = gmsh.model.occ
+            tags = [_surface(occ, p) for p in polys] + [_surface(occ, p) for p in plates]
+            _, child_map = occ.fragment([(2, t) for t in tags], [])
+            occ.synchronize()
+            times["fragment"] = time.perf_counter() - t0
+            parents = {}
+            for body, children in enumerate(child_map):
+                for dim, tag in children:
+                    if dim == 2:
+                        parents.setdefault(tag, []).append(body)
+            surf_body = {}
+            n_slivers, sliver_area = 0, 0.0
+            for tag, bodies in parents.items():
+                surf_body[tag] = min(bodies, key=lambda b: owner_rank[b])
+                if len(bodies) > 1:
+                    n_slivers += 1
+                    sliver_area += occ.getMass(2, tag)
+            t0 = time.perf_counter()
+            gmsh.option.setNumber("Mesh.MeshSizeMax", element_size)
+            gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+            gmsh.option.setNumber("Mesh.Algorithm", algorithm)
+            # near a short curve the size follows its length, so small features get
+            # small, well-shaped triangles instead of slivers; 1.6 x the length: the
+            # short curve stays one element edge and the triangles next to it are not
+            # smaller than it (at 1.0 x, gmsh puts ~0.6 L altitudes around a curve L)
+            curve_len = {c: occ.getMass(1, c) for _, c in gmsh.model.getEntities(1)}
+            # curves the clean-up could not lengthen (both ends held by other bonds)
+            # still force elements of their size: count them
+            lens = np.array(list(curve_len.values()))
+            info["n_short_curves"] = int((lens < (1.0 - 1e-6) * feature).sum())
+            info["shortest_curve"] = float(lens.min())
+            for _, pt in gmsh.model.getEntities(0):
+                up, _ = gmsh.model.getAdjacencies(0, pt)
+                lmin = min((curve_len[c] for c in up), default=element_size)
+                gmsh.model.mesh.setSize([(0, pt)], min(element_size, 1.6 * lmin))
+            gmsh.model.mesh.generate(2)
+            times["mesh"] = time.perf_counter() - t0
+            node_tags, coords, _ = gmsh.model.mesh.getNodes()
+            index = np.full(int(node_tags.max()) + 1, -1, np.int64)
+            index[node_tags] = np.arange(len(node_tags))
+            nodes = coords.reshape(-1, 3)[:, :2].copy()
+            tris, body = [], []
+            for tag, b in surf_body.items():
+                etypes, _, enodes = gmsh.model.mesh.getElements(2, tag)
+                for et, en in zip(etypes, enodes):
+                    if et != 2:
+                        raise RuntimeError(f"gmsh returned element type {et} on surface {tag}; "
+                                           "expected 3-node triangles")
+                    t3 = index[np.asarray(en, np.int64)].reshape(-1, 3)
+                    tris.append(t3)
+                    body.append(np.full(len(t3), b, np.int32))
+        finally:
+            gmsh.finalize()
     tris = np.vstack(tris)
     body = np.concatenate(body)
     # counter-clockwise

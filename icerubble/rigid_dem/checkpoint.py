@@ -9,8 +9,8 @@ ridge 1, F within 0.3 N/m), and the rubble amplifies such differences.
 
 One HDF5 file (files/h5io.AtomicH5: written as .part, marked complete, then
 renamed), so an interrupted write never leaves a file that looks like a
-checkpoint. It is refused for a run of other parameters or another ridge
-before anything is loaded.
+checkpoint. It is refused for a run of other parameters or another ridge,
+or written by other code (code_identity.py), before anything is loaded.
 """
 import json
 import pickle
@@ -18,6 +18,7 @@ import pickle
 import numpy as np
 from yade.wrapper import O
 
+from ..code_identity import refuse_other_code
 from ..files.h5io import AtomicH5, open_complete
 
 FORMAT = "icerubble rigid-dem checkpoint"
@@ -60,6 +61,7 @@ def restore(run, path):
     state beside it as they were when `path` was written. ValueError for a
     file that is not this run's checkpoint."""
     with open_complete(path, FORMAT, what="rigid-dem checkpoint") as f:
+        refuse_other_code(f.attrs, path, what="rigid-dem checkpoint")
         for k, mine in _identity(run).items():
             theirs = f.attrs.get(k)
             if theirs != mine:

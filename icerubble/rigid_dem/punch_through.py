@@ -25,7 +25,7 @@ from yade.wrapper import O
 
 from .. import _engine
 from ..files.mesh_file import read_mesh
-from ..run.progress import Progress
+from ..run.progress import Progress, loading_eta_text, settle_eta_text
 from ..run.checkpoint import checkpoint_path
 from ..run.punch_through_run import ENERGY_EVERY, RunInterrupted, catching_stop_signals
 from ..run.recorder import RunRecorder
@@ -137,7 +137,7 @@ class RigidPunchThrough:
         """Settle, hold, load and write the result. With `resume`, a checkpoint
         of this run (OUT.checkpoint.h5, written while loading) is taken up where
         it was; a run stopped while settling starts again. SIGTERM and SIGUSR1
-        (a scheduler's stop) write the checkpoint after the current chunk and
+        (a scheduler's stop) and SIGINT (Ctrl-C) write the checkpoint after the current chunk and
         raise RunInterrupted."""
         with catching_stop_signals(self):
             return self._run(resume)
@@ -167,12 +167,12 @@ class RigidPunchThrough:
         recorder and energy ledger."""
         t_wall = time.perf_counter()
         chunk = max(1, int(round(0.05 / self.dt)))
-        prog = Progress(target_travel=1.0, label="rigid settle")
+        prog = Progress("rigid settle", O.iter, eta=lambda t, rate: settle_eta_text(t, SETTLE_MAX, self.dt, rate))
         while True:
             O.run(chunk, True)
             self._stop_if_signalled("settle")
             speed = self._max_block_speed()
-            prog.update(O.iter, O.time, 0.0, extra=f"fastest body {speed:.2g} m/s")
+            prog.update(O.iter, O.time, f"fastest body {speed:.2g} m/s (at rest < {SETTLE_SPEED:g})")
             if not math.isfinite(speed):
                 raise RuntimeError(f"rigid run unstable while settling at t = {O.time:.3g} s (a block's speed "
                                    f"is not finite); dt = {self.dt:.3g} s")
@@ -232,15 +232,18 @@ class RigidPunchThrough:
         (one O.run per step costs milliseconds of thread hand-over); a
         checkpoint every checkpoint_every_s of wall time and on a stop signal."""
         chunk = max(1, int(round(2e-3 / self.dt)))
-        prog = Progress(self.params["target_travel"], label="rigid punch-through")
+        p = self.params
+        prog = Progress("rigid punch-through", O.iter, eta=lambda t, rate: loading_eta_text(
+            t, p["target_travel"], p["v_final"], p["ramp_time"], self.dt, rate))
         t_wall = t_ckpt = time.perf_counter()
         wall_before = self.wall_load_s
         while not self.done:
             O.run(chunk, True)
             b = self.coupling.bonds
-            prog.update(O.iter, O.time - self.t_load, self.y_prev, self.F_prev,
-                        extra=lambda: f"bond pairs opened {int((b.state >= 1).sum())}/{len(b.state)} "
-                                      f"broken {int((b.state == 2).sum())}")
+            prog.update(O.iter, O.time - self.t_load,
+                        lambda: f"y_I {self.y_prev * 1e3:8.3f} mm  F {self.F_prev / 1e3:9.3f} kN/m  "
+                                f"bond pairs opened {int((b.state >= 1).sum())}/{len(b.state)} "
+                                f"broken {int((b.state == 2).sum())}")
             self.wall_load_s = wall_before + time.perf_counter() - t_wall
             if self.done:
                 break

@@ -3,6 +3,8 @@ nodes and bond states), what has been recorded, and the driver's phase.
 
 Written atomically (icerubble.files.h5io.AtomicH5), so a checkpoint on disk is
 always a complete one; a run killed while writing keeps the previous one.
+Only the code that wrote a checkpoint continues it (same source_hash,
+icerubble/code_identity.py): any other is refused, saying which wrote it.
 """
 import json
 import os
@@ -10,6 +12,7 @@ import os
 import h5py
 import numpy as np
 
+from ..code_identity import refuse_other_code
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
 from .recorder import ENERGY_TERMS, snapshot_travels
 from .rest_states import SETTLE_FREE
@@ -141,6 +144,7 @@ def restore(run, path, from_rest=False, shared=False):
             raise ValueError(f"checkpoint {path} was written by physics version {version}, this code is "
                              f"version {PHYSICS_VERSION} (settling, sleeping or forces changed): it cannot "
                              "be continued; remove it to start the run again")
+        refuse_other_code(f.attrs, path)
         saved = json.loads(d.attrs["params"])
         diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
         if from_rest or shared:

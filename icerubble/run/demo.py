@@ -33,7 +33,7 @@ def main(argv=None):
         out = run_one("demo", ridge=a.ridge, overrides=dict(target_travel=a.travel_mm * 1e-3),
                       out_dir=a.out_dir)
     except RunInterrupted as e:   # a signal: the checkpoint is written, `icerubble demo` again resumes
-        print(f"icerubble demo: interrupted: {e}", file=sys.stderr)
+        print(f"icerubble demo: interrupted: {e} (the same `icerubble demo` command resumes it)", file=sys.stderr)
         return exit_status.INTERRUPTED
     except RuntimeError as e:   # another run in progress, an instability
         print(f"icerubble demo: error: {e}", file=sys.stderr)

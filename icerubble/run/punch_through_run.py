@@ -13,8 +13,8 @@
 A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
 the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
-before it stops a job) writes its checkpoint at once and stops with
-RunInterrupted.
+before it stops a job) or SIGINT (Ctrl-C) writes its checkpoint at once and
+stops with RunInterrupted (the YADE script then exits 75).
 """
 import contextlib
 import json
@@ -34,7 +34,7 @@ from . import run_identity as RI
 from ..files.h5io import open_complete
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
-from .progress import Progress
+from .progress import Progress, loading_eta_text, settle_eta_text
 from .recorder import RunRecorder
 from .scene import Scene
 from ..files.vtu import write_pvd, write_vtu
@@ -53,8 +53,10 @@ MEAN_FORCE_MIN_TRAVEL = 1e-9
 
 # What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
 # node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
-# and SIGUSR1 (sbatch --signal, some minutes before the time limit).
-STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1)
+# and SIGUSR1 (sbatch --signal, some minutes before the time limit); and
+# SIGINT, Ctrl-C: a person stopping a run wants to keep the hours it has
+# computed as much as a scheduler does.
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1, signal.SIGINT)
 
 
 class RunInterrupted(RuntimeError):
@@ -64,13 +66,17 @@ class RunInterrupted(RuntimeError):
 
 @contextlib.contextmanager
 def catching_stop_signals(run):
-    """While inside: SIGTERM and SIGUSR1 only set run._stop_signal (the run
-    checks it between its chunks of steps); the previous handlers come back
-    after. Outside the main thread (where Python takes no handlers) nothing
-    is caught."""
+    """While inside: SIGTERM, SIGUSR1 and SIGINT only set run._stop_signal
+    (the run checks it between its chunks of steps); the previous handlers
+    come back after. A second Ctrl-C while the first is pending raises
+    KeyboardInterrupt at once, as Python's own handler (the last checkpoint
+    on disk stays whole: it is written atomically). Outside the main thread
+    (where Python takes no handlers) nothing is caught."""
     run._stop_signal = None
 
     def note(signum, frame):
+        if signum == signal.SIGINT and run._stop_signal is not None:
+            raise KeyboardInterrupt("Ctrl-C twice: stopped at once, without a checkpoint of this moment")
         run._stop_signal = signum
     catch = threading.current_thread() is threading.main_thread()
     previous = {s: signal.signal(s, note) for s in STOP_SIGNALS} if catch else {}
@@ -251,7 +257,7 @@ class PunchThrough:
         self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
-        self._stop_signal = None    # set by SIGTERM / SIGUSR1 while running
+        self._stop_signal = None    # set by SIGTERM / SIGUSR1 / SIGINT while running
         self.F_at_rest = math.nan
         self.t_settle = None        # model time when settling started
         self.load_steps = 0         # steps of the load phase ...
@@ -349,7 +355,7 @@ class PunchThrough:
             raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
                              "move it away")
         ckpt.restore(self, path, shared=True)
-        # the code that settled (the key holds its physics version, not its commit)
+        # the code that settled, for people (the key holds its source hash, code_identity.py)
         made_by = made_by.decode() if isinstance(made_by, bytes) else str(made_by)
         self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1,
                                   rest_state_code_version=made_by)
@@ -541,13 +547,15 @@ class PunchThrough:
         if self.t_settle is None or not math.isfinite(self.t_settle):
             self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
         t_start = self.t_settle
-        prog = Progress(target_travel=1.0, every_s=o.progress_every_s, label="settle")
+        prog = Progress("settle", m.step_count, every_s=o.progress_every_s,
+                        eta=lambda t, rate: settle_eta_text(t, o.settle_max_time, dt, rate))
         while True:
             before, t0 = self._momenta(), m.time
             m.step(chunk)
             vmax, imbalance, body = self._out_of_balance(before, m.time - t0)
             t_rel = m.time - t_start
-            prog.update(m.step_count, m.time, 0.0)
+            prog.update(m.step_count, t_rel, lambda: f"max speed {vmax:.2g} m/s (at rest < {o.settle_velocity:g})"
+                        f"  out of balance {imbalance:.2g} (< {o.settle_accel:g})")
             # at rest = slow AND in balance: a low speed alone is also what the
             # first steps after switching gravity on look like
             if t_rel >= o.settle_min_time and vmax < o.settle_velocity and imbalance < o.settle_accel:
@@ -616,7 +624,9 @@ class PunchThrough:
         m, p, o = self.model, self.params, self.options
         dt = self.model.dt
         chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
-        prog = Progress(p["target_travel"], every_s=o.progress_every_s)
+        prog = Progress("punch-through", m.step_count, every_s=o.progress_every_s,
+                        eta=lambda t, rate: loading_eta_text(t, p["target_travel"], p["v_final"],
+                                                             p["ramp_time"], dt, rate))
         # force samples of the load loop so far (the first row is the rest
         # force of settle): a resumed run samples the energy at the same ones
         k = len(self.recorder.force_rows) - 1
@@ -647,12 +657,15 @@ class PunchThrough:
                 self.recorder.energy(t_rel, m.energies())
             if self.recorder.wants_snapshot(y_I):
                 self.snapshot(t_rel, y_I)
-            prog.update(m.step_count, t_rel, y_I, F, extra=self._bond_text)
+            prog.update(m.step_count, t_rel, lambda: self._load_text(y_I, F))
             if y_I >= p["target_travel"]:
                 break
             self._maybe_checkpoint()
-        prog.update(m.step_count, m.time - self.t_load, y_I, F, force=True, extra=self._bond_text)
+        prog.update(m.step_count, m.time - self.t_load, self._load_text(y_I, F), force=True)
         self.recorder.energy(m.time - self.t_load, m.energies())
+
+    def _load_text(self, y_I, F):
+        return f"y_I {y_I * 1e3:8.3f} mm  F {F / 1e3:9.3f} kN/m  {self._bond_text()}"
 
     def _bond_text(self):
         c = self.model.bonds.counts

@@ -15,14 +15,16 @@ SLURM array's tasks, yade-batch -j 2) all settle.
 
 A run that loads from a shared rest state gives the result its own settle
 would have given, bit for bit: the key is everything else the settle reads
-(the run identity without SETTLE_FREE, the settle's options) and the thread
-count, since sums over threads round differently. tests/run/test_rest_states.py
+(the run identity without SETTLE_FREE, the settle's options), the thread
+count, since sums over threads round differently, and the code that settles
+(code_identity.source_hash: other code settles, and keys, its own). tests/run/test_rest_states.py
 checks both: the rest states of two runs differing in every SETTLE_FREE
 parameter are equal bit for bit, and a run from another's rest state writes
 the result of its own settle.
 """
 import os
 
+from ..code_identity import source_hash
 from . import run_identity as RI
 
 # Parameters the settle does not read (see above); a run that differs in
@@ -38,10 +40,14 @@ SETTLE_OPTIONS = ("settle_max_time", "settle_min_time", "settle_velocity", "sett
 
 def settle_identity(params, mesh, options, threads, model="fem-dem"):
     """Everything that makes a rest state: the run identity without the
-    SETTLE_FREE parameters, the settle's options and the thread count."""
+    SETTLE_FREE parameters, the settle's options, the thread count and the
+    code (its source_hash)."""
     ident = RI.identity({k: v for k, v in params.items() if k not in SETTLE_FREE}, mesh, options)
     ident["settle_options"] = {k: RI._plain(getattr(options, k)) for k in SETTLE_OPTIONS}
     ident["threads"] = int(threads)
+    # only the code that settled continues its rest state (code_identity.py):
+    # other code keys, and settles, its own
+    ident["code"] = source_hash()
     ident["model"] = model
     return ident
 

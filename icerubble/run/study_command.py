@@ -21,12 +21,12 @@ in DIR/logs/<table>/ (icerubble/run/study_folder.py).
 import argparse
 import os
 import shutil
-import subprocess
 
 from .. import exit_status
 from ..files.output_path import check_output_folder
 from . import slurm
 from . import study_outcome as SO
+from . import study_progress
 from .scene_cache import ROOT
 from .study_folder import load_study, open_study, studies, study_dir, study_lock, table_of
 from .table_check import check_table
@@ -59,6 +59,8 @@ def main(argv=None):
                         "overrides it, relative to the current folder)")
     r.add_argument("--jobs", type=int, default=1, help="lines run at once (default 1)")
     r.add_argument("--job-threads", type=int, default=2, help="threads of each line (default 2)")
+    r.add_argument("--progress-every", type=float, default=60.0, metavar="S",
+                   help="seconds between progress lines on the console (default 60)")
     s = sub.add_parser("submit", help=ACTIONS["submit"])
     s.add_argument("table")
     s.add_argument("--slurm", action="store_true", required=True, help="the scheduler (SLURM)")
@@ -83,7 +85,7 @@ def main(argv=None):
     if a.action in ("check", "run", "submit") and not check(a.table):
         return exit_status.USAGE   # refused before any line runs
     if a.action == "run":
-        return run_local(a.table, a.out, a.jobs, a.job_threads)
+        return run_local(a.table, a.out, a.jobs, a.job_threads, a.progress_every)
     if a.action == "submit":
         job, log_dir = slurm.submit(a.table, a.out, PUNCH_THROUGH, sbatch_options=dict(
             cpus_per_task=a.cpus_per_task, time=a.time, partition=a.partition, account=a.account,
@@ -107,16 +109,17 @@ def check(table):
     return not problems
 
 
-def run_local(table, out, jobs=1, job_threads=2):
+def run_local(table, out, jobs=1, job_threads=2, progress_every=60.0):
     """Every line of `table` through yade-batch on this machine; prints each
-    line's outcome and returns the exit status (1 if any line did not finish)."""
+    line's start, end and progress (study_progress.py) and then its outcome,
+    and returns the exit status (1 if any line did not finish)."""
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
     with study_lock(study_dir(out, table)):   # one run of a table into a folder at a time
-        return _run_locked(table, out, jobs, job_threads)
+        return _run_locked(table, out, jobs, job_threads, progress_every)
 
 
-def _run_locked(table, out, jobs, job_threads):
+def _run_locked(table, out, jobs, job_threads, progress_every):
     log_dir, study = open_study(table, out, "local")
     for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):
@@ -130,11 +133,12 @@ def _run_locked(table, out, jobs, job_threads):
     env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"], ICERUBBLE_WORKDIR=os.getcwd())
     print("[study] " + " ".join(cmd), flush=True)
     try:
-        subprocess.run(cmd, env=env, cwd=log_dir)   # its exit status says nothing about the lines
+        # its exit status says nothing about the lines
+        study_progress.watch(cmd, env, log_dir, table_of(log_dir, study), jobs=jobs, every_s=progress_every)
         status = None
     except KeyboardInterrupt:
         print("[study] interrupted: the lines that did not finish say so below", flush=True)
-        status = 130
+        status = exit_status.INTERRUPTED
     # yade-batch has returned: a log with no end is a line that was killed (queue {})
     outcomes = SO.line_outcomes(table_of(log_dir, study), log_dir, queue={})
     _print(table, log_dir, outcomes)

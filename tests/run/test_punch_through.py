@@ -8,9 +8,12 @@ import h5py
 import numpy as np
 import pytest
 
-from icerubble.files.h5io import open_complete
+from icerubble.code_identity import source_hash
+from icerubble.files.h5io import code_version, open_complete
 from icerubble.run import checkpoint as ckpt
-from icerubble.run.punch_through_run import MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions
+from icerubble.run.punch_through_run import (MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions,
+                                             catching_stop_signals)
+from tests.h5_edits import broken
 from tests.run.punch_through_scenes import brick_mesh
 
 # A short, fast punch: a 0.2 s ramp and 3 mm of travel. Coarse (0.2 m)
@@ -133,12 +136,12 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
     assert not (tmp_path / "run.checkpoint.h5").exists()
 
 
-@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGUSR1])
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGUSR1, signal.SIGINT])
 def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh_path, tmp_path, finished,
                                                                             signum):
-    """SIGTERM (scancel, preemption) or SIGUSR1 (before a time limit) while
-    loading: the run writes its checkpoint and stops with RunInterrupted; run
-    again it ends with the uninterrupted record, bit for bit."""
+    """SIGTERM (scancel, preemption), SIGUSR1 (before a time limit) or SIGINT
+    (Ctrl-C) while loading: the run writes its checkpoint and stops with
+    RunInterrupted; run again it ends with the uninterrupted record, bit for bit."""
     run0, out0 = finished
 
     class Signalled(PunchThrough):
@@ -161,6 +164,21 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
     with h5py.File(out0) as a, h5py.File(out) as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
+
+
+def test_a_second_ctrl_c_stops_at_once():
+    """The first Ctrl-C asks for a stop at the end of the chunk (a checkpoint
+    is written then); a second one, for a person who will not wait, raises
+    KeyboardInterrupt at once, as Python's own handler does."""
+    class Run:
+        pass
+    run = Run()
+    with catching_stop_signals(run):
+        os.kill(os.getpid(), signal.SIGINT)
+        assert run._stop_signal == signal.SIGINT
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
 
 @pytest.mark.parametrize("bad,word", [(dict(tau_cr=0.0), "tau_cr"), (dict(sigma_cr=-1.0), "sigma_cr"),
@@ -380,6 +398,40 @@ def test_a_checkpoint_of_another_physics_version_is_refused(mesh_path, tmp_path)
     again = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts))
     with pytest.raises(ValueError, match="physics version 2, this code is version"):
         again.run(resume=True)
+
+
+def test_a_checkpoint_of_other_code_is_refused_and_one_of_this_code_resumes(mesh_path, tmp_path, finished):
+    """Only the code that wrote a checkpoint continues it (code_identity.py):
+    a checkpoint recording another source hash, or none (written before they
+    were recorded), is refused naming the code that wrote it, the code that
+    runs and what to do; the untouched one resumes into the run in one go."""
+    _, out0 = finished
+    opts = dict(threads=1, progress_every_s=1e9, vtu=False)
+    run = PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(stop_after_steps=1, **opts))
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    saved = tmp_path / "a.checkpoint.h5"
+
+    def other_code(f):
+        f.attrs["source_hash"], f.attrs["code_version"] = "0123456789abcdef", "0.1.0+gdeadbee"
+
+    def older_code(f):
+        del f.attrs["source_hash"]
+    for edit, says in ((other_code, r"written by code 0\.1\.0\+gdeadbee \(source 0123456789abcdef\)"),
+                       (older_code, r"before checkpoints recorded the source")):
+        folder = tmp_path / edit.__name__
+        folder.mkdir()
+        broken(saved, folder, edit)
+        again = PunchThrough(mesh_path, folder / "a.h5", params=PARAMS, options=RunOptions(**opts))
+        with pytest.raises(ValueError, match=says) as e:
+            again.run(resume=True)
+        assert f"this is code {code_version()} (source {source_hash()})" in str(e.value)
+        assert "Delete the checkpoint" in str(e.value) and "with the code that wrote it" in str(e.value)
+        assert not (folder / "a.h5").exists()
+    PunchThrough(mesh_path, tmp_path / "a.h5", params=PARAMS, options=RunOptions(**opts)).run(resume=True)
+    with h5py.File(out0) as a, h5py.File(tmp_path / "a.h5") as b:
+        assert b.attrs["source_hash"] == a.attrs["source_hash"] == source_hash()
+        np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
 
 
 def rest_state_of_another_run(mesh_path, tmp_path):

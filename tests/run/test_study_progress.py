@@ -1,0 +1,54 @@
+"""`icerubble study run` on the console (icerubble/run/study_progress.py): a
+line when each table line starts and ends, and periodic lines with each
+running line's latest progress line and an ETA of the table. A stand-in for
+yade-batch writes the logs, so this takes seconds."""
+import io
+import sys
+import textwrap
+
+from icerubble.run import study_outcome as SO
+from icerubble.run.study_progress import latest_progress, table_eta, watch
+
+FAKE_BATCH = textwrap.dedent(f"""
+    import time
+    with open("line2.log", "w") as f:
+        f.write("[settle] step 10  t 0.0010 s  max speed 0.1 m/s  wall 0 s  ETA <= 90 s (settle_max_time 5 s)\\n")
+        f.flush(); time.sleep(1.5)
+        f.write("[punch-through] step 99  t 0.0100 s  y_I 0.100 mm  wall 1 s  ETA 42 s\\n")
+        f.flush(); time.sleep(3.0)
+        f.write("punch_through: error: the scene did not come to rest\\n{SO.BATCH_SUMMARY}\\n")
+    """)
+
+
+def test_each_line_starts_and_ends_on_the_console_with_its_progress_between(tmp_path):
+    table = tmp_path / "t.table"
+    table.write_text("description mu\nonly 0.3\n")
+    out = io.StringIO()
+    status = watch([sys.executable, "-c", FAKE_BATCH], None, str(tmp_path), str(table), every_s=1.0, stream=out)
+    text = out.getvalue()
+    assert status == 0, text
+    assert "[study] line 2 started: only" in text
+    assert "line 2: [punch-through] step 99" in text and "table ETA ~42 s" in text, text
+    assert "[study] line 2 failed after" in text and "did not come to rest" in text, text
+
+
+def test_the_loading_eta_is_read_from_a_log_and_a_settles_bound_is_not_an_eta(tmp_path):
+    log = tmp_path / "line3.log"
+    log.write_text("[settle] step 10  t 0.0010 s  wall 0 s  ETA <= 90 s (settle_max_time 5 s)\n")
+    assert latest_progress(log)[1] is None
+    log.write_text(log.read_text() + "[punch-through] step 20  t 0.0020 s  y_I 0.01 mm  wall 3 s  ETA 42 s\nother\n")
+    text, eta = latest_progress(log)
+    assert text.startswith("[punch-through] step 20") and eta == 42.0
+
+
+def test_the_table_eta_adds_the_running_lines_and_the_waiting_ones_at_the_mean_line():
+    # two lines done in 100 s and 200 s, one loading with 30 s left, two waiting, one at a time
+    assert table_eta([100.0, 200.0], [(30.0, 50.0)], 2, jobs=1) == 30.0 + 2 * 150.0
+    # two at a time: the work shared over two
+    assert table_eta([100.0, 200.0], [(30.0, 50.0)], 2, jobs=2) == (30.0 + 2 * 150.0) / 2
+    # a line still settling counts as the mean line less what it has run
+    assert table_eta([100.0], [(None, 40.0)], 0, jobs=1) == 60.0
+    # nothing ended yet: unknown while a line settles or lines wait
+    assert table_eta([], [(None, 10.0)], 0, jobs=1) is None
+    assert table_eta([], [(30.0, 10.0)], 1, jobs=1) is None
+    assert table_eta([], [(30.0, 10.0)], 0, jobs=1) == 30.0
