@@ -6,6 +6,9 @@ DEBS    := yade gmsh python3-gmsh python3-numpy python3-scipy python3-matplotlib
            python3-h5py python3-pybind11 pybind11-dev python3-pytest cmake g++ make \
            python3-pip python3-setuptools python3-wheel slurm-wlm munge
 STAMP   := $(BUILD)/.built
+# NATIVE=ON tunes the engine for this processor: a few % faster, but its
+# results then differ in their bits from every other machine's (docs/reproducibility.md)
+NATIVE  ?= OFF
 
 .PHONY: setup deps build install test bench demo figures clean
 
@@ -25,7 +28,7 @@ deps:
 # editable mode for /usr/bin/python3: `import icerubble` from any folder and
 # inside yade, and the `icerubble` command (pyproject.toml).
 build: deps
-	cmake -S . -B $(BUILD) -DPython3_EXECUTABLE=$(PY) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake -S . -B $(BUILD) -DPython3_EXECUTABLE=$(PY) -DCMAKE_BUILD_TYPE=Release -DICERUBBLE_NATIVE=$(NATIVE) >/dev/null
 	cmake --build $(BUILD) -j2
 	@touch $(STAMP)
 	@$(MAKE) --no-print-directory install

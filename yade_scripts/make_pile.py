@@ -47,6 +47,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
                                                         else __file__)))
 sys.path.insert(0, _ROOT)
 
+from icerubble import machine
 from icerubble.files.pile_file import write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
@@ -286,7 +287,10 @@ def main():
                 porosity=eta, keel_x_min=bounds[0], keel_x_max=bounds[1],
                 keel_bottom_y=bounds[2], keel_top_y=bounds[3], layer_bottom_y=top,
                 layer_thickness=float(P.layer_thickness), domain_width=float(W),
-                friction=float(P.mu_settle))
+                friction=float(P.mu_settle),
+                # YADE's settle follows the processor's floating point: the
+                # same seed makes another pile on another machine
+                made_on=machine.processor())
     write_pile(out, out_corners, ts, ls, params, meta)
     print(f"make_pile: wrote {out}: {n} blocks, settled={settled}, t={O.time:.2f} s simulated, "
           f"wall {meta['wall_time']:.1f} s, porosity {eta:.3f}, keel {bounds[3] - bounds[2]:.2f} m deep",

@@ -12,10 +12,14 @@ MESH_FORMAT = "icerubble-mesh"
 MESH_FORMAT_VERSION = 1
 
 
-def write_mesh(path, m, source=""):
-    """Write the mesh dict of geometry.meshing.build_mesh to `path` (atomically)."""
+def write_mesh(path, m, source="", pile_origin=None):
+    """Write the mesh dict of geometry.meshing.build_mesh to `path` (atomically).
+    pile_origin: where the pile comes from (its `made_on` and `shipped`
+    attributes, machine.py), kept with the mesh for every result made on it."""
     with AtomicH5(path, MESH_FORMAT, MESH_FORMAT_VERSION) as f:
         f.attrs["source_pile"] = source
+        for k, v in (pile_origin or {}).items():
+            f.attrs["pile_" + k] = v
         f.attrs["element_size"] = m["element_size"]
         f.attrs["porosity"] = m["porosity"]
         f.attrs["pile_friction"] = m.get("pile_friction", np.nan)

@@ -286,5 +286,6 @@ def mesh_pile_file(pile_path, mesh_path, **kw):
     from ..files.pile_file import read_pile
     p = read_pile(pile_path)  # validates before any work
     m = build_mesh(p, **kw)
-    write_mesh(mesh_path, m, source=os.path.abspath(pile_path))
+    origin = {k: p["meta"][k] for k in ("made_on", "shipped") if k in p["meta"]}
+    write_mesh(mesh_path, m, source=os.path.abspath(pile_path), pile_origin=origin)
     return m

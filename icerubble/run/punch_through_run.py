@@ -231,7 +231,11 @@ class PunchThrough:
                           n_blocks=int(np.sum(self.scene.body_kind == 0)),
                           keel_top_y=float(a["keel_top_y"]), keel_bottom_y=float(a["keel_bottom_y"]),
                           keel_x_min=float(a["keel_x_min"]), keel_x_max=float(a["keel_x_max"]),
-                          mesh_file=self.mesh_path)
+                          mesh_file=self.mesh_path,
+                          # a pile made here by phase 1 depends on this machine's
+                          # processor; a shipped one is the same everywhere
+                          made_on=str(a.get("pile_made_on", "not recorded")),
+                          shipped=str(a.get("pile_shipped", "")))
         m = self.scene.model
         mesh_arrays = dict(nodes=self.mesh["nodes"], triangles=self.mesh["triangles"],
                            body=self.mesh["body"], body_kind=self.scene.body_kind)

@@ -7,6 +7,7 @@ resumed run writes the same file an uninterrupted one would.
 import numpy as np
 
 from .. import parameters as P
+from .. import machine
 from ..files.h5io import AtomicH5, set_attrs, write_dataset
 
 RESULT_FORMAT = "icerubble-run"
@@ -100,6 +101,9 @@ class RunRecorder:
         units = P.units()
         with AtomicH5(path, RESULT_FORMAT) as f:
             set_attrs(f, {k: self.meta[k] for k in self.meta})
+            # where the bits of this result could differ (docs/reproducibility.md)
+            f.attrs["engine_build"] = machine.engine_build()
+            f.attrs["processor"] = machine.processor()
             g = f.create_group("parameters")
             set_attrs(g, self.params)
             for k, v in self.params.items():

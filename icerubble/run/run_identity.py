@@ -21,8 +21,10 @@ import numpy as np
 # handed back as if the new code had made them.
 PHYSICS_VERSION = 4
 
-# mesh attributes that describe the file, not the geometry
-_VOLATILE_MESH_ATTRS = {"created", "code_version", "complete", "source"}
+# mesh attributes that describe the file, not the geometry: when, by which
+# code and from which path it was written (the same mesh made in another
+# folder, or by code that meshes alike, is the same mesh)
+_VOLATILE_MESH_ATTRS = {"created", "code_version", "source_hash", "complete", "source", "source_pile"}
 
 
 def mesh_digest(mesh):

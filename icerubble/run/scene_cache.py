@@ -11,10 +11,16 @@ friction is not the scene's is refused. Runs of one ridge started together
 (the lines of a study on a cluster) make its files once: the first takes a
 lock (``..._scene.lock``, an advisory file lock), the others wait for it and
 then find the files made.
+
+The ridges the study tables name are shipped (data/ridges/, shipped_ridges.py):
+their pile is copied, not made, so ridge N is the same pile on every machine;
+a cached pile at a shipped ridge's name that is not the shipped one (made
+here by phase 1 before ridges were shipped) is refused.
 """
 import contextlib
 import fcntl
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,6 +31,7 @@ import h5py
 from .. import parameters as P
 from ..files.pile_file import read_pile
 from ..geometry import mesh_order, meshing
+from . import shipped_ridges
 from .presets import scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -65,13 +72,15 @@ def scene_files(name, ridge, root="runs", threads=1):
     d = os.path.join(os.path.abspath(root), "scenes")
     os.makedirs(d, exist_ok=True)
     mu = float(sc["pile"]["mu_settle"])
-    base = os.path.join(d, f"{name}_ridge{int(ridge)}_pilemu{mu:g}")
+    base = os.path.join(d, shipped_ridges.file_stem(name, ridge, mu))
     pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
+    ship = shipped_ridges.shipped(name, ridge, mu)
     if os.path.exists(pile_path) and os.path.exists(mesh_path) and _mesh_current(mesh_path):
         _check_friction(pile_path, name, mu)
+        _check_shipped(pile_path, ship, base)
         return pile_path, mesh_path
     with _scene_lock(base + "_scene.lock"):
-        _make(name, sc, ridge, mu, pile_path, mesh_path, threads)
+        _make(name, sc, ridge, mu, pile_path, mesh_path, threads, ship, base)
     return pile_path, mesh_path
 
 
@@ -106,25 +115,54 @@ def _check_friction(pile_path, name, mu):
                          f"{mu:g}: remove it (and its mesh) to make it again")
 
 
-def _make(name, sc, ridge, mu, pile_path, mesh_path, threads):
-    """The pile (phase 1, YADE) and its mesh, each unless it exists."""
-    if not os.path.exists(pile_path):
-        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} ...",
+def _check_shipped(pile_path, ship, base):
+    """A cached pile at a shipped ridge's name must be the shipped pile."""
+    if ship is None or shipped_ridges.digest(pile_path) == ship[1]["pile_digest"]:
+        return
+    made_on = read_pile(pile_path)["meta"].get("made_on", "a processor not recorded")
+    raise ValueError(
+        f"{pile_path} is not this ridge's shipped pile ({os.path.relpath(ship[0], ROOT)}): it was made "
+        f"by phase 1 on {made_on}, and YADE makes another pile for the same seed on another processor. "
+        f"Move {base}_* away (the pile, its mesh and rest states) to run the ridge every machine runs.")
+
+
+def _make(name, sc, ridge, mu, pile_path, mesh_path, threads, ship, base):
+    """The pile (shipped, or phase 1 in YADE) and its mesh, each unless it exists."""
+    if not os.path.exists(pile_path) and ship is not None:
+        print(f"[scene] {name} ridge {ridge}: the shipped pile {os.path.relpath(ship[0], ROOT)} "
+              f"(made in YADE on {ship[1]['made_on']}; the same on every machine)", flush=True)
+        part = pile_path + f".{os.getpid()}.part"
+        shutil.copyfile(ship[0], part)
+        os.replace(part, pile_path)   # whole or not at all
+    elif not os.path.exists(pile_path):
+        print(f"[scene] phase 1: settling the pile of {name} ridge {ridge} in YADE at friction {mu:g} "
+              "(a ridge not shipped in data/ridges: its pile depends on this machine's processor) ...",
               flush=True)
         run_phase1(pile_path, ridge, sc["pile"], threads=threads)
     _check_friction(pile_path, name, mu)
+    _check_shipped(pile_path, ship, base)
     if os.path.exists(mesh_path) and not _mesh_current(mesh_path):
         print(f"[scene] {mesh_path} predates the locality numbering of its nodes: meshing it again", flush=True)
     if not os.path.exists(mesh_path) or not _mesh_current(mesh_path):
         t0 = time.perf_counter()
-        # block edges shorter than a fifth of the element size are collapsed: they
-        # would only make tiny elements that set a tiny stable step
-        m = meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"],
-                                   min_feature=0.2 * sc["element_size"])
+        m = mesh_scene(sc, pile_path, mesh_path)
         q = m["quality"]
         print(f"[scene] mesh: {len(m['nodes'])} nodes, {len(m['triangles'])} triangles, "
               f"{len(m['bond_edges'])} bond edges, porosity {m['porosity']:.3f}, min angle "
               f"{q['min_angle_deg']:.1f} deg ({time.perf_counter() - t0:.1f} s)", flush=True)
+        if ship is not None and shipped_ridges.digest(mesh_path) != ship[1]["mesh_digest"]:
+            print(f"[scene] warning: this machine's mesh of {name} ridge {ridge} differs from the one its "
+                  "shipped pile was meshed into where it was made (gmsh or numpy compute otherwise here): "
+                  "results on it are not comparable bit for bit with other machines' "
+                  "(docs/reproducibility.md)", flush=True)
+
+
+def mesh_scene(sc, pile_path, mesh_path):
+    """Mesh a pile with the scene's settings; returns the mesh dict."""
+    # block edges shorter than a fifth of the element size are collapsed: they
+    # would only make tiny elements that set a tiny stable step
+    return meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"],
+                                  min_feature=0.2 * sc["element_size"])
 
 
 if __name__ == "__main__":

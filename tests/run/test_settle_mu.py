@@ -8,8 +8,21 @@ cut away: loose blocks float a few mm). Before, the pile was settled at 0.3
 and a corner-supported block of this ridge slid 10 cm in the 5 s the settle
 allows at mu = 0.05, still moving: that run never started loading.
 
-About two to three minutes: phase 1 of the demo ridge 1 in YADE (~30 s), two
-settles (~1.5 min at mu = 0.05, ~0.5 min at 0.3), 0.02 mm of loading each.
+A loose block may still slide while settling, and that is physics, decided by
+measurement (issue 25): on demo ridge 1 (the shipped pile, and the piles two
+emulated older processors make of the same seed), block 38 at the keel's
+bottom rests on three corner contacts of 28-43 mm, too short for a bond; once
+meshing cuts away the phase-1 overlaps under it, at mu = 0.05 (a 2.9 degree
+friction cone) its net buoyancy lifts it 74 mm up and 58 mm sideways along
+its neighbours, where it comes to rest (86-94 mm in all three piles, 1.7-3.0
+s of settling); at mu = 0.3 it stays within 2 cm. So the tests assert what
+holds on any pile: the settle ends at rest and in balance, and a block that
+moves centimetres is a loose one that rose (buoyancy is the only load that
+drives a loose submerged block; a bonded block is held by its bonds).
+
+About three minutes: the demo ridge 1 (shipped, data/ridges/), two settles
+with the balanced preset's larger settle step (~2 min at mu = 0.05, ~0.5 min
+at 0.3), 0.02 mm of loading each.
 """
 import glob
 import os
@@ -44,9 +57,11 @@ def runs(files, tmp_path_factory):
     out = {}
     for mu in STUDY_MU:
         path = tmp_path_factory.mktemp(f"mu{mu}") / "run.h5"
+        # balanced: settling at 4x the step, the same rest (README, "Speed against accuracy")
+        options = RunOptions.from_numerics(numerics(SCENE, "balanced"), name="balanced")
+        options.threads, options.vtu, options.progress_every_s = 1, False, 1e9
         run = PunchThrough(mesh_path, path, params=dict(sc["params"], mu=mu, target_travel=TRAVEL),
-                           options=RunOptions(threads=1, dt_fraction=numerics(SCENE)["dt_fraction"], vtu=False,
-                                              progress_every_s=1e9))
+                           options=options)
         run.run()
         out[mu] = (run, path)
     return out
@@ -61,6 +76,20 @@ def lightest_block_weight(run):
     blocks = np.flatnonzero(run.scene.body_kind == 0)
     A = np.bincount(m["body"], weights=area, minlength=len(run.scene.body_kind))[blocks]
     return run.params["rho_i"] * run.params["g"] * A.min()
+
+
+def block_moves(run):
+    """(block, mean u_x, mean u_y) [m] of each block's nodes since the mesh."""
+    ids, _ = run.block_moves()
+    m, owner = run.model, run._node_body
+    u = np.asarray(m.positions)[:len(owner)] - np.asarray(m.reference_positions)[:len(owner)]
+    return [(int(b), u[owner == b, 0].mean(), u[owner == b, 1].mean()) for b in ids]
+
+
+def bonded_blocks(run):
+    """Blocks with at least one freeze-bonded contact in the mesh."""
+    c = mesh_file.read_mesh(run.mesh_path)["contacts"]
+    return set(np.asarray(c["bodies"])[np.asarray(c["bonded"]) != 0].ravel().tolist())
 
 
 def test_pile_records_the_friction_it_was_settled_at(files):
@@ -79,15 +108,18 @@ def test_same_pile_settles_and_loads_at_every_study_mu(runs, mu):
     o = run.options
     # settled at this run's friction, not the pile's
     assert run.model.params["mu"] == mu
-    # at rest by the criterion, well before the time limit
-    assert run.settle_time < 0.5 * o.settle_max_time
+    # at rest by the criterion, before the time limit
+    assert run.settle_time < o.settle_max_time
     assert run.settle_max_speed < o.settle_velocity
     # in balance: holding the indenter takes a small fraction of one block's weight
     assert abs(run.F_at_rest) < 0.02 * lightest_block_weight(run)
-    # the pile was already at rest at this mu: blocks only take up the mm that
-    # meshing changed (cut-away phase-1 overlaps), they do not slide off (the
-    # 0.3 pile's loose block went 10 cm at mu = 0.05 and kept going)
-    assert run.settle_max_block_move < 0.02
+    # blocks take up the mm that meshing changed (cut-away phase-1 overlaps);
+    # one that moved centimetres is loose and rose: it slid up under its net
+    # buoyancy to a new rest (see above), it was not thrown about
+    for b, dx, dy in block_moves(run):
+        if np.hypot(dx, dy) > 0.02:
+            assert b not in bonded_blocks(run), f"bonded block {b} moved {np.hypot(dx, dy) * 1e3:.0f} mm"
+            assert dy > 0, f"loose block {b} moved {np.hypot(dx, dy) * 1e3:.0f} mm without rising"
     with open_complete(path, "icerubble-run") as f:
         assert f["pile"].attrs["friction"] == PILE_FRICTION
         assert f.attrs["settle_time"] == pytest.approx(run.settle_time)
