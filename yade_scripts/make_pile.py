@@ -47,7 +47,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
                                                         else __file__)))
 sys.path.insert(0, _ROOT)
 
-from icerubble import machine
+from icerubble import exit_status, machine
 from icerubble.files.pile_file import write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
@@ -62,7 +62,9 @@ if os.environ.get("YADE_BATCH"):
     _table = os.environ["YADE_BATCH"].split(":")[0]
     _problems = reader_problems(_table)
     if _problems:
-        sys.exit(f"make_pile: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems))
+        print(f"make_pile: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems),
+              file=sys.stderr)
+        sys.exit(exit_status.USAGE)   # bad input, before any work (icerubble/exit_status.py)
 
 utils.readParamsFromTable(
     seed=1,                # random generator seed (block sizes, tilts, velocities)
@@ -299,6 +301,7 @@ def main():
 
 try:
     main()
-except ValueError as e:   # a bad parameter: one line naming it, not a traceback
-    sys.exit(f"make_pile: error: {e}")
+except ValueError as e:   # a bad parameter: one line naming it, not a traceback; exit 2
+    print(f"make_pile: error: {e}", file=sys.stderr)
+    sys.exit(exit_status.USAGE)
 utils.waitIfBatch()

@@ -31,7 +31,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
                                                         else __file__)))
 sys.path.insert(0, _ROOT)
 
-from icerubble import parameters as P
+from icerubble import exit_status, parameters as P
 from icerubble.run.table_check import check_table
 
 # The whole table is checked before this line runs (YADE would otherwise stop
@@ -39,8 +39,10 @@ from icerubble.run.table_check import check_table
 if os.environ.get("YADE_BATCH"):
     _table = os.environ["YADE_BATCH"].split(":")[0]
     _problems = check_table(_table)
-    if _problems:
-        sys.exit(f"punch_through: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems))
+    if _problems:   # bad input, before any work: exit 2 (icerubble/exit_status.py)
+        print(f"punch_through: the table {_table} has problems, no line runs:\n  " + "\n  ".join(_problems),
+              file=sys.stderr)
+        sys.exit(exit_status.USAGE)
 
 
 # results go beside the scripts' checkout (runs/), whatever the working folder;
@@ -68,9 +70,14 @@ try:
 except RunInterrupted as e:   # a scheduler's signal or Ctrl-C: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)
-except (ValueError, RuntimeError) as e:   # bad input, a run in progress elsewhere, an instability
-    sys.exit(f"punch_through: error: {e}")
+except ValueError as e:   # bad input, refused before the run: exit 2 (icerubble/exit_status.py)
+    print(f"punch_through: error: {e}", file=sys.stderr)
+    sys.exit(exit_status.USAGE)
+except RuntimeError as e:   # a run in progress elsewhere, an instability: failed while working
+    print(f"punch_through: error: {e}", file=sys.stderr)
+    sys.exit(exit_status.FAILED)
 except OSError as e:   # a full disk, a folder that cannot be written: one line in the line's log
-    sys.exit(f"punch_through: error: {os_error_text(e)}")
+    print(f"punch_through: error: {os_error_text(e)}", file=sys.stderr)
+    sys.exit(exit_status.FAILED)
 print(RESULT_MARK + os.path.abspath(out), flush=True)   # what `icerubble study` reads as done
 utils.waitIfBatch()
