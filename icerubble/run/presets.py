@@ -1,8 +1,8 @@
 """Named scenes: pile, mesh and the numerical settings that go with them.
 
 ``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel, the
-paper's element size class and penalty (ridge 1: 419 blocks, 90,950
-triangles). At that penalty the few tiny elements of a real pile's mesh bring
+paper's element size class and penalty (ridge 1, shipped in data/ridges/:
+419 blocks, 91,716 triangles). At that penalty the few tiny elements of a real pile's mesh bring
 the stable step down to ~1e-8 s, so the paper scene scales the inertial mass
 of the nodes that limit it (weight stays physical): to 2e-7 s with the
 faithful numerics (0.02 % added mass), 9e-7 s with the local contact step
