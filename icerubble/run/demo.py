@@ -19,9 +19,8 @@ import time
 from postproc import loads, run_figures
 
 from .. import cli, exit_status
-from ..files.output_path import check_output_folder
-
 from ..files.h5io import open_complete
+from ..files.output_path import check_output_folder
 from .presets import DEFAULT_NUMERICS, numerics
 from .punch_through_run import RunInterrupted, RunOptions
 from .study import run_one

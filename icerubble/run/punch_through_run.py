@@ -506,19 +506,30 @@ class PunchThrough:
         worst = int(np.argmax(imbalance))
         return float(np.hypot(*m.velocities[:n].T).max()), float(imbalance[worst]), worst
 
-    def block_moves(self):
-        """(ids, distances [m]): how far each block's node centroid is from
-        where the mesh put it (before loading: its move while settling)."""
+    def _block_sums(self):
+        """(ids, node counts, sums of u_x, sums of u_y) of each block's nodes:
+        their move from where the mesh put them (before loading: while settling)."""
         m = self.model
         nb = len(self.scene.body_kind)
         nb_nodes = self._node_body
         u = np.asarray(m.positions)[:len(nb_nodes)] - np.asarray(m.reference_positions)[:len(nb_nodes)]
         ok = nb_nodes >= 0
-        cnt = np.bincount(nb_nodes[ok], minlength=nb)
+        cnt = np.maximum(np.bincount(nb_nodes[ok], minlength=nb), 1)
         ux = np.bincount(nb_nodes[ok], weights=u[ok, 0], minlength=nb)
         uy = np.bincount(nb_nodes[ok], weights=u[ok, 1], minlength=nb)
         ids = np.flatnonzero(self.scene.body_kind == 0)
-        return ids, np.hypot(ux[ids], uy[ids]) / np.maximum(cnt[ids], 1)
+        return ids, cnt[ids], ux[ids], uy[ids]
+
+    def block_moves(self):
+        """(ids, distances [m]): how far each block's node centroid is from
+        where the mesh put it (before loading: its move while settling)."""
+        ids, cnt, ux, uy = self._block_sums()
+        return ids, np.hypot(ux, uy) / cnt
+
+    def block_displacements(self):
+        """(ids, u_x, u_y) [m] of each block's node centroid, as block_moves."""
+        ids, cnt, ux, uy = self._block_sums()
+        return ids, ux / cnt, uy / cnt
 
     def _body_kind_name(self, b):
         return ("a block", "the consolidated layer", "the indenter")[int(self.scene.body_kind[b])]

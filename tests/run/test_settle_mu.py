@@ -78,18 +78,10 @@ def lightest_block_weight(run):
     return run.params["rho_i"] * run.params["g"] * A.min()
 
 
-def block_moves(run):
-    """(block, mean u_x, mean u_y) [m] of each block's nodes since the mesh."""
-    ids, _ = run.block_moves()
-    m, owner = run.model, run._node_body
-    u = np.asarray(m.positions)[:len(owner)] - np.asarray(m.reference_positions)[:len(owner)]
-    return [(int(b), u[owner == b, 0].mean(), u[owner == b, 1].mean()) for b in ids]
-
-
 def bonded_blocks(run):
     """Blocks with at least one freeze-bonded contact in the mesh."""
-    c = mesh_file.read_mesh(run.mesh_path)["contacts"]
-    return set(np.asarray(c["bodies"])[np.asarray(c["bonded"]) != 0].ravel().tolist())
+    c = run.mesh["contacts"]
+    return set(np.asarray(c["bodies"])[np.asarray(c["bonded"])].ravel().tolist())
 
 
 def test_pile_records_the_friction_it_was_settled_at(files):
@@ -116,7 +108,7 @@ def test_same_pile_settles_and_loads_at_every_study_mu(runs, mu):
     # blocks take up the mm that meshing changed (cut-away phase-1 overlaps);
     # one that moved centimetres is loose and rose: it slid up under its net
     # buoyancy to a new rest (see above), it was not thrown about
-    for b, dx, dy in block_moves(run):
+    for b, dx, dy in zip(*run.block_displacements()):
         if np.hypot(dx, dy) > 0.02:
             assert b not in bonded_blocks(run), f"bonded block {b} moved {np.hypot(dx, dy) * 1e3:.0f} mm"
             assert dy > 0, f"loose block {b} moved {np.hypot(dx, dy) * 1e3:.0f} mm without rising"
