@@ -5,7 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import summary
+from . import failure_plane, summary
 
 
 class Missing(Exception):
@@ -20,12 +20,13 @@ class Catalog:
     mu_low: float = 0.05
     mu_high: float = 0.3
     plug_force: float = 11e3   # N/m, F_b of tau^(2)
+    bond_points: str = failure_plane.DEFAULT_BOND_POINTS  # behind alpha and A_p (failure_plane)
     notes: list = field(default_factory=list)  # partial-figure remarks for MISSING.md
     rows: dict = field(default_factory=dict)
 
     def __post_init__(self):
         for r in self.runs:
-            self.rows[r.path] = summary.summarize(r, self.plug_force)
+            self.rows[r.path] = summary.summarize(r, self.plug_force, self.bond_points)
 
     def row(self, run):
         return self.rows[run.path]

@@ -10,15 +10,29 @@ whereas eq 14 multiplies by (1 - eta) as for the bulk polygon A_p of eq 13. To k
 eq 14 right, A_d is reported as a BULK area, A_d = A_solid / (1 - eta) (the pile's
 porosity spread evenly), so F_d = (1 - eta)(rho_w - rho_i) g A_d = (rho_w - rho_i) g
 A_solid. ``basis="solid"`` returns the plain element-area sum.
+
+The F paired with F_d (Figs. 18, 20): the mean load over y_I ± 5 mm (paired_load),
+not the one sample at y_I: post-peak F rattles by ~2.8 kN/m (sd) from sample to
+sample while F_d changes by ~0.25 kN/m, so single samples would measure the
+rattle and hide the correlation the paper reports.
 """
 import numpy as np
 
-from . import plug
+from . import loads, plug
 from .results import BLOCK
 
 # Fig. 20: K = {0.1, 0.45, 0.9}, y_I = {20, 30, ..., 150} mm
 FIG20_K = (0.1, 0.45, 0.9)
 FIG20_TRAVELS = np.arange(20, 151, 10) * 1e-3
+# Half width of the travel window F is averaged over: the snapshots lie 10 mm
+# apart, so the windows of neighbouring snapshots just meet and never overlap.
+LOAD_WINDOW_HALF_WIDTH = 5e-3  # m
+
+
+def paired_load(run, y_I):
+    """F̄(y_I) [N/m]: the run's mean load over [y_I - 5 mm, y_I + 5 mm] clipped to
+    its record (loads.windowed_load). ValueError if y_I is outside the record."""
+    return loads.windowed_load(run.force_y, run.force_F, y_I, LOAD_WINDOW_HALF_WIDTH)
 
 
 def solid_displaced_area(area, kind, u_y, K, y_I):

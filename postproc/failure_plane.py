@@ -1,10 +1,13 @@
 """Failure-plane angle alpha from failed bond points (paper Figs. 12 and 13).
 
-Which bond points count as failed at travel y_I: those that have FULLY failed by
-then (``y_I_fail <= y_I``), as the paper uses "the positions of the failed freeze
-bond points". Bond points that have only split (cohesive crack growing, not yet
-broken) are left out by default; ``include_split=True`` counts them too
-(``y_I_split <= y_I``), which picks up the failure zone earlier.
+Which bond points count as "failed" at travel y_I (``bond_points``):
+  "split"  (default, the paper's): the failure criterion (eq 5) was reached, the
+           point split and its cohesive crack grows: ``y_I_split <= y_I``. The paper
+           fits alpha from y_I = 1 mm, where by its own softening law (delta_f of
+           ~1-3 mm) no tension-opened bond can have fully failed yet: its "failed
+           freeze bond points" are points where failure began.
+  "failed" the cohesive force has vanished (delta_e = delta_f): ``y_I_fail <= y_I``.
+           By 40 mm only 20-35 % of the split points have got there.
 
 The lines are near vertical, so x is fitted as a function of y by least squares:
 x = a + b y, one line for bond points with x < -w_I/2 and one for x > +w_I/2.
@@ -18,6 +21,19 @@ import numpy as np
 
 # A line through two points always fits exactly and says nothing about a plane.
 MIN_POINTS = 3
+
+# bond_points choice: (the /bonds travel from which a point counts, its name on figures)
+BOND_POINTS = {"split": ("y_I_split", "split bond points (eq 5 reached)"),
+               "failed": ("y_I_fail", "fully failed bond points")}
+DEFAULT_BOND_POINTS = "split"
+
+
+def check_bond_points(bond_points):
+    """``bond_points`` itself, or ValueError naming the valid choices."""
+    if bond_points not in BOND_POINTS:
+        raise ValueError(f"bond_points must be one of {', '.join(map(repr, BOND_POINTS))}, "
+                         f"got {bond_points!r}")
+    return bond_points
 
 
 @dataclass
@@ -41,14 +57,13 @@ class SideFit:
         return self.a + self.b * np.asarray(y, dtype=float)
 
 
-def failed_points(bonds, y_I, include_split=False):
-    """Positions (P', 2) of bond points failed at travel ``y_I`` [m] (see module doc)."""
-    pos = np.asarray(bonds["position"], dtype=float)
-    with np.errstate(invalid="ignore"):
-        done = np.asarray(bonds["y_I_fail"], dtype=float) <= y_I
-        if include_split:
-            done |= np.asarray(bonds["y_I_split"], dtype=float) <= y_I
-    return pos[done]
+def failed_points(bonds, y_I, bond_points=DEFAULT_BOND_POINTS):
+    """Positions (P', 2) of the bond points counted as failed at travel ``y_I`` [m]
+    (``bond_points``: see module doc)."""
+    travel = np.asarray(bonds[BOND_POINTS[check_bond_points(bond_points)][0]], dtype=float)
+    with np.errstate(invalid="ignore"):   # NaN: never happened
+        done = travel <= y_I
+    return np.asarray(bonds["position"], dtype=float)[done]
 
 
 def fit_side(points, side, indenter_width, min_points=MIN_POINTS):
@@ -79,10 +94,10 @@ def fit_planes(points, indenter_width, min_points=MIN_POINTS):
             fit_side(points, +1, indenter_width, min_points))
 
 
-def alpha_at(run, y_I, include_split=False, min_points=MIN_POINTS):
+def alpha_at(run, y_I, bond_points=DEFAULT_BOND_POINTS, min_points=MIN_POINTS):
     """(alpha_left, alpha_right) [deg] of a run at travel ``y_I`` [m]; NaN for a side
     without a fit."""
-    pts = failed_points(run.bonds, y_I, include_split)
+    pts = failed_points(run.bonds, y_I, bond_points)
     fits = fit_planes(pts, run.indenter_width, min_points)
     return tuple(f.alpha if f is not None else np.nan for f in fits)
 
@@ -91,12 +106,12 @@ def alpha_at(run, y_I, include_split=False, min_points=MIN_POINTS):
 ALPHA_TRAVELS = np.arange(1, 21) * 1e-3
 
 
-def alpha_samples(run, travels=ALPHA_TRAVELS, include_split=False, min_points=MIN_POINTS):
+def alpha_samples(run, travels=ALPHA_TRAVELS, bond_points=DEFAULT_BOND_POINTS, min_points=MIN_POINTS):
     """All alpha values [deg] of a run over ``travels`` (both sides pooled, NaNs dropped):
     the data behind one run's contribution to Fig. 13."""
     vals = []
     for y_I in travels:
-        vals.extend(alpha_at(run, y_I, include_split, min_points))
+        vals.extend(alpha_at(run, y_I, bond_points, min_points))
     vals = np.asarray(vals, dtype=float)
     return vals[np.isfinite(vals)]
 

@@ -70,7 +70,8 @@ def fig17(cat, y_I=100e-3):
 
 
 def fig18(cat):
-    """Fig. 18: F(y_I) and F_d(K = 0.45, 0.9; y_I) for y_I = 20...150 mm, reference run."""
+    """Fig. 18: F(y_I), F̄ (mean over y_I ± 5 mm) at the snapshots and F_d(K = 0.45,
+    0.9; y_I) for y_I = 20...150 mm, reference run."""
     run = cat.reference_run()
     A = dA.displaced_areas(run, FIG18_K, dA.FIG20_TRAVELS)
     if not np.isfinite(A).any():
@@ -80,7 +81,11 @@ def fig18(cat):
     ax = axes[0, 0]
     y, F = loads.record(run, 155e-3)
     keep = y >= 15e-3
-    ax.plot(y[keep] * 1e3, F[keep] / 1e3, "k-", lw=0.8, label="F")
+    ax.plot(y[keep] * 1e3, F[keep] / 1e3, "-", color="0.6", lw=0.6, label="F")
+    have = [t for t in dA.FIG20_TRAVELS if run.force_y[-1] >= t]
+    half = dA.LOAD_WINDOW_HALF_WIDTH * 1e3
+    ax.plot(np.array(have) * 1e3, [dA.paired_load(run, t) / 1e3 for t in have], "ks", ms=3,
+            label=f"F̄, mean over $y_I$ ± {half:g} mm")
     for j, (K, ls) in enumerate(zip(FIG18_K, ("--", "-."))):
         ax.plot(dA.FIG20_TRAVELS * 1e3, Fd[:, j] / 1e3, ls, marker="o", ms=3, label=f"$F_d$(K = {K:g})")
     ax.set(xlabel="indenter displacement $y_I$ [mm]", ylabel="force [kN/m]", title=run.name)
@@ -98,15 +103,16 @@ def fig19(cat, y_I=150e-3):
 
 
 def f_ad_data(cat, runs):
-    """(A_d [m^2] (n, 3), F [N/m] (n,)) of Fig. 20 over runs, K = 0.1, 0.45, 0.9 and
-    y_I = 20...150 mm; pairs without a snapshot or force sample are dropped."""
+    """(A_d [m^2] (n, 3), F̄ [N/m] (n,)) of Fig. 20 over runs, K = 0.1, 0.45, 0.9 and
+    y_I = 20...150 mm, F̄ the mean load over y_I ± 5 mm (displaced_area.paired_load);
+    pairs without a snapshot or force record are dropped."""
     As, Fs = [], []
     for run in runs:
         A = dA.displaced_areas(run, dA.FIG20_K, dA.FIG20_TRAVELS)
         for i, t in enumerate(dA.FIG20_TRAVELS):
             if np.isfinite(A[i]).all() and run.force_y[-1] >= t:
                 As.append(A[i])
-                Fs.append(loads.load_at(run.force_y, run.force_F, t))
+                Fs.append(dA.paired_load(run, t))
     return np.array(As).reshape(-1, len(dA.FIG20_K)), np.array(Fs)
 
 
@@ -121,7 +127,8 @@ def fig20(cat):
     fig, axes = plotting.new(ncols=2, width=9.5, height=3.8)
     colors = ("tab:green", "tab:red", "tab:blue")
     for ax, (title, runs, (A, F)) in zip(axes[0], data):
-        ax.set(title=title, xlabel="displaced area $A_d(K, y_I)$ [m²]", ylabel="indenter force $F$ [kN/m]")
+        ax.set(title=title, xlabel="displaced area $A_d(K, y_I)$ [m²]",
+               ylabel=f"F̄, mean over $y_I$ ± {dA.LOAD_WINDOW_HALF_WIDTH * 1e3:g} mm [kN/m]")
         if F.size == 0:
             cat.notes.append(f"fig20 {title}: no snapshots at y_I = 20...150 mm")
             continue

@@ -8,21 +8,22 @@ W_H_NOTE = "cylindrical plug $w_I h$"
 
 
 def fig12(cat, y_I=20e-3):
-    """Fig. 12: failed bond points at y_I = 20 mm of the reference run, the two
+    """Fig. 12: failed bond points (cat.bond_points) at y_I = 20 mm of the reference run, the two
     least-squares lines, alpha on each side and the plug polygon A_p."""
     run = cat.reference_run()
     if run is None:
         raise Missing(f"no reference run (highest-F^m ridge at tau_cr = {cat.tau_ref / 1e3:g} kPa, mu = {cat.mu_low:g})")
-    pts = failure_plane.failed_points(run.bonds, y_I)
+    label = failure_plane.BOND_POINTS[cat.bond_points][1]
+    pts = failure_plane.failed_points(run.bonds, y_I, cat.bond_points)
     left, right = failure_plane.fit_planes(pts, run.indenter_width)
     if left is None or right is None:
-        raise Missing(f"{run.name}: fewer than {failure_plane.MIN_POINTS} failed bond points on a side at y_I = 20 mm")
+        raise Missing(f"{run.name}: fewer than {failure_plane.MIN_POINTS} {label} on a side at y_I = 20 mm")
     corners = plug.plug_polygon(left, right)
     fig, axes = plotting.new(width=8.0, height=3.6)
     ax = axes[0, 0]
     if corners is not None:
         ax.fill(corners[:, 0], corners[:, 1], color="0.8", label=f"$A_p$ = {plug.polygon_area(corners):.1f} m²")
-    ax.plot(pts[:, 0], pts[:, 1], "x", color="tab:red", ms=4, label="failed bond points")
+    ax.plot(pts[:, 0], pts[:, 1], "x", color="tab:red", ms=4, label=label)
     for f in (left, right):
         ys = np.array([f.y_top, f.y_bottom])
         ax.plot(f.x_at(ys), ys, "k--", lw=1.0)
@@ -57,9 +58,10 @@ def _by_tau(cat, key):
 
 def fig13(cat):
     """Fig. 13: mean +- sd of alpha over y_I = 1...20 mm (all ridges, both sides) versus tau_cr, per mu."""
-    data = _by_tau(cat, lambda r: failure_plane.alpha_samples(r))
+    data = _by_tau(cat, lambda r: failure_plane.alpha_samples(r, bond_points=cat.bond_points))
     if not any(v.size for rows in data.values() for _, v in rows):
-        raise Missing("no run has failed bond points on both sides for y_I = 1...20 mm")
+        raise Missing(f"no run has {failure_plane.BOND_POINTS[cat.bond_points][1]} on a side "
+                      "for y_I = 1...20 mm")
     fig, axes = plotting.new(width=4.8)
     ax = axes[0, 0]
     for i, (mu, rows) in enumerate(data.items()):
@@ -107,7 +109,7 @@ def fig15(cat):
     ax = axes[0, 0]
     rows = [cat.row(r) for r in sel]
     Ap = np.array([r["A_p_20mm_m2"] for r in rows])
-    for key, lab, mk in (("F_m_kN_per_m", "$F^m$", "o"), ("F_20mm_kN_per_m", "$F(y_I$ = 20 mm)", "s"),
+    for key, lab, mk in (("F_m_kN_per_m", "$F^m$ (cohesive peak)", "o"), ("F_20mm_kN_per_m", "$F(y_I$ = 20 mm)", "s"),
                          ("F_b_Ap_20mm_kN_per_m", "$F_b(A_p, η)$ (eq 13)", "^")):
         ax.plot(Ap, [r[key] for r in rows], mk, label=lab)
     ax.set(xlabel="plug area $A_p$ at $y_I$ = 20 mm [m²]", ylabel="force [kN/m]")

@@ -1,7 +1,7 @@
 """Every figure (Figs. 6-20) and table (Tables 2-3) of Polojärvi & Tuhkuri (2013)
 from a folder of run results.
 
-    /usr/bin/python3 -m postproc.make_figures RESULTS_DIR [-o OUT_DIR]
+    /usr/bin/python3 -m postproc.make_figures RESULTS_DIR [-o OUT_DIR] [--bond-points split|failed]
 
 Reads every complete ``*.h5`` under RESULTS_DIR (recursively; ``*.h5.part`` and
 files with complete != 1 are skipped and reported). Runs are grouped by ridge (root
@@ -9,6 +9,9 @@ attr ``ridge``), mu and tau_cr (/parameters). Runs of different ``model`` or
 ``force_direction`` are never mixed: with more than one such variant, each gets its
 own sub-folder of OUT_DIR. Writes PNG + PDF per figure, CSV + Markdown per table,
 summary.csv (one row per run) and MISSING.md (what could not be made and why).
+--bond-points picks the points behind alpha and A_p (Figs. 12-15, Table 2's
+tau^(3)): 'split' (the failure criterion reached, the paper's; default) or
+'failed' (fully failed); docs/postproc.md, "Definitions and choices".
 Exit status: 0 when it ran (even if some items are missing), 1 if a figure failed
 with an unexpected error, 2 if no readable run was found.
 """
@@ -20,7 +23,7 @@ import traceback
 from icerubble import cli
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import figures_deformation, figures_failure, figures_force, results, summary, tables
+from . import failure_plane, figures_deformation, figures_failure, figures_force, results, summary, tables
 from .catalog import Catalog, Missing
 
 FIGURES = {**figures_force.FIGURES, **figures_failure.FIGURES, **figures_deformation.FIGURES}
@@ -56,11 +59,11 @@ def _dedupe(runs, report):
     return list(seen.values())
 
 
-def make_variant(runs, out_dir, tau_ref, plug_force, report):
+def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS):
     """Figures, tables and summary for one variant; appends MISSING lines to ``report``.
     Returns the number of unexpected errors."""
     os.makedirs(out_dir, exist_ok=True)
-    cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force)
+    cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force, bond_points=bond_points)
     summary.write_csv([cat.row(r) for r in runs], os.path.join(out_dir, "summary.csv"))
     errors = 0
     items = [(f"Fig. {n}", fn) for n, fn in sorted(FIGURES.items())]
@@ -91,6 +94,7 @@ def main(argv=None):
                     help="bond strength of the single-strength figures (paper: 50 kPa)")
     ap.add_argument("--plug-force", type=float, default=11e3,
                     help="F_b of tau^(2), the cylindrical plug [N/m] (paper: ~11e3)")
+    summary.add_bond_points_option(ap)
     args = ap.parse_args(argv)
     if not os.path.isdir(args.results_dir):
         ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
@@ -102,7 +106,8 @@ def main(argv=None):
     skipped = [f"- skipped: {why}" for why in skipped]
     os.makedirs(args.out_dir, exist_ok=True)
     lines = ["# Items not made, and why", "", f"Results folder: `{args.results_dir}`; "
-             f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped.", ""]
+             f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped. Bond points behind alpha and A_p: "
+             f"{failure_plane.BOND_POINTS[args.bond_points][1]} (--bond-points {args.bond_points}).", ""]
     if skipped:
         lines += ["## Skipped files", ""] + skipped + [""]
     errors = 0
@@ -113,7 +118,7 @@ def main(argv=None):
         sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, f"{model}_{fdir}")
         report = []
         vruns = _dedupe(vruns, report)
-        errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report)
+        errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report, args.bond_points)
         lines += [f"## model `{model}`, force_direction `{fdir}` -> `{sub}` ({len(vruns)} runs)", ""]
         lines += report or ["- nothing missing"]
         lines.append("")

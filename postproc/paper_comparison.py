@@ -7,6 +7,12 @@ strengths of Table 2, the failure-mode ratio of Table 3, the buoyant share
 F_b(A_p)/F^m and the correlation of post-peak F with F_d(K = 0.45).
 
     /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [-o comparison.md]
+        [--bond-points split|failed]
+
+F^m is the cohesive peak (maximum over the first 5 mm), the record maximum beside
+it; α and A_p come from the split bond points unless --bond-points failed; n_t/n_s
+by mode at full failure, beside it by the side of eq 6 at the split; R(F, F_d)
+from F̄, the mean over y_I ± 5 mm (docs/postproc.md, "Definitions and choices").
 
 The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
 (1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
@@ -21,10 +27,8 @@ from icerubble import cli
 from icerubble.files.output_path import check_output_file, whole_file
 
 from . import displaced_area as dA
-from . import loads, plug, results, shear_strength, summary
+from . import failure_plane, loads, plug, results, summary
 from .failure_plane import mean_sd
-
-FIRST_PEAK_TRAVEL = 5e-3  # m
 
 # The paper's numbers (section 3, Tables 2 and 3)
 PAPER = {
@@ -56,7 +60,7 @@ def cylindrical_plug_force(run):
     return float(plug.run_buoyant_load(run, run.indenter_width * run.keel_depth))
 
 
-def rows_and_runs(folder):
+def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS):
     runs, rows = [], []
     for path in results.find_results(folder)[0]:
         if os.sep + "scenes" + os.sep in path:   # cached piles and meshes, not runs
@@ -66,17 +70,8 @@ def rows_and_runs(folder):
         except results.ResultFileError as exc:
             print(f"skipped: {exc}", file=sys.stderr)
             continue
-        plug_force = cylindrical_plug_force(run)
-        r = summary.summarize(run, plug_force=plug_force)
+        r = summary.summarize(run, plug_force=cylindrical_plug_force(run), bond_points=bond_points)
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
-        # the record's maximum can be a dynamic event late in the record; the
-        # paper's F^m is the early cohesive peak: the first peak (max over
-        # 0-5 mm) and Table 2's strengths from it, beside the record's
-        early = run.force_y <= FIRST_PEAK_TRAVEL
-        F1, y1 = loads.peak_load(run.force_y[early], run.force_F[early])
-        t = shear_strength.three_strengths(F1, r["keel_depth_m"], plug_force, r["F_b_Ap_20mm_kN_per_m"] * 1e3)
-        r.update(F_first_kN_per_m=F1 / 1e3, y_I_first_mm=y1 * 1e3,
-                 tau1_first_kPa=t[0] / 1e3, tau2_first_kPa=t[1] / 1e3, tau3_first_kPa=t[2] / 1e3)
         runs.append(run)
         rows.append(r)
     return rows, runs
@@ -99,92 +94,103 @@ def spread(rows, tau, mu, key="F_m_kN_per_m"):
     return 100.0 * (max(F) / min(F) - 1.0) if len(F) >= 2 else np.nan
 
 
-def r_fd(runs, tau=None, K=0.45, y_min=20e-3):
+def r_fd(runs, tau=None, K=0.45, y_min=20e-3, load=dA.paired_load):
+    """R(F, F_d(K)) over the snapshots from y_min on, the number of pairs and F/F_d;
+    F from ``load(run, y_I)``: F̄ over y_I ± 5 mm by default."""
     x, y = [], []
     for run in runs:
         if tau is not None and not np.isclose(run.tau_cr / 1e3, tau):
             continue
         for s in run.snapshots:
-            if s.y_I >= y_min - 0.5e-3:
+            if s.y_I >= y_min - 0.5e-3 and s.y_I <= run.force_y[-1]:
                 x.append(dA.displaced_load(run, K, s.y_I))
-                y.append(loads.load_at(run.force_y, run.force_F, s.y_I))
+                y.append(load(run, s.y_I))
     R = dA.correlation(x, y)[0] if len(x) > 2 else np.nan
     ratio = np.asarray(y) / np.asarray(x) if x else np.array([np.nan])
     return R, len(x), ratio
+
+
+def single_sample_load(run, y_I):
+    """F at y_I itself, one sample of the record (how R was computed before F̄)."""
+    return loads.load_at(run.force_y, run.force_F, y_I)
 
 
 def table(rows, runs):
     taus = sorted({r["tau_cr_kPa"] for r in rows})
     ridges = sorted({r["ridge"] for r in rows})
     mus = sorted({r["mu"] for r in rows})
+    window = loads.COHESIVE_PEAK_TRAVEL * 1e3
     L = [f"Runs: {len(rows)} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
          f"τ_cr {', '.join(f'{t:g}' for t in taus)} kPa); travel up to "
          f"{max(r['y_I_end_mm'] for r in rows):.0f} mm; keel depth "
          f"{_pm([r['keel_depth_m'] for r in rows])} m, indenter width "
-         f"{rows[0]['indenter_width_m']:g} m, porosity {_pm([r['porosity'] for r in rows])}.", "",
+         f"{rows[0]['indenter_width_m']:g} m, porosity {_pm([r['porosity'] for r in rows])}. "
+         f"F^m: the cohesive peak (maximum over 0-{window:g} mm); α, A_p: "
+         f"{failure_plane.BOND_POINTS[rows[0]['bond_points']][1]}.", "",
          "| statistic | this study | paper |", "|---|---|---|"]
     L.append(f"| y_I at F^m [mm], all runs | {_pm([r['y_I_peak_mm'] for r in rows])} | {PAPER['y_peak']} |")
-    for tau in (50.0,):
-        if _sel(rows, tau):
-            L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, tau)])} | {PAPER['y_peak']} |")
-    late = sum(r["y_I_peak_mm"] > FIRST_PEAK_TRAVEL * 1e3 for r in rows)
-    L.append(f"| runs whose record maximum lies beyond {FIRST_PEAK_TRAVEL * 1e3:g} mm | {late} of {len(rows)} | "
+    if _sel(rows, 50.0):
+        L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, 50.0)])} | "
+                 f"{PAPER['y_peak']} |")
+    late = sum(r["y_I_record_max_mm"] > window for r in rows)
+    L.append(f"| runs whose record maximum lies beyond {window:g} mm | {late} of {len(rows)} | "
              "none (F^m is the cohesive peak and the maximum) |")
-    L.append(f"| first peak (max over 0-{FIRST_PEAK_TRAVEL * 1e3:g} mm) [kN/m] and its y_I [mm] | "
-             f"{_pm([r['F_first_kN_per_m'] for r in rows], 1)}; at {_pm([r['y_I_first_mm'] for r in rows])} "
-             f"| ~1 mm |")
-    L.append(f"| F(20 mm)/first peak | {_pm([r['F_20mm_kN_per_m'] / r['F_first_kN_per_m'] for r in rows])} "
-             f"| steep drop until ~20 mm |")
+    L.append(f"| F^m [kN/m]; record maximum [kN/m] at y_I [mm] | {_pm([r['F_m_kN_per_m'] for r in rows], 1)}; "
+             f"{_pm([r['F_record_max_kN_per_m'] for r in rows], 1)} at "
+             f"{_pm([r['y_I_record_max_mm'] for r in rows])} | one and the same, at ~1 mm |")
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
     L.append(f"| F(20 mm)/F^m, all runs | {_pm(drop)} | {PAPER['drop']} |")
-    for mu in mus:
-        if _sel(rows, 50.0, mu):
-            L.append(f"| F^m spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
-                     f"{spread(rows, 50.0, mu):.0f} | {PAPER['spread']} |")
-    for tau, key in ((50.0, "mu_50"), (5.0, "mu_5"), (100.0, None)):
+    for key, what in (("F_m_kN_per_m", "F^m"), ("F_record_max_kN_per_m", "record maximum")):
+        for mu in mus:
+            if _sel(rows, 50.0, mu):
+                L.append(f"| {what} spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
+                         f"{spread(rows, 50.0, mu, key):.0f} | {PAPER['spread']} |")
+    for tau, paper_key in ((50.0, "mu_50"), (5.0, "mu_5"), (100.0, None)):
         eff = mu_effect(rows, tau)
         if eff:
             L.append(f"| F^m(μ 0.3)/F^m(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
-                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[key] if key else '~2.5 % (Fig. 11)'} |")
+                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[paper_key] if paper_key else '~2.5 % (Fig. 11)'} |")
     for mu in mus:
         sel = _sel(rows, 50.0, mu)
         if sel:
             a = [r["alpha_mean_1_20mm_deg"] for r in sel]
             L.append(f"| α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means) | {_pm(a, 0)} | "
                      f"{PAPER['alpha_50'].get(mu, '—')} |")
-    # the same with the first peak in place of the record maximum (the paper's
-    # F^m is both)
-    for mu in mus:
-        if len(_sel(rows, 50.0, mu)) >= 2:
-            L.append(f"| first-peak spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
-                     f"{spread(rows, 50.0, mu, 'F_first_kN_per_m'):.0f} | {PAPER['spread']} |")
-    for tau, key in ((50.0, "mu_50"), (5.0, "mu_5")):
-        eff = mu_effect(rows, tau, "F_first_kN_per_m")
-        if eff:
-            L.append(f"| first peak(μ 0.3)/first peak(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
-                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[key]} |")
-    # Table 2's strengths from the first peak, then from the record's maximum
-    for suffix, source in (("_first_kPa", " from the first peak"), ("_kPa", "")):
-        for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
-            for tau in (5.0, 50.0, 100.0):
-                sel = _sel(rows, tau)
-                if sel:
-                    L.append(f"| Table 2 {label} [kPa]{source}, τ_cr {tau:g} kPa | "
-                             f"{_pm([r[key + suffix] for r in sel])} | {PAPER[key][int(tau)]} |")
+    for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
+        for tau in (5.0, 50.0, 100.0):
+            sel = _sel(rows, tau)
+            if sel:
+                L.append(f"| Table 2 {label} [kPa], τ_cr {tau:g} kPa | {_pm([r[key + '_kPa'] for r in sel])} | "
+                         f"{PAPER[key][int(tau)]} |")
     for tau in (5.0, 50.0, 100.0):
         sel = _sel(rows, tau)
         if sel:
-            L.append(f"| Table 3 n_t/n_s, τ_cr {tau:g} kPa | {_pm([r['nt_ns'] for r in sel])} | "
-                     f"{PAPER['ntns'][int(tau)]} |")
+            L.append(f"| τ^(1) from the record maximum [kPa], τ_cr {tau:g} kPa | "
+                     f"{_pm([r['tau1_record_max_kPa'] for r in sel])} | {PAPER['tau1'][int(tau)]} (F^m) |")
+    for tau in (5.0, 50.0, 100.0):
+        sel = _sel(rows, tau)
+        if not sel:
+            continue
+        sums = {k: np.sum([r[k] for r in sel]) for k in ("n_t", "n_s", "n_t_init", "n_s_init")}
+        # NaN initiation counts (a file without /bonds/split_tn) make the sum NaN: shown as —
+        init = f"{sums['n_t_init']:.0f}:{sums['n_s_init']:.0f}" if np.isfinite(sums["n_t_init"]) else "—"
+        L.append(f"| Table 3 n_t/n_s (mode at full failure), τ_cr {tau:g} kPa | {_pm([r['nt_ns'] for r in sel])}; "
+                 f"summed {sums['n_t']:.0f}:{sums['n_s']:.0f} | {PAPER['ntns'][int(tau)]} |")
+        L.append(f"| n_t/n_s at initiation (t_n ≥ 0 : t_n < 0 at the split), τ_cr {tau:g} kPa | "
+                 f"{_pm([r['nt_ns_init'] for r in sel])}; summed {init} | — |")
+        L.append(f"| fully failed / split bond points, τ_cr {tau:g} kPa | "
+                 f"{_pm([r['failed_fraction'] for r in sel])} | — |")
     sel = _sel(rows, 50.0)
     if sel:
         share = [r["F_b_Ap_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in sel]
         L.append(f"| F_b(A_p, η)/F^m, τ_cr 50 kPa | {_pm(share)} | {PAPER['Fb_share']} |")
+    half = dA.LOAD_WINDOW_HALF_WIDTH * 1e3
     for tau in (50.0, None):
-        R, n, ratio = r_fd(runs, tau)
         what = "τ_cr 50 kPa" if tau else "all runs"
-        L.append(f"| R(F, F_d(K 0.45)), y_I ≥ 20 mm, {what} | {R:.2f} ({n} points); F/F_d "
-                 f"{np.nanmedian(ratio):.2f} (median) | {PAPER['R045']} |")
+        R, n, ratio = r_fd(runs, tau)
+        R1 = r_fd(runs, tau, load=single_sample_load)[0]
+        L.append(f"| R(F̄, F_d(K 0.45)), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what} | {R:.2f} ({n} points; "
+                 f"from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} (median) | {PAPER['R045']} |")
     return "\n".join(L)
 
 
@@ -193,10 +199,11 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("results_dir")
     ap.add_argument("-o", "--out", help="also write the Markdown table here")
+    summary.add_bond_points_option(ap)
     a = ap.parse_args(argv)
     if a.out:
         check_output_file(a.out, "--out")
-    rows, runs = rows_and_runs(a.results_dir)
+    rows, runs = rows_and_runs(a.results_dir, a.bond_points)
     if not rows:
         raise ValueError(f"no complete run results under {a.results_dir}")
     text = table(rows, runs)

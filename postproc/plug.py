@@ -63,9 +63,10 @@ def plug_area_from_points(points, indenter_width, min_points=failure_plane.MIN_P
     return polygon_area(corners) if corners is not None else np.nan
 
 
-def plug_area(run, y_I, include_split=False, min_points=failure_plane.MIN_POINTS):
-    """A_p [m^2] of a run at travel ``y_I`` [m] (Figs. 14, 15)."""
-    pts = failure_plane.failed_points(run.bonds, y_I, include_split)
+def plug_area(run, y_I, bond_points=failure_plane.DEFAULT_BOND_POINTS, min_points=failure_plane.MIN_POINTS):
+    """A_p [m^2] of a run at travel ``y_I`` [m] (Figs. 14, 15); ``bond_points`` as in
+    failure_plane."""
+    pts = failure_plane.failed_points(run.bonds, y_I, bond_points)
     return plug_area_from_points(pts, run.indenter_width, min_points)
 
 

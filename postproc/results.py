@@ -16,6 +16,7 @@ from icerubble.files.h5io import open_complete, read_checked
 FORMAT_NAME = "icerubble-run"
 FORMAT_VERSION = 1
 OPTIONAL_GROUPS = ("snapshots", "energy", "fields")
+OPTIONAL_BOND_FIELDS = ("split_tn", "split_tt")   # older files lack them
 REQUIRED_GROUPS = ("parameters", "pile", "mesh", "force", "bonds")
 
 # Body kinds (docs/conventions.md)
@@ -63,7 +64,8 @@ class Snapshot:
 class RunResult:
     """One run: root attributes, parameters, pile, force record, bonds, mesh summary.
 
-    ``missing`` lists optional groups that are absent, with a sentence each.
+    ``missing`` lists optional groups that are absent, and the bond tractions at
+    the split when absent or NaN (OPTIONAL_BOND_FIELDS), with a sentence each.
     Snapshots are listed in ``snapshots`` and read with :meth:`u_elem`.
     """
     path: str
@@ -148,8 +150,8 @@ def load(path):
 
     Refuses (ResultFileError) a file still named ``*.part``, a file whose root
     attribute ``complete`` is not 1, a wrong format, and a file lacking a required
-    group. Missing optional groups (/snapshots, /energy, /fields) are listed in
-    ``RunResult.missing``.
+    group. Missing optional groups (/snapshots, /energy, /fields) and bond
+    tractions at the split are listed in ``RunResult.missing``.
     """
     path = os.fspath(path)
     try:
@@ -214,6 +216,13 @@ def load(path):
                 missing["snapshots"] = "/snapshots is empty: no u_y fields (Figs. 16-20 need them)"
         else:
             missing["snapshots"] = "/snapshots absent: no u_y fields (Figs. 16-20 need them)"
+        if any(k not in bonds for k in OPTIONAL_BOND_FIELDS):
+            missing["split_traction"] = ("/bonds/split_tn, split_tt absent (written before they were recorded): "
+                                         "no initiation-side count n_t_init/n_s_init")
+        elif not np.isfinite(np.asarray(bonds["split_tn"], dtype=float)[
+                np.isfinite(np.asarray(bonds["y_I_split"], dtype=float))]).all():
+            missing["split_traction"] = ("/bonds/split_tn is NaN at split bond points (a rigid-DEM run keeps no "
+                                         "traction at the split): no initiation-side count n_t_init/n_s_init")
         if "energy" not in f:
             missing["energy"] = "/energy absent: energy balance cannot be checked"
         if "fields" not in f:

@@ -20,15 +20,20 @@ def _stem(run):
 
 
 def force_record(run, out_dir):
-    """F against y_I over the whole run and over the first 20 mm, peak marked."""
+    """F against y_I over the whole run and over the first 20 mm, F^m (the cohesive
+    peak) marked, and the record maximum where a later event beat it."""
     y, F = run.force_y * 1e3, run.force_F / 1e3
-    Fm, ym = loads.peak_load(run.force_y, run.force_F)
+    Fm, ym = loads.cohesive_peak(run.force_y, run.force_F)
+    Fx, yx = loads.record_maximum(run.force_y, run.force_F)
     fig, axes = plotting.new(ncols=2, width=9.0, height=3.4)
     for ax, y_max in zip(axes[0], (None, 20.0)):
         sel = slice(None) if y_max is None else y <= y_max
         ax.plot(y[sel], F[sel], color="k", lw=1)
         ax.plot([ym * 1e3], [Fm / 1e3], "o", color="tab:red",
                 label=f"$F^m$ = {Fm / 1e3:.1f} kN/m at {ym * 1e3:.2f} mm")
+        if yx != ym and (y_max is None or yx * 1e3 <= y_max):
+            ax.plot([yx * 1e3], [Fx / 1e3], "s", mfc="none", color="tab:orange",
+                    label=f"record maximum {Fx / 1e3:.1f} kN/m at {yx * 1e3:.2f} mm")
         ax.set(xlabel="$y_I$ [mm]", ylabel="F [kN/m]")
         ax.legend(loc="upper right")
     axes[0, 0].set_title("whole run", fontsize=8)

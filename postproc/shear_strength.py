@@ -28,20 +28,53 @@ def three_strengths(F_m, keel_depth, plug_force, F_b_plug):
     return tuple(float(shear_strength(F_m, fb, keel_depth)) for fb in (0.0, plug_force, F_b_plug))
 
 
+def _ratio(n_t, n_s):
+    return n_t / n_s if n_s > 0 else np.nan
+
+
 def failure_mode_ratio(mode, y_I_fail=None):
-    """(n_t, n_s, n_t/n_s) over fully failed bond points (Table 3): mode 1 tensile,
-    2 shear (docs/results_format.md). With ``y_I_fail`` only points that have a
-    failure travel are counted. n_t/n_s is NaN when n_s = 0."""
+    """(n_t, n_s, n_t/n_s) by mode at full failure (Table 3; the paper: tensile "if
+    delta_n >= |delta_t| at the end of the cohesive crack growth process"): mode 1
+    tensile, 2 shear (docs/results_format.md). With ``y_I_fail`` only points that
+    have a failure travel are counted. n_t/n_s is NaN when n_s = 0."""
     mode = np.asarray(mode)
     done = np.ones(mode.shape, dtype=bool)
     if y_I_fail is not None:
         done = np.isfinite(np.asarray(y_I_fail, dtype=float))
     n_t = int(np.count_nonzero(done & (mode == FailureMode.tensile)))
     n_s = int(np.count_nonzero(done & (mode == FailureMode.shear)))
-    return n_t, n_s, (n_t / n_s if n_s > 0 else np.nan)
+    return n_t, n_s, _ratio(n_t, n_s)
+
+
+def initiation_side_ratio(y_I_split, split_tn):
+    """(n_t, n_s, n_t/n_s) by the side of eq 6 on which each split point reached
+    the criterion: t_n >= 0 (tension side, the ellipse) against t_n < 0 (shear under
+    compression). ``split_tn``: normal traction at the split [Pa], None for a file
+    without it. All NaN when it is None or a split point lacks its traction (a
+    count over part of the points would pass for the whole)."""
+    split = np.isfinite(np.asarray(y_I_split, dtype=float))
+    if split_tn is None:
+        return np.nan, np.nan, np.nan
+    tn = np.asarray(split_tn, dtype=float)[split]
+    if not np.isfinite(tn).all():
+        return np.nan, np.nan, np.nan
+    n_t, n_s = int(np.count_nonzero(tn >= 0.0)), int(np.count_nonzero(tn < 0.0))
+    return n_t, n_s, _ratio(n_t, n_s)
+
+
+def failed_fraction(y_I_split, y_I_fail):
+    """n_failed/n_split: the share of the split points that have fully failed, so a
+    full-failure count taken from a small subset shows as such. NaN without splits."""
+    n_split = np.count_nonzero(np.isfinite(np.asarray(y_I_split, dtype=float)))
+    n_failed = np.count_nonzero(np.isfinite(np.asarray(y_I_fail, dtype=float)))
+    return n_failed / n_split if n_split else np.nan
 
 
 TAU_KEYS = ("tau1_kPa", "tau2_kPa", "tau3_kPa")
+# beside Table 2: the peaks and tau^(1) from the record maximum (loads.record_maximum)
+PEAK_KEYS = ("F_m_kN_per_m", "F_record_max_kN_per_m", "tau1_record_max_kPa")
+# Table 3's failure-mode columns, mean ± sd over runs
+MODE_KEYS = ("nt_ns", "nt_ns_init", "failed_fraction")
 
 
 def table2(rows, tau_cr_values=None):
@@ -54,7 +87,7 @@ def table2(rows, tau_cr_values=None):
     for tc in tau_cr_values:
         sel = [r for r in rows if np.isclose(r["tau_cr_kPa"], tc)]
         entry = {"tau_cr_kPa": tc, "n_runs": len(sel)}
-        for k in TAU_KEYS:
+        for k in TAU_KEYS + PEAK_KEYS:
             entry[k] = mean_sd([r[k] for r in sel])
         m1, m2, m3 = (entry[k][0] for k in TAU_KEYS)
         entry["tau1/tau3"] = m1 / m3 if m3 and np.isfinite(m3) else np.nan
@@ -66,7 +99,9 @@ def table2(rows, tau_cr_values=None):
 def table3(rows, mu_low=0.05, mu_high=0.3, tau_cr_values=None):
     """Table 3 from per-run summary rows: for each tau_cr [kPa], the ratio
     tau(mu_high)/tau(mu_low) of runs on the same ridge (mean and sd over ridges) for
-    each tau measure, and n_t/n_s (mean and sd over all runs of that tau_cr)."""
+    each tau measure; n_t/n_s at full failure and at initiation and the failed
+    fraction (mean and sd over all runs of that tau_cr), and the counts summed
+    over those runs (a ratio with n_s = 0 is NaN, the sums still show it)."""
     if tau_cr_values is None:
         tau_cr_values = sorted({r["tau_cr_kPa"] for r in rows})
     out = []
@@ -80,7 +115,10 @@ def table3(rows, mu_low=0.05, mu_high=0.3, tau_cr_values=None):
         for k in TAU_KEYS:
             ratios = [high[rd][k] / low[rd][k] for rd in ridges if low[rd][k]]
             entry[k + "_ratio"] = mean_sd(ratios)
-        entry["nt_ns"] = mean_sd([r["nt_ns"] for r in sel])
+        for k in MODE_KEYS:
+            entry[k] = mean_sd([r[k] for r in sel])
+        for k in ("n_t", "n_s", "n_t_init", "n_s_init"):
+            entry[k + "_sum"] = float(np.sum([r[k] for r in sel]))
         entry["n_runs"] = len(sel)
         out.append(entry)
     return out

@@ -6,11 +6,12 @@ What a synthetic run contains (per ridge, mu, tau_cr):
 - a keel of rectangular blocks on a regular grid (two triangles each), block width
   chosen so the solid fraction is exactly 1 - eta; a consolidated layer of two
   bodies and a 4 m x 1 m indenter;
-- failed bond points on two straight failure planes from the keel top outward at
+- bond points on two straight failure planes from the keel top outward at
   known angles ``true_alpha(ridge, tau_cr)`` (exactly on the lines when
   ``jitter=0``), failing at travels spread over 0.5-8.9 mm; bond points under the
   indenter that fail early (the analyses must ignore them); background bond points
-  that split, and some that fail only after 40 mm;
+  that split after 20 mm, and some that fail only after 40 mm; the traction at each split on
+  the boundary of eq 6, tension side for a known share (nt_ns_init_target);
 - a u_y field per snapshot: the plug between the planes moves with the indenter and
   the moving zone narrows with travel (faster for small mu);
 - F(y_I): a linear rise to the peak at 1 mm, a steep drop until ~20 mm, then the
@@ -134,13 +135,15 @@ def _bonds(rng, ridge, tau_cr, jitter, n_plane=24, n_under=12, n_background=150)
     y = KEEL_TOP - rng.uniform(0.1, 0.9, n_under) * H
     yf = rng.uniform(0.5e-3, 5e-3, n_under)
     pos.extend(zip(x, y)); y_fail.extend(yf); y_split.extend(yf - 0.1e-3)
-    # background: 30 % split somewhere, a third of those fail after 40 mm
+    # background: 30 % split after the initial failure (beyond the 1-20 mm of Figs.
+    # 12-15, so the planes alone carry alpha with either bond_points choice), a
+    # third of those fail after 40 mm
     x = rng.uniform(-DOMAIN / 2 + 0.5, DOMAIN / 2 - 0.5, n_background)
     y = KEEL_TOP - rng.uniform(0.0, 1.0, n_background) * H
     ys = np.full(n_background, np.nan)
     yf = np.full(n_background, np.nan)
     split = rng.random(n_background) < 0.3
-    ys[split] = rng.uniform(1e-3, 250e-3, split.sum())
+    ys[split] = rng.uniform(21e-3, 250e-3, split.sum())
     late = split & (rng.random(n_background) < 0.33)
     yf[late] = np.maximum(ys[late], 40e-3) + rng.uniform(1e-3, 50e-3, late.sum())
     pos.extend(zip(x, y)); y_fail.extend(yf); y_split.extend(ys)
@@ -150,6 +153,26 @@ def _bonds(rng, ridge, tau_cr, jitter, n_plane=24, n_under=12, n_background=150)
 def nt_ns_target(tau_cr):
     """n_t/n_s the synthetic modes are drawn to (rises with tau_cr as in Table 3)."""
     return 0.3 + 0.022 * tau_cr / 1e3
+
+
+def nt_ns_init_target(tau_cr):
+    """(t_n >= 0)/(t_n < 0) at the split the synthetic tractions are drawn to."""
+    return 0.5 + 0.02 * tau_cr / 1e3
+
+
+def _split_tractions(rng, y_split, sigma_cr, tau_cr, mu, tau_cr_top):
+    """(split_tn, split_tt) [Pa] on the boundary of eq 6: pure tension t_n = sigma_cr,
+    or under compression t_n = -sigma_cr with |t_t| = tau_cr + mu sigma_cr; the
+    tension side drawn for round(n r/(1 + r)) of the n split points, r =
+    nt_ns_init_target. NaN where the point never split."""
+    split = np.flatnonzero(np.isfinite(y_split))
+    r = nt_ns_init_target(tau_cr_top)
+    tension = rng.permutation(split)[:int(round(len(split) * r / (1 + r)))]
+    tn = np.full(len(y_split), np.nan)
+    tt = np.full(len(y_split), np.nan)
+    tn[split], tt[split] = -sigma_cr[split], tau_cr[split] + mu * sigma_cr[split]
+    tn[tension], tt[tension] = sigma_cr[tension], 0.0
+    return tn, tt
 
 
 def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None,
@@ -194,6 +217,7 @@ def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None
     tensile, shear = mode == FailureMode.tensile, mode == FailureMode.shear
     dn = np.where(tensile, 1.0e-3, np.where(shear, 0.2e-3, np.nan))
     dt_ = np.where(tensile, 0.4e-3, np.where(shear, 1.0e-3, np.nan))
+    split_tn, split_tt = _split_tractions(rng, ys, sigma_cr * scale, tau_cr * scale, mu, tau_cr)
 
     part = path + ".part"
     with h5py.File(part, "w") as f:
@@ -238,7 +262,8 @@ def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None
                 ("tau_cr", tau_cr * scale, "Pa"), ("G", 15.0 * scale, "J/m^2"),
                 ("t_split", travel_to_time(ys), "s"), ("y_I_split", ys, "m"),
                 ("t_fail", travel_to_time(yf), "s"), ("y_I_fail", yf, "m"),
-                ("delta_n_fail", dn, "m"), ("delta_t_fail", dt_, "m"), ("mode", mode, "-")):
+                ("delta_n_fail", dn, "m"), ("delta_t_fail", dt_, "m"), ("mode", mode, "-"),
+                ("split_tn", split_tn, "Pa"), ("split_tt", split_tt, "Pa")):
             ds("bonds", name, data, units)
         if energy:
             te = t[::100]

@@ -6,7 +6,7 @@ import numpy as np
 
 from icerubble.files.output_path import whole_file
 
-from . import shear_strength
+from . import loads, shear_strength
 from .catalog import Missing
 
 PAPER_TAU = (5e3, 50e3, 100e3)
@@ -17,6 +17,11 @@ def _pm(ms, digits=2):
     if not np.isfinite(m):
         return "–"
     return f"{m:.{digits}f}" if not np.isfinite(s) else f"{m:.{digits}f} ± {s:.{digits}f}"
+
+
+def _sums(entry, t, s):
+    a, b = entry[t + "_sum"], entry[s + "_sum"]
+    return f"{a:.0f} : {b:.0f}" if np.isfinite(a) and np.isfinite(b) else "–"
 
 
 def _write(out_dir, stem, header, body, caption):
@@ -48,15 +53,22 @@ def table2(cat):
     _note_paper_columns(cat, "table2")
     t2 = shear_strength.table2(rows)
     header = ["quantity"] + [f"tau_cr = {e['tau_cr_kPa']:g} kPa" for e in t2]
+    window = f"{loads.COHESIVE_PEAK_TRAVEL * 1e3:g} mm"
     labels = {"tau1_kPa": "tau(1) [kPa], F_b = 0",
               "tau2_kPa": f"tau(2) [kPa], F_b = {cat.plug_force / 1e3:g} kN/m (cylindrical plug)",
-              "tau3_kPa": "tau(3) [kPa], F_b = F_b(A_p, eta) at y_I = 20 mm (eq 13)"}
+              "tau3_kPa": f"tau(3) [kPa], F_b = F_b(A_p, eta) at y_I = 20 mm (eq 13), {cat.bond_points} bond points",
+              "F_m_kN_per_m": f"F^m [kN/m], cohesive peak (maximum over y_I = 0-{window})",
+              "F_record_max_kN_per_m": "record maximum [kN/m] (beside F^m)",
+              "tau1_record_max_kPa": "tau(1) [kPa] from the record maximum (beside tau(1))"}
     body = [[labels[k]] + [_pm(e[k]) for e in t2] for k in shear_strength.TAU_KEYS]
     body += [[q + " [-]"] + [f"{e[q]:.2f}" if np.isfinite(e[q]) else "–" for e in t2]
              for q in ("tau1/tau3", "tau2/tau3")]
+    body += [[labels[k]] + [_pm(e[k]) for e in t2] for k in shear_strength.PEAK_KEYS]
     body.append(["runs"] + [str(e["n_runs"]) for e in t2])
     return _write(cat.out_dir, "table2_shear_strength", header, body,
-                  "Table 2: rubble shear strength tau (eq 15, A_s = 2h), mean ± sd over ridges and both mu.")
+                  f"Table 2: rubble shear strength tau (eq 15, A_s = 2h) from F^m, the cohesive peak (maximum over "
+                  f"the first {window}), mean ± sd over ridges and both mu; the record maximum and tau(1) from it "
+                  "below, for runs where a later event beat the peak.")
 
 
 def table3(cat):
@@ -72,11 +84,17 @@ def table3(cat):
     header = ["quantity"] + [f"tau_cr = {e['tau_cr_kPa']:g} kPa" for e in t3]
     body = [[f"tau(mu={cat.mu_high:g})/tau(mu={cat.mu_low:g}) [-], {k[:4]}"] + [_pm(e[k + "_ratio"]) for e in t3]
             for k in shear_strength.TAU_KEYS]
-    body.append(["n_t/n_s [-]"] + [_pm(e["nt_ns"]) for e in t3])
+    body.append(["n_t/n_s [-], mode at full failure (the paper's)"] + [_pm(e["nt_ns"]) for e in t3])
+    body.append(["n_t : n_s summed over runs"] + [_sums(e, "n_t", "n_s") for e in t3])
+    body.append(["n_t/n_s [-] at initiation, t_n >= 0 : t_n < 0 at the split"] + [_pm(e["nt_ns_init"]) for e in t3])
+    body.append(["n_t : n_s at initiation summed over runs"] + [_sums(e, "n_t_init", "n_s_init") for e in t3])
+    body.append(["fully failed / split bond points [-]"] + [_pm(e["failed_fraction"]) for e in t3])
     body.append(["ridge pairs / runs"] + [f"{e['n_pairs']} / {e['n_runs']}" for e in t3])
     return _write(cat.out_dir, "table3_ratios", header, body,
-                  "Table 3: tau ratio between mu values (same ridge) and tensile/shear failure ratio n_t/n_s "
-                  "of fully failed bond points, mean ± sd.")
+                  "Table 3: tau ratio between mu values (same ridge); tensile/shear ratio n_t/n_s by mode at full "
+                  "failure (delta_n >= |delta_t| at delta_e = delta_f) of the points fully failed within the run, "
+                  "beside it the ratio by the side of eq 6 at the split and the share of split points that fully "
+                  "failed; mean ± sd over runs.")
 
 
 TABLES = {2: table2, 3: table3}

@@ -4,13 +4,14 @@ docs/model.md, "Water drag: the choice").
 Reads the runs of data/water_models.table (descriptions ``wm_<candidate>_r<ridge>_v<speed>``)
 and prints, per candidate and ridge:
 
-- F^m and y_I at F^m over the whole record at 0.1 m/s (paper: a cohesive peak at ~1 mm,
-  the maximum of the record);
-- F^m(0.01)/F^m(0.1): peaks over the travel both records cover, same 2 s ramp
+- F^m, the cohesive peak (maximum over the first 5 mm), and its y_I at 0.1 m/s, and the
+  record maximum beside it (paper: a cohesive peak at ~1 mm, the maximum of the record);
+- F^m(0.01)/F^m(0.1): cohesive peaks within the travel both records cover, same 2 s ramp
   (paper section 2.4: 0.97);
 - F(20 mm)/F^m (paper: a steep drop until ~20 mm);
-- F / F_d(K = 0.45) at the snapshots from 20 mm on (paper Figs. 18, 20: post-peak F lies
-  near the buoyant load of the displaced rubble, R = 0.88 across ridges);
+- F̄ / F_d(K = 0.45) at the snapshots from 20 mm on, F̄ the mean load over y_I ± 5 mm
+  (paper Figs. 18, 20: post-peak F lies near the buoyant load of the displaced rubble,
+  R = 0.88 across ridges);
 - the shares of the indenter work that went into drag and into viscous damping.
 
     /usr/bin/python3 -m postproc.water_models RESULTS_DIR [-o table.md]
@@ -24,7 +25,7 @@ import h5py
 import numpy as np
 
 from . import displaced_area as dA
-from .loads import load_at, peak_load
+from .loads import cohesive_peak, load_at, record_maximum
 from .results import find_results, load
 
 NAME = re.compile(r"wm_(?P<cand>.+)_r(?P<ridge>\d+)_v(?P<v>[0-9.]+)\.h5$")
@@ -43,15 +44,16 @@ def energy_shares(path):
 
 def run_metrics(fast, slow):
     y, F = fast.force_y, fast.force_F
-    Fm, ym = peak_load(y, F)
-    out = dict(Fm=Fm / 1e3, y_m=ym * 1e3)
+    Fm, ym = cohesive_peak(y, F)
+    F_max, y_max = record_maximum(y, F)
+    out = dict(Fm=Fm / 1e3, y_m=ym * 1e3, F_max=F_max / 1e3, y_max=y_max * 1e3)
     out["F20_over_Fm"] = load_at(y, F, 20e-3) / Fm if y[-1] >= 20e-3 else np.nan
     ratios, pairs = [], []
     for s in fast.snapshots:
-        if s.y_I < 19.5e-3:
+        if s.y_I < 19.5e-3 or s.y_I > y[-1]:
             continue
         Fd = dA.displaced_load(fast, K, s.y_I)
-        Fy = load_at(y, F, s.y_I)
+        Fy = dA.paired_load(fast, s.y_I)
         ratios.append(Fy / Fd if Fd > 0 else np.nan)
         pairs.append((Fd, Fy))
     out["F_over_Fd"] = ratios
@@ -59,8 +61,8 @@ def run_metrics(fast, slow):
     out["drag_share"], out["damping_share"] = energy_shares(fast.path)
     if slow is not None:
         common = min(y[-1], slow.force_y[-1])
-        f_fast = peak_load(y[y <= common], F[y <= common])[0]
-        f_slow = peak_load(slow.force_y[slow.force_y <= common], slow.force_F[slow.force_y <= common])[0]
+        f_fast = cohesive_peak(y[y <= common], F[y <= common])[0]
+        f_slow = cohesive_peak(slow.force_y[slow.force_y <= common], slow.force_F[slow.force_y <= common])[0]
         out["slow_over_fast"] = f_slow / f_fast
         out["common_mm"] = common * 1e3
         out["slow_F"] = {mm: load_at(slow.force_y, slow.force_F, mm * 1e-3) / load_at(y, F, mm * 1e-3)
@@ -87,20 +89,21 @@ def fmt(x, spec=".2f"):
 
 
 def markdown(table):
-    lines = ["| candidate | ridge | F^m [kN/m] | y_I at F^m [mm] | F^m(0.01)/F^m(0.1) | "
-             "F(0.01)/F(0.1) at 1, 5, 10 mm | F(20)/F^m | F/F_d(0.45) at 20, 30 mm | "
+    lines = ["| candidate | ridge | F^m [kN/m] | y_I at F^m [mm] | record max [kN/m] at [mm] | "
+             "F^m(0.01)/F^m(0.1) | F(0.01)/F(0.1) at 1, 5, 10 mm | F(20)/F^m | F̄/F_d(0.45) at 20, 30 mm | "
              "drag / damping share of indenter work |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for (cand, ridge), r in table.items():
         slow = r.get("slow_F", {})
         lines.append(
             f"| {cand} | {ridge} | {fmt(r['Fm'], '.1f')} | {fmt(r['y_m'], '.2f')} | "
+            f"{fmt(r['F_max'], '.1f')} at {fmt(r['y_max'], '.2f')} | "
             f"{fmt(r.get('slow_over_fast'))} | {', '.join(fmt(slow.get(mm)) for mm in (1, 5, 10))} | "
             f"{fmt(r['F20_over_Fm'])} | {', '.join(fmt(x) for x in r['F_over_Fd'])} | "
             f"{fmt(r['drag_share'])} / {fmt(r['damping_share'])} |")
     # correlation of post-peak F with F_d across the ridges of each candidate
     lines.append("")
-    lines.append("| candidate | R(F, F_d(0.45)) over ridges and snapshots >= 20 mm | points |")
+    lines.append("| candidate | R(F̄, F_d(0.45)) over ridges and snapshots >= 20 mm | points |")
     lines.append("|---|---|---|")
     for cand in sorted({c for c, _ in table}):
         pts = [p for (c, _), r in table.items() if c == cand for p in r["pairs"]]

@@ -323,6 +323,8 @@ class RigidPunchThrough:
 
         def travel(t):
             return np.interp(t, samples[:, 0], samples[:, 1]) if len(samples) else np.full_like(t, np.nan)
+        # split_tn, split_tt stay NaN (the recorder's fill): the rigid bonds keep no
+        # traction at initiation, and the analyses then report no initiation count
         rec.bond_events(dict(t_split=t_rel_split, y_I_split=np.where(np.isfinite(t_rel_split), travel(t_rel_split), np.nan),
                              t_fail=t_rel_fail, y_I_fail=np.where(np.isfinite(t_rel_fail), travel(t_rel_fail), np.nan),
                              mode=modes))

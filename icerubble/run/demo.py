@@ -63,7 +63,7 @@ def main(argv=None):
 def peak_line(result):
     """The line the demo prints of its peak load, as the README quotes it."""
     with open_complete(result, "icerubble-run") as f:
-        Fm, ym = loads.peak_load(f["force/y_I"][:], f["force/F"][:])
+        Fm, ym = loads.cohesive_peak(f["force/y_I"][:], f["force/F"][:])
     return f"F^m = {Fm / 1e3:.1f} kN/m at y_I = {ym * 1e3:.2f} mm"
 
 

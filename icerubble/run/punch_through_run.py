@@ -36,6 +36,7 @@ from ..files.mesh_file import read_mesh
 from .. import parameters as P
 from .progress import Progress, loading_eta_text, settle_eta_text
 from .recorder import RunRecorder
+from .split_traction import point_split_traction
 from .scene import Scene
 from ..files.vtu import write_pvd, write_vtu
 
@@ -706,6 +707,10 @@ class PunchThrough:
         out["delta_n_fail"] = ev["delta_n_fail"]
         out["delta_t_fail"] = ev["delta_t_fail"]
         out["mode"] = ev["mode"]
+        bond_mu = self.model.bond_params["mu"]   # None: eq 6 takes the contact friction
+        out["split_tn"], out["split_tt"] = point_split_traction(
+            ev["pair_point"], ev["pair_split_tn"], ev["pair_split_tt"], self.recorder.bp.sigma_cr,
+            self.recorder.bp.tau_cr, self.model.params["mu"] if bond_mu is None else bond_mu)
         return out
 
     def snapshot(self, t_rel, y_I):

@@ -20,6 +20,8 @@ BOND_FIELDS = {  # name: (units, dtype, fill)
     "t_fail": ("s", float, np.nan), "y_I_fail": ("m", float, np.nan),
     "delta_n_fail": ("m", float, np.nan), "delta_t_fail": ("m", float, np.nan),
     "mode": ("-", np.int8, 0),
+    # traction at the split (icerubble/run/split_traction.py): which side of eq 6 it began on
+    "split_tn": ("Pa", float, np.nan), "split_tt": ("Pa", float, np.nan),
 }
 
 
@@ -95,6 +97,10 @@ class RunRecorder:
     def restore(self, s):
         for k, v in s.items():
             setattr(self, k, v)
+        # a checkpoint from before a field was recorded: the field starts at its fill
+        for k, (_, dt, fill) in BOND_FIELDS.items():
+            if k not in self.bonds:
+                self.bonds[k] = np.full(len(self.bp), fill, dtype=dt)
 
     # --- output ------------------------------------------------------------
     def write(self, path):

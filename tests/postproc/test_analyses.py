@@ -50,15 +50,17 @@ def test_alpha_ignores_points_under_indenter_and_unfailed_points():
     pts = np.vstack([on_planes, under, late, never])
     y_fail = np.r_[np.full(len(on_planes), 5e-3), np.full(3, 1e-3), [50e-3, 60e-3], [np.nan]]
     b = _bonds(pts, y_fail)
-    failed = failure_plane.failed_points(b, 20e-3)
-    assert len(failed) == len(on_planes) + 3
+    for choice in ("split", "failed"):   # split = fail here: the same points either way
+        failed = failure_plane.failed_points(b, 20e-3, choice)
+        assert len(failed) == len(on_planes) + 3
     left, right = failure_plane.fit_planes(failed, W)
     assert abs(left.alpha - 35.0) < TOL_DEG and abs(right.alpha - 45.0) < TOL_DEG
-    # include_split counts a split-only bond point: a stray one moves the fit
+    # a point that has split but not fully failed counts as split only
     y_split = y_fail.copy()
     y_split[-1] = 1e-3
     b2 = _bonds(pts, y_fail, y_split)
-    assert len(failure_plane.failed_points(b2, 20e-3, include_split=True)) == len(failed) + 1
+    assert len(failure_plane.failed_points(b2, 20e-3, "split")) == len(failed) + 1
+    assert len(failure_plane.failed_points(b2, 20e-3, "failed")) == len(failed)
 
 
 def test_alpha_needs_three_points_per_side():
@@ -141,7 +143,7 @@ def test_peak_mean_and_tau_from_constructed_record():
     Fk = np.array([0, 40, 20, 16, 13]) * 1e3
     y = np.unique(np.r_[yk, np.linspace(0, 1e-3, 3), np.geomspace(1e-3, 0.3, 57)])
     F = np.interp(y, yk, Fk)
-    Fm, ym = loads.peak_load(y, F)
+    Fm, ym = loads.cohesive_peak(y, F)
     assert Fm == 40e3 and ym == 1e-3
     # trapezoids are exact on a piecewise-linear record whose knots are samples
     assert abs(loads.mean_load(y, F, 150e-3, 300e-3) - 14.5e3) < 1e-6
@@ -167,11 +169,20 @@ def test_tables_from_rows_by_hand():
     for ridge, f in (("1", 1.0), ("2", 2.0)):
         for mu, g in ((0.05, 1.0), (0.3, 1.1)):
             rows.append({"ridge": ridge, "mu": mu, "tau_cr_kPa": 50.0, "tau1_kPa": 4.0 * f * g,
-                         "tau2_kPa": 3.0 * f * g, "tau3_kPa": 2.0 * f * g, "nt_ns": f})
+                         "tau2_kPa": 3.0 * f * g, "tau3_kPa": 2.0 * f * g, "nt_ns": f,
+                         "F_m_kN_per_m": 32.0 * f * g, "F_record_max_kN_per_m": 40.0 * f,
+                         "tau1_record_max_kPa": 5.0 * f, "nt_ns_init": 2.0 * f, "failed_fraction": 0.25 * f,
+                         "n_t": 3, "n_s": 1, "n_t_init": 10, "n_s_init": 0})
     t2 = shear_strength.table2(rows)[0]
     assert abs(t2["tau1_kPa"][0] - np.mean([4, 4.4, 8, 8.8])) < 1e-12
     assert abs(t2["tau1/tau3"] - 2.0) < 1e-12 and abs(t2["tau2/tau3"] - 1.5) < 1e-12
+    # the record maximum and tau(1) from it beside: means of 40, 40, 80, 80 and 5, 5, 10, 10
+    assert abs(t2["F_record_max_kN_per_m"][0] - 60.0) < 1e-12 and abs(t2["tau1_record_max_kPa"][0] - 7.5) < 1e-12
+    assert abs(t2["F_m_kN_per_m"][0] - np.mean([32, 35.2, 64, 70.4])) < 1e-12
     t3 = shear_strength.table3(rows)[0]
     assert t3["n_pairs"] == 2
     assert abs(t3["tau3_kPa_ratio"][0] - 1.1) < 1e-12 and abs(t3["tau3_kPa_ratio"][1]) < 1e-12
     assert abs(t3["nt_ns"][0] - 1.5) < 1e-12
+    assert abs(t3["nt_ns_init"][0] - 3.0) < 1e-12 and abs(t3["failed_fraction"][0] - 0.375) < 1e-12
+    # summed counts show 40 : 0 where every per-run ratio is 10/0 = NaN
+    assert (t3["n_t_sum"], t3["n_s_sum"], t3["n_t_init_sum"], t3["n_s_init_sum"]) == (12, 4, 40, 0)

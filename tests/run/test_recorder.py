@@ -66,5 +66,5 @@ def test_postproc_reads_what_the_recorder_writes(tmp_path):
     run = results.load(tmp_path / "run.h5")
     assert run.mu == pytest.approx(0.3) and run.tau_cr == pytest.approx(50e3)
     assert run.porosity == pytest.approx(0.25)
-    Fm, y_m = loads.peak_load(run.force_y, run.force_F)
+    Fm, y_m = loads.cohesive_peak(run.force_y, run.force_F)
     assert Fm == pytest.approx(2.0) and y_m == pytest.approx(0.002)
