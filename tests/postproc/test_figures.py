@@ -29,6 +29,11 @@ def test_full_set_makes_every_promised_file(full_set, tmp_path, capsys):
     # up to rounding of the tensile count (one bond point out of ~70: < 0.1 in the ratio)
     for r in rows:
         assert abs(float(r["nt_ns"]) - synthetic.nt_ns_target(float(r["tau_cr_kPa"]) * 1e3)) < 0.1
+        # and the initiation side from /bonds/split_tn, ~105 split points: < 0.07 in the ratio
+        assert abs(float(r["nt_ns_init"]) - synthetic.nt_ns_init_target(float(r["tau_cr_kPa"]) * 1e3)) < 0.1
+        assert r["bond_points"] == "split"
+    table3 = open(os.path.join(out, "table3_ratios.md")).read()
+    assert "at initiation" in table3 and "fully failed / split" in table3
 
 
 def test_partial_set_reports_what_is_missing(tmp_path, capsys):
@@ -75,3 +80,18 @@ def test_models_kept_apart_and_duplicates_listed(tmp_path):
             assert len(list(csv.DictReader(fh))) == 1
     text = (out / "MISSING.md").read_text()
     assert "duplicate run (ridge 1, mu 0.05, tau_cr 50 kPa): using a.h5, ignoring a_again.h5" in text
+
+
+def test_bond_points_option(tmp_path, capsys):
+    d = tmp_path / "runs"
+    d.mkdir()
+    synthetic.write_run(str(d / "a.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    with pytest.raises(SystemExit) as exc:
+        make_figures.main([str(d), "-o", str(tmp_path / "x"), "--bond-points", "broken"])
+    assert exc.value.code == 2
+    assert "--bond-points: invalid choice: 'broken' (choose from 'split', 'failed')" in capsys.readouterr().err
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out), "--bond-points", "failed"]) == 0
+    assert "fully failed bond points (--bond-points failed)" in (out / "MISSING.md").read_text()
+    with open(out / "summary.csv") as fh:
+        assert next(csv.DictReader(fh))["bond_points"] == "failed"

@@ -42,6 +42,20 @@ def test_units_total_force_and_plug_force_option(tmp_path):
     assert r["F_b3"] == pytest.approx(0.7 * 90.0 * 9.81 * 2.0)
 
 
+def test_measured_F_m_is_the_record_maximum_with_the_early_maximum_beside(tmp_path):
+    """A field test peaks later than a simulation (Heinonen: 8.8-18.1 mm): F^m and tau
+    come from the record maximum, 40 kN/m at 12 mm; the maximum over the first 5 mm
+    (30 kN/m at 2 mm) is reported for comparison only."""
+    p = tmp_path / "m.csv"
+    p.write_text("y_I [mm],F [kN/m]\n0,0\n2,30\n5,25\n12,40\n30,20\n")
+    y, F = measured.read_csv(str(p))
+    r = measured.analyse(y, F, 4.0, 4.0, 0.25, intervals=())
+    assert (r["F_m"], r["y_I_peak"]) == (pytest.approx(40e3), pytest.approx(12e-3))
+    assert (r["F_early"], r["y_I_early"]) == (pytest.approx(30e3), pytest.approx(2e-3))
+    assert r["tau1"] == pytest.approx(40e3 / 8.0)
+    assert "for comparison only" in measured.report_text(r, str(p))
+
+
 @pytest.mark.parametrize("text,kwargs,match", [
     ("a,b\n0,0\n1,1\n", {}, "no disp column"),
     ("y_I [mm],F [kN/m]\n0,0\n2,1\n1,3\n", {}, "decreases at data row 3"),

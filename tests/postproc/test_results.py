@@ -54,3 +54,22 @@ def test_end_to_end_alpha_exact_through_the_file(tmp_path):
     samples = failure_plane.alpha_samples(run)
     assert samples.size == 40
     assert np.allclose(np.sort(samples), np.sort([aL] * 20 + [aR] * 20), atol=1e-9)
+
+
+@pytest.mark.parametrize("change,why", [("delete", "absent"), ("nan", "NaN at split bond points")])
+def test_file_without_split_tractions_has_no_initiation_count(tmp_path, change, why):
+    """A file from before /bonds/split_tn, split_tt were written, or a rigid-DEM file
+    with them NaN: the run still reads; the initiation-side count is NaN and
+    `missing` says why, while the full-failure count stands."""
+    p = synthetic.write_run(str(tmp_path / "a.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    with h5py.File(p, "r+") as f:
+        for k in ("split_tn", "split_tt"):
+            if change == "delete":
+                del f["bonds"][k]
+            else:
+                f["bonds"][k][...] = np.nan
+    run = results.load(p)
+    assert why in run.missing["split_traction"] and "n_t_init" in run.missing["split_traction"]
+    row = summary.summarize(run)
+    assert all(np.isnan(row[k]) for k in ("n_t_init", "n_s_init", "nt_ns_init"))
+    assert row["n_t"] + row["n_s"] == row["n_failed"] > 0 and "split_traction" in row["missing"]

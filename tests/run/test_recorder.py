@@ -68,3 +68,32 @@ def test_postproc_reads_what_the_recorder_writes(tmp_path):
     assert run.porosity == pytest.approx(0.25)
     Fm, y_m = loads.cohesive_peak(run.force_y, run.force_F)
     assert Fm == pytest.approx(2.0) and y_m == pytest.approx(0.002)
+
+
+def test_split_traction_written_read_and_restored_from_an_older_checkpoint(tmp_path):
+    """/bonds/split_tn, split_tt go out in Pa; a checkpoint from before they were
+    recorded restores with them NaN; the analyses count the initiation side from them."""
+    from postproc import results, summary
+    rec, nodes, tri = make_recorder()
+    P = len(rec.bp)
+    old = rec.state()
+    for k in ("split_tn", "split_tt"):
+        del old["bonds"][k]
+    rec.restore(old)
+    assert rec.bonds["split_tn"].shape == (P,) and np.isnan(rec.bonds["split_tn"]).all()
+    assert P >= 2   # one point split on each side of eq 6, the rest intact
+    y_split = np.full(P, np.nan)
+    y_split[:2] = [1e-3, 2e-3]
+    tn = np.full(P, np.nan)
+    tn[:2] = [10e3, -3e3]
+    rec.bond_events(dict(y_I_split=y_split, split_tn=tn, split_tt=np.where(np.isfinite(tn), 5e3, np.nan)))
+    rec.set_reference(nodes)
+    for k, y in enumerate(np.linspace(0, 0.03, 31)):
+        rec.force(k * 1e-3, y, 1e3 * y)
+    rec.write(tmp_path / "run.h5")
+    with open_complete(tmp_path / "run.h5", "icerubble-run") as f:
+        assert f["bonds/split_tn"].attrs["units"] == "Pa" and f["bonds/split_tt"].attrs["units"] == "Pa"
+        assert f["bonds/split_tn"][:2].tolist() == [10e3, -3e3]
+    row = summary.summarize(results.load(tmp_path / "run.h5"))
+    assert (row["n_t_init"], row["n_s_init"], row["nt_ns_init"]) == (1, 1, 1.0)
+    assert "split_traction" not in row["missing"]

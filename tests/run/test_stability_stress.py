@@ -59,7 +59,8 @@ DRAG = {"drag_model", "c_w", "C_d"}
 N_MIXTURES = 16
 
 # datasets whose NaN means "never happened" (docs/results_format.md)
-NAN_MEANS_NEVER = {"t_split", "y_I_split", "t_fail", "y_I_fail", "delta_n_fail", "delta_t_fail"}
+NAN_MEANS_NEVER = {"t_split", "y_I_split", "t_fail", "y_I_fail", "delta_n_fail", "delta_t_fail",
+                   "split_tn", "split_tt"}
 CLEAR_STOP = re.compile(r"run stopped at step \d+ \(t = |did not come to rest|exceeds the (contact )?stable step")
 
 
