@@ -2,11 +2,11 @@
 
 Modules (one purpose each):
   results         read one run result (.h5, docs/results_format.md) -> RunResult
-  loads           peak load F^m, mean load over an interval, F-y_I records
-  failure_plane   failure-plane angle alpha (Figs. 12, 13)
+  loads           F^m (the cohesive peak), record maximum, mean load over an interval
+  failure_plane   failed (split or fully failed) bond points, angle alpha (Figs. 12, 13)
   plug            plug area A_p and its buoyant load F_b (Figs. 12, 14, 15; eq 13)
   displaced_area  displaced area A_d(K, y_I), F_d, F-A_d correlation (Figs. 17, 18, 20; eq 14)
-  shear_strength  rubble shear strength tau (eq 15), Tables 2 and 3
+  shear_strength  rubble shear strength tau (eq 15), n_t/n_s, Tables 2 and 3
   summary         one CSV row per run
   make_figures    `python3 -m postproc.make_figures RESULTS_DIR` (Figs. 6-20, Tables 2-3)
   measured        `python3 -m postproc.measured CSV ...` (measured punch-through data)

@@ -17,14 +17,17 @@ import numpy as np
 from . import plotting, results, summary
 
 ROWS = [  # (summary column, label, unit)
-    ("F_m_kN_per_m", "F^m", "kN/m"),
+    ("F_m_kN_per_m", "F^m", "kN/m"),   # the cohesive peak (loads.cohesive_peak)
     ("y_I_peak_mm", "y_I at F^m", "mm"),
+    ("F_record_max_kN_per_m", "record maximum", "kN/m"),
+    ("y_I_record_max_mm", "y_I at the record maximum", "mm"),
     ("F_20mm_kN_per_m", "F at 20 mm", "kN/m"),
     ("alpha_mean_1_20mm_deg", "alpha (mean 1-20 mm)", "deg"),
     ("A_p_20mm_m2", "A_p at 20 mm", "m^2"),
     ("n_split", "bond points opened", "-"),
     ("n_failed", "bond points failed", "-"),
-    ("nt_ns", "n_t/n_s", "-"),
+    ("nt_ns", "n_t/n_s (mode at full failure)", "-"),
+    ("nt_ns_init", "n_t/n_s at initiation (t_n >= 0 : t_n < 0)", "-"),
 ]
 
 

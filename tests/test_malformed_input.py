@@ -493,6 +493,12 @@ def cli_summary_into_a_folder(d, g):
     return ["summary", _runs(d, g), "-o", os.path.join(d, "dir")]
 
 
+@case("cli", r"icerubble figures: error: argument --bond-points: invalid choice: 'broken' "
+            r"\(choose from 'split', 'failed'\)")
+def cli_figures_with_unknown_bond_points(d, g):
+    return ["figures", _runs(d, g), "-o", os.path.join(d, "fig"), "--bond-points", "broken"]
+
+
 @case("cli", r"icerubble compare: error: --out '.*f/c\.md': '.*f' is a file, not a folder")
 def cli_compare_under_a_file(d, g):
     return ["compare", _runs(d, g), "-o", os.path.join(_text(d, "f", "x\n"), "c.md")]

@@ -85,6 +85,23 @@ def test_bonds_fail_first_near_the_indenter(finished):
     assert set(np.unique(mode)) <= {0, 1, 2}
 
 
+def test_the_recorded_split_traction_met_the_failure_criterion(finished):
+    """/bonds/split_tn, split_tt: at every point that split, the recorded traction
+    reaches eq 5 (t_e >= sigma_cr with the point's strengths and the run's mu); NaN
+    exactly where no split happened."""
+    from icerubble import cohesive_law
+    _, out = finished
+    with open_complete(out) as f:
+        b = {k: f["bonds"][k][:] for k in ("t_split", "split_tn", "split_tt", "sigma_cr", "tau_cr")}
+        mu = f["parameters"].attrs["mu"]
+        assert f["bonds/split_tn"].attrs["units"] == "Pa"
+    split = np.isfinite(b["t_split"])
+    assert split.any()
+    assert np.array_equal(np.isfinite(b["split_tn"]), split) and np.array_equal(np.isfinite(b["split_tt"]), split)
+    assert np.all(cohesive_law.criterion_reached(b["split_tn"][split], b["split_tt"][split],
+                                                 b["sigma_cr"][split], b["tau_cr"][split], mu))
+
+
 def test_energy_balance_through_bond_failure(finished):
     """Stored + dissipated = initial + supplied: the balance residual stays
     below 1e-3 of the energy flowing through the run (the scheme's residual is
