@@ -27,7 +27,7 @@ import h5py  # noqa: E402
 from icerubble import machine  # noqa: E402
 from icerubble.files.pile_file import read_pile  # noqa: E402
 from icerubble.run import shipped_ridges as SR  # noqa: E402
-from icerubble.run.presets import PILE_FRICTION, scene  # noqa: E402
+from icerubble.run.presets import pile_friction, pile_scene, scene  # noqa: E402
 from icerubble.run.scene_cache import mesh_scene, run_phase1  # noqa: E402
 
 def main(argv=None):
@@ -40,14 +40,22 @@ def main(argv=None):
     os.makedirs(SR.RIDGES_DIR, exist_ok=True)
     entries = SR.manifest()
     only = set(a.scenes.split(",")) if a.scenes else None
-    for name, ridge in SR.ridges_to_ship():
+    # a scene that meshes another's piles after that scene's piles are shipped
+    for name, ridge in sorted(SR.ridges_to_ship(), key=lambda sr: (pile_scene(sr[0]) != sr[0], sr)):
         if only is not None and name not in only:
             continue
         sc = scene(name)
-        stem = SR.file_stem(name, ridge, PILE_FRICTION)
-        pile_path = os.path.join(SR.RIDGES_DIR, stem + "_pile.h5")
-        given = os.path.join(a.piles, stem + "_pile.h5") if a.piles else None
-        if a.remake or not os.path.exists(pile_path):
+        mu = pile_friction(name)
+        stem = SR.file_stem(name, ridge, mu)
+        # a scene that meshes the central part of another's piles ships no pile
+        # of its own: its entry names the source pile and its own mesh
+        source = pile_scene(name)
+        pile_path = os.path.join(SR.RIDGES_DIR, SR.file_stem(source, ridge, mu) + "_pile.h5")
+        given = os.path.join(a.piles, SR.file_stem(source, ridge, mu) + "_pile.h5") if a.piles else None
+        if source != name and not os.path.exists(pile_path):
+            raise SystemExit(f"{name} ridge {ridge} meshes {source} ridge {ridge}'s pile: ship that first "
+                             f"(--scenes {source})")
+        if source == name and (a.remake or not os.path.exists(pile_path)):
             if given and os.path.exists(given):
                 shutil.copyfile(given, pile_path)
             else:
@@ -63,9 +71,12 @@ def main(argv=None):
             m = mesh_scene(sc, pile_path, mesh_path)
             mesh_digest = SR.digest(mesh_path)
         entries[stem] = dict(
-            scene=name, ridge=ridge, pile_digest=SR.digest(pile_path), mesh_digest=mesh_digest,
-            n_blocks=int(meta["n_blocks"]), pile_porosity=round(float(meta["porosity"]), 4),
-            keel_depth=round(float(meta["keel_top_y"] - meta["keel_bottom_y"]), 3),
+            scene=name, ridge=ridge, pile=os.path.basename(pile_path), pile_digest=SR.digest(pile_path),
+            mesh_digest=mesh_digest,
+            n_blocks=int(meta["n_blocks"]) if source == name else len(m["resolved_blocks"]),
+            pile_porosity=round(float(meta["porosity"]), 4),
+            keel_depth=round(float(meta["keel_top_y"] - meta["keel_bottom_y"]) if source == name
+                             else float(m["keel_bounds"][3] - m["keel_bounds"][2]), 3),
             n_triangles=int(len(m["triangles"])), mesh_porosity=round(float(m["porosity"]), 4),
             made_on=str(meta["made_on"]), yade_version=str(meta["yade_version"]))
         print(f"{stem}: {entries[stem]['n_blocks']} blocks, {entries[stem]['n_triangles']} triangles, "

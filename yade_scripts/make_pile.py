@@ -23,6 +23,11 @@ extruded 1 m in z, motion in the x-y plane only):
   cone is at rest within any wider one. A pile settled at 0.3 holds blocks that slide
   at 0.05 (a corner-supported block of the small ridge 1 slid 10 cm in 5 s of the
   FEM-DEM settle and was still going). The pile file records it as `friction`.
+- the hold stage (mu_hold >= 0; the paper scene's piles): after the rise at mu_settle,
+  contacts with a common face of hold_bond_length or more (where the mesher bonds)
+  stick and all others slide at mu_hold, until the pile is at rest again: at rest at
+  mu_hold with its freeze bonds (docs/pile_and_mesh.md, "The paper scene's piles").
+  hold_from runs this stage alone on a pile file made before.
 Settled when the kinetic energy per block stays below ke_per_block for n_quiet checks.
 """
 import os
@@ -48,7 +53,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
 sys.path.insert(0, _ROOT)
 
 from icerubble import exit_status, machine
-from icerubble.files.pile_file import write_pile
+from icerubble.files.pile_file import read_pile, write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
 from icerubble.run.table_check import reader_problems
@@ -77,7 +82,10 @@ utils.readParamsFromTable(
     max_tilt=30.0,         # deg, initial random tilt range +-
     v_max=0.2,             # m/s, initial random speed (uniform direction)
     w_max=0.5,             # rad/s, initial random spin range +-
-    mu_settle=0.05,        # friction coefficient while settling: the lowest mu the pile will be run at
+    mu_settle=0.05,        # friction coefficient while the blocks rise and settle
+    mu_hold=-1.0,          # then at rest under this friction with face contacts frozen; < 0: no hold stage
+    hold_bond_length=0.05, # m, a contact this long is a face contact (the mesher's min_bond_length)
+    hold_from='',          # a pile file: skip the rise, hold its blocks (its own parameters are kept)
     E_settle=2e6,          # Pa, contact Young's modulus for settling (k_n = E/2 per m^3)
     damping=0.5,           # Cundall local damping of NewtonIntegrator, [0, 1)
     dt_safety=0.5,         # fraction of the critical step of a block chain (see below)
@@ -109,6 +117,13 @@ def validate(P):
     r("v_max (m/s)", P.v_max, 0.0)
     r("w_max (rad/s)", P.w_max, 0.0)
     r("mu_settle", P.mu_settle, 0.0, 2.0)
+    if P.mu_hold >= 0.0:
+        r("mu_hold", P.mu_hold, 0.0, P.mu_settle)   # a hold at more friction holds nothing more
+    r("hold_bond_length (m)", P.hold_bond_length, 0.0, lo_open=True)
+    if P.hold_from and not os.path.isfile(P.hold_from):
+        raise ValueError(f"hold_from = {P.hold_from!r} is not a file")
+    if P.hold_from and P.mu_hold < 0.0:
+        raise ValueError("hold_from needs mu_hold >= 0 (the friction to hold its blocks at)")
     r("E_settle (Pa)", P.E_settle, 0.0, lo_open=True)
     r("damping", P.damping, 0.0, 0.99)
     r("dt_safety", P.dt_safety, 0.0, 1.0, lo_open=True)
@@ -157,6 +172,7 @@ class ContactFriction:
         self.mu, self.k_t, self.dt = mu, k_t, dt
         self.s = {}
         self.states = [b.state for b in O.bodies]
+        self.frozen = set()   # contacts that stick at any force (the hold stage's face contacts)
 
     def __call__(self):
         mu, k_t, dt, st = self.mu, self.k_t, self.dt, self.states
@@ -180,7 +196,7 @@ class ContactFriction:
             key = (i.id1, i.id2)
             s = self.s.get(key, 0.0) + vt * dt
             f, fmax = k_t * s, mu * fn
-            if abs(f) > fmax:
+            if abs(f) > fmax and key not in self.frozen:
                 f = fmax if f > 0 else -fmax
                 s = f / k_t
             new[key] = s
@@ -192,16 +208,53 @@ class ContactFriction:
         self.s = new
 
 
+def contact_chord(c1, c2, normal):
+    """Length of the common face of two touching convex blocks (corners CCW):
+    the extent of their overlap along the contact plane (soft contacts overlap
+    by mm along a face, by a corner's width at a corner)."""
+    p = c1
+    m = len(c2)
+    for k in range(m):   # clip c1 by every edge of c2 (inside: left of the edge)
+        a, b = c2[k], c2[(k + 1) % m]
+        n = np.array([b[1] - a[1], a[0] - b[0]])   # outward normal of a CCW edge
+        p = pile.clip_halfplane(p, n, float(n @ a))
+        if len(p) == 0:
+            return 0.0
+    t = np.array([-normal[1], normal[0]])
+    d = p @ t
+    return float(d.max() - d.min())
+
+
+def freeze_face_contacts(friction, outlines, walls):
+    """Freeze every contact with a common face of hold_bond_length or more
+    (where the mesher will bond them); blocks against the phase-1 side walls
+    (absent in phase 2) stay frictional. Returns how many were frozen."""
+    for i in O.interactions:
+        if not i.isReal or i.phys.normalForce.norm() == 0.0 or i.id1 in walls or i.id2 in walls:
+            continue
+        n = i.geom.normal
+        if contact_chord(outlines(i.id1), outlines(i.id2), (n[0], n[1])) >= P.hold_bond_length:
+            friction.frozen.add((i.id1, i.id2))
+    return len(friction.frozen)
+
+
 def main():
     validate(P)
     t_wall0 = time.time()
     rng = np.random.default_rng(int(P.seed))
     top = pile.layer_bottom_y(P.layer_thickness, P.rho_i, P.rho_w)
-    n_req = int(P.n_blocks) if int(P.n_blocks) > 0 else None
-    area = None if n_req else pile.blocks_for_keel(P.domain_width, P.keel_depth, P.porosity_guess)
-    corners, ts, ls, _ = pile.compact_start(
-        n_req, P.domain_width, top, rng, (P.t_min, P.t_max), (P.l_min, P.l_max),
-        np.radians(P.max_tilt), n_area=area)
+    if P.hold_from:   # the blocks of a pile settled before: only the hold stage runs
+        before = read_pile(P.hold_from)
+        corners, ts, ls = before["corners"], before["thickness"], before["length"]
+        if abs(float(before["meta"]["domain_width"]) - P.domain_width) > 1e-9:
+            raise ValueError(f"hold_from {P.hold_from!r} is {before['meta']['domain_width']} m wide, "
+                             f"domain_width is {P.domain_width} m")
+    else:
+        n_req = int(P.n_blocks) if int(P.n_blocks) > 0 else None
+        area = None if n_req else pile.blocks_for_keel(P.domain_width, P.keel_depth, P.porosity_guess)
+        corners, ts, ls, _ = pile.compact_start(
+            n_req, P.domain_width, top, rng, (P.t_min, P.t_max), (P.l_min, P.l_max),
+            np.radians(P.max_tilt), n_area=area)
     n = len(corners)
 
     O.reset()
@@ -215,7 +268,7 @@ def main():
     ])
     blocks = [prism(mat_ice, c) for c in corners]
     ids = O.bodies.append(blocks)
-    for b in blocks:
+    for b in blocks if not P.hold_from else ():   # released with random velocities
         phi = rng.uniform(0, 2 * np.pi)
         s = P.v_max * np.sqrt(rng.uniform())
         b.state.vel = Vector3(s * np.cos(phi), s * np.sin(phi), 0.0)
@@ -239,7 +292,7 @@ def main():
     O.dt = dt
     global friction
     friction = ContactFriction(P.mu_settle, k_n * P.t_min, dt)
-    if P.mu_settle == 0.0:
+    if P.mu_settle == 0.0 and P.mu_hold < 0.0:
         O.engines = O.engines[:3] + O.engines[4:]
     steps_per_check = max(1, int(round(P.check_interval / dt)))
 
@@ -251,27 +304,57 @@ def main():
             ke += 0.5 * s.mass * v.squaredNorm() + 0.5 * s.inertia[2] * w[2] ** 2
         return ke  # J per metre of width (prisms are 1 m deep)
 
-    quiet, settled = 0, False
-    print(f"make_pile: {n} blocks, domain {W} m, dt {dt:.3g} s, {steps_per_check} steps/check", flush=True)
-    while O.time < P.max_time:
-        O.run(steps_per_check, True)
-        ke = kinetic()
-        if not np.isfinite(ke) or ke / n > 1e3 * P.g * P.t_max * P.l_max * P.rho_w:
-            worst = max(ids, key=lambda i: (not np.isfinite(O.bodies[i].state.vel.norm()),
-                                            O.bodies[i].state.vel.norm()))
-            raise RuntimeError(f"phase 1 unstable at step {O.iter} (t = {O.time:.3f} s): kinetic "
-                               f"energy {ke:.3e} J/m, fastest block {worst} at "
-                               f"{tuple(O.bodies[worst].state.pos)[:2]}; lower dt_safety "
-                               f"({P.dt_safety}) or E_settle ({P.E_settle})")
-        quiet = quiet + 1 if ke / n < P.ke_per_block else 0
-        print(f"  t {O.time:7.2f} s  step {O.iter:7d}  KE/block {ke / n:.3e} J/m  "
-              f"contacts {O.interactions.countReal():5d}  wall {time.time() - t_wall0:6.1f} s", flush=True)
-        if quiet >= P.n_quiet:
-            settled = True
-            break
-    if not settled:
-        print(f"make_pile: NOT settled after {O.time:.1f} s simulated (KE/block {ke / n:.3e} J/m)",
+    def settle(stage, t_limit):
+        """Run until the kinetic energy per block stays below ke_per_block."""
+        quiet = 0
+        while O.time < t_limit:
+            O.run(steps_per_check, True)
+            ke = kinetic()
+            if not np.isfinite(ke) or ke / n > 1e3 * P.g * P.t_max * P.l_max * P.rho_w:
+                worst = max(ids, key=lambda i: (not np.isfinite(O.bodies[i].state.vel.norm()),
+                                                O.bodies[i].state.vel.norm()))
+                raise RuntimeError(f"phase 1 unstable at step {O.iter} (t = {O.time:.3f} s): kinetic "
+                                   f"energy {ke:.3e} J/m, fastest block {worst} at "
+                                   f"{tuple(O.bodies[worst].state.pos)[:2]}; lower dt_safety "
+                                   f"({P.dt_safety}) or E_settle ({P.E_settle})")
+            quiet = quiet + 1 if ke / n < P.ke_per_block else 0
+            print(f"  {stage} t {O.time:7.2f} s  step {O.iter:7d}  KE/block {ke / n:.3e} J/m  "
+                  f"contacts {O.interactions.countReal():5d}  wall {time.time() - t_wall0:6.1f} s", flush=True)
+            if quiet >= P.n_quiet:
+                return True, ke
+        print(f"make_pile: {stage} NOT settled after {O.time:.1f} s simulated (KE/block {ke / n:.3e} J/m)",
               flush=True)
+        return False, ke
+
+    print(f"make_pile: {n} blocks, domain {W} m, dt {dt:.3g} s, {steps_per_check} steps/check", flush=True)
+    settled, ke, settle_time, hold = True, 0.0, 0.0, {}
+    if not P.hold_from:
+        settled, ke = settle("rise", P.max_time)
+        settle_time = O.time
+    if P.mu_hold >= 0.0 and settled:
+        # The hold stage: freeze bonds form where blocks meet on a face (the
+        # mesher bonds contacts of min_bond_length or more), and the pile must be
+        # at rest at the lowest friction it will be run at: the face contacts
+        # stick, every other contact slides at mu_hold; blocks held by friction
+        # alone slide to a new rest here, in seconds, instead of in phase 2.
+        if not O.interactions.countReal():   # a pile read from a file: find its contacts first
+            O.run(1, True)
+        frozen = freeze_face_contacts(friction, lambda i: world_corners(O.bodies[i]),
+                                      walls=(O.bodies[1].id, O.bodies[2].id))
+        friction.mu = P.mu_hold
+        start = np.array([tuple(O.bodies[i].state.pos)[:2] for i in ids])
+        t0 = O.time
+        settled, ke = settle("hold", t0 + P.max_time)
+        moved = np.hypot(*(np.array([tuple(O.bodies[i].state.pos)[:2] for i in ids]) - start).T)
+        hold = dict(hold_friction=float(P.mu_hold), hold_frozen_contacts=int(frozen),
+                    hold_time=float(O.time - t0), hold_max_block_move=float(moved.max()),
+                    hold_blocks_moved_1cm=int((moved > 0.01).sum()))
+        print(f"make_pile: hold at mu {P.mu_hold:g}: {frozen} face contacts frozen, {O.time - t0:.2f} s, "
+              f"{hold['hold_blocks_moved_1cm']} blocks moved > 1 cm (at most {moved.max() * 1e3:.0f} mm)",
+              flush=True)
+    if P.hold_from:
+        hold["hold_from"] = os.path.abspath(P.hold_from)
+        settle_time = float(before["meta"]["settle_time"])
 
     out_corners = np.array([world_corners(O.bodies[i]) for i in ids])
     bounds = pile.keel_bounds(out_corners, top, -0.5 * W, 0.5 * W)
@@ -282,17 +365,19 @@ def main():
         'seed', 'domain_width', 'n_blocks', 'keel_depth', 'porosity_guess', 't_min', 't_max',
         'l_min', 'l_max', 'max_tilt', 'v_max', 'w_max', 'mu_settle', 'E_settle', 'damping', 'dt_safety',
         'ke_per_block', 'check_interval', 'n_quiet', 'max_time', 'rho_i', 'rho_w', 'g',
-        'layer_thickness')}
-    meta = dict(seed=int(P.seed), n_blocks=n, yade_version=yade.config.version,
-                settled=int(settled), settle_time=float(O.time), steps=int(O.iter), dt=dt,
+        'layer_thickness', 'mu_hold', 'hold_bond_length')}
+    if P.hold_from:   # the pile is the one made before, held: its own parameters and seed
+        params = dict(before["params"], mu_hold=P.mu_hold, hold_bond_length=P.hold_bond_length)
+    meta = dict(seed=int(params["seed"]), n_blocks=n, yade_version=yade.config.version,
+                settled=int(settled), settle_time=float(settle_time), steps=int(O.iter), dt=dt,
                 wall_time=time.time() - t_wall0, final_kinetic_energy=ke, ke_per_block=ke / n,
                 porosity=eta, keel_x_min=bounds[0], keel_x_max=bounds[1],
                 keel_bottom_y=bounds[2], keel_top_y=bounds[3], layer_bottom_y=top,
                 layer_thickness=float(P.layer_thickness), domain_width=float(W),
-                friction=float(P.mu_settle),
+                friction=float(params["mu_settle"]),
                 # YADE's settle follows the processor's floating point: the
                 # same seed makes another pile on another machine
-                made_on=machine.processor())
+                made_on=machine.processor(), **hold)
     write_pile(out, out_corners, ts, ls, params, meta)
     print(f"make_pile: wrote {out}: {n} blocks, settled={settled}, t={O.time:.2f} s simulated, "
           f"wall {meta['wall_time']:.1f} s, porosity {eta:.3f}, keel {bounds[3] - bounds[2]:.2f} m deep",

@@ -23,6 +23,8 @@ def write_mesh(path, m, source="", pile_origin=None):
         f.attrs["element_size"] = m["element_size"]
         f.attrs["porosity"] = m["porosity"]
         f.attrs["pile_friction"] = m.get("pile_friction", np.nan)
+        if np.isfinite(m.get("pile_hold_friction", np.nan)):
+            f.attrs["pile_hold_friction"] = m["pile_hold_friction"]
         for k, v in zip(("keel_x_min", "keel_x_max", "keel_bottom_y", "keel_top_y"), m["keel_bounds"]):
             f.attrs[k] = v
         for k, v in m["settings"].items():
@@ -40,6 +42,10 @@ def write_mesh(path, m, source="", pile_origin=None):
         write_dataset(f, "contacts/chord", c["chord"], "m")
         write_dataset(f, "contacts/bonded", c["bonded"].astype(np.int8), "-")
         write_dataset(f, "contacts/bond_length", c["bond_length"], "m")
+        if m.get("pile_domain_width", m["settings"]["domain_width"]) != m["settings"]["domain_width"]:
+            # the central part of a wider pile: which pile block each body is
+            f.attrs["pile_domain_width"] = m["pile_domain_width"]
+            write_dataset(f, "pile_block", m["pile_block"], "-")
         rb = m["resolved_blocks"]
         write_dataset(f, "resolved_blocks/vertices", np.vstack(rb), "m")
         write_dataset(f, "resolved_blocks/offsets",

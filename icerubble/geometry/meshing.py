@@ -54,13 +54,51 @@ def _surface(occ, poly):
     return occ.addPlaneSurface([occ.addCurveLoop(lines)])
 
 
+def crop_blocks(corners, domain_width, min_width):
+    """The pile's blocks cut to |x| <= domain_width/2 (the central part of a wider
+    pile), as phase 1's side walls cut them; a piece thinner than ``min_width``
+    (its smallest width across, over its edge normals) is dropped, since it could
+    only be meshed with elements smaller than the scene's. Returns (polygons,
+    kept): the pieces and the pile index of each."""
+    x0, x1 = -0.5 * domain_width, 0.5 * domain_width
+    polys, kept = [], []
+    for i, c in enumerate(corners):
+        p = _pile.clip_box(_pile.ccw(c), x0, x1, -np.inf, np.inf)
+        if len(p) < 3 or _min_width(p) < min_width:
+            continue
+        polys.append(p)
+        kept.append(i)
+    return polys, np.array(kept, dtype=np.int64)
+
+
+def _min_width(p):
+    """Smallest extent of a convex polygon across its edges (0 for a degenerate one)."""
+    widths = []
+    for k in range(len(p)):
+        e = p[(k + 1) % len(p)] - p[k]
+        ln = np.hypot(*e)
+        if ln == 0.0:
+            continue
+        n = np.array([-e[1], e[0]]) / ln
+        d = (p - p[k]) @ n
+        widths.append(d.max() - d.min())
+    return min(widths) if widths else 0.0
+
+
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
                min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
-               algorithm=6, feature_fraction=0.4, verbose=False):
-    """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh)."""
+               algorithm=6, feature_fraction=0.4, domain_width=None, verbose=False):
+    """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh).
+
+    ``domain_width`` below the pile's own meshes the central part of the pile
+    (crop_blocks, pieces thinner than ``element_size`` dropped); its blocks are
+    then numbered in pile order among the pieces kept (``pile_block``)."""
     import gmsh
     meta = pile_data["meta"]
-    W = float(meta["domain_width"])
+    W_pile = float(meta["domain_width"])
+    W = W_pile if domain_width is None else float(domain_width)
+    if not 0.0 < W <= W_pile:
+        raise ValueError(f"domain_width = {W} m must be in (0, {W_pile}] m, the pile's own width")
     t_c = float(meta["layer_thickness"])
     y_b = float(meta["layer_bottom_y"])
     _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
@@ -72,9 +110,28 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     x0, x1 = -0.5 * W, 0.5 * W
     feature = max(min_feature, feature_fraction * element_size)
     info = {}
-    polys, contacts = resolve_contacts(pile_data["corners"], y_b, x0, x1, gap_tol,
-                                       min_bond_length, eps_sep, feature, indenter_width, info,
-                                       fuzzy)
+    if W < W_pile:
+        blocks, pile_block = crop_blocks(pile_data["corners"], W, element_size)
+    else:
+        blocks, pile_block = list(pile_data["corners"]), np.arange(len(pile_data["corners"]))
+
+    def resolve():
+        info.clear()   # the clean-up counts of the last resolution
+        return resolve_contacts(blocks, y_b, x0, x1, gap_tol, min_bond_length, eps_sep, feature,
+                                indenter_width, info, fuzzy)
+    polys, contacts = resolve()
+    while W < W_pile:
+        # a piece cut from its block that keeps no bond lost what held it (the
+        # part beyond the cut): it would float off, so it is dropped too (and
+        # then any cut piece bonded only to it)
+        bonded = {i for i, j, _, b in contacts if b} | {j for i, j, _, b in contacts if b and j >= 0}
+        loose = {k for k, i in enumerate(pile_block) if k not in bonded
+                 and np.ptp(pile_data["corners"][i][:, 0]) - np.ptp(blocks[k][:, 0]) > 1e-9}
+        if not loose:
+            break
+        keep = [k for k in range(len(blocks)) if k not in loose]
+        blocks, pile_block = [blocks[k] for k in keep], pile_block[keep]
+        polys, contacts = resolve()
     times["resolve"] = time.perf_counter() - t0
     nb = len(polys)
     xi = 0.5 * indenter_width
@@ -177,9 +234,12 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
                 keel_bounds=bounds, porosity=eta,
                 quality=dict(quality(nodes, tris), feature=feature),
                 contacts=contact_table(contacts, nodes, bond_edges_, bond_bodies, nb),
-                resolved_blocks=blocks_final,
+                resolved_blocks=blocks_final, pile_block=pile_block.astype(np.int32),
+                pile_domain_width=W_pile,
                 # the friction phase 1 settled the pile at (NaN: not recorded)
                 pile_friction=float(meta.get("friction", np.nan)),
+                # ... and the friction it was then held at rest at (NaN: no hold stage)
+                pile_hold_friction=float(meta.get("hold_friction", np.nan)),
                 element_size=float(element_size), times=times,
                 settings=dict(gap_tol=gap_tol, min_bond_length=min_bond_length, eps_sep=eps_sep,
                               min_feature=min_feature, fuzzy=fuzzy,

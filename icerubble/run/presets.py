@@ -1,13 +1,15 @@
 """Named scenes: pile, mesh and the numerical settings that go with them.
 
-``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel, the
-paper's element size class and penalty (ridge 1, shipped in data/ridges/:
-419 blocks, 91,716 triangles). At that penalty the few tiny elements of a real pile's mesh bring
-the stable step down to ~1e-8 s, so the paper scene scales the inertial mass
-of the nodes that limit it (weight stays physical): to 2e-7 s with the
-faithful numerics (0.02 % added mass), 9e-7 s with the local contact step
-bound of ``balanced`` (0.79 %); see NUMERICS below and README "Speed against
+``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel at
+porosity ~0.26, the paper's element size class and penalty; its piles form as
+the paper's (PAPER_PILE below; measured in docs/pile_and_mesh.md). At that
+penalty the few tiny elements of a real pile's mesh bring the stable step down
+to ~1e-8 s, so the paper scene scales the inertial mass of the nodes that
+limit it (weight stays physical); see NUMERICS below and README "Speed against
 accuracy".
+``deep`` is the central 20 m of the paper scene's ridges on 0.15 m elements,
+with the paper's penalty and strengths: the paper's keel at a workstation's
+cost (docs/study_paper_depth.md).
 ``small`` and ``demo`` are a 10 m wide, ~1.8 m deep keel on a coarser mesh
 that runs in minutes on a workstation; ``wide`` is the same at 30 m (a far
 field). To afford a larger time step they use a 40x softer contact penalty
@@ -18,23 +20,39 @@ Their meshes' stable steps are 3.7e-6 s on a clean mesh (small ridge 1) but
 (ridges 2-4; the block viscosity makes such an element's limit fall as its
 size squared), so they scale the masses of those few nodes to a 3e-6 s step:
 0.1-0.8 % added inertial mass on 40-260 nodes (recorded in the result).
-``tiny`` (8 blocks, 2 mm of travel, seconds; it settles at mu = 0.3, not
-0.05) checks that a set-up runs. Everything else is Table 1. Deviations are recorded in every result file's
+``tiny`` (8 blocks, 2 mm of travel, seconds) checks that a set-up runs.
+Everything else is Table 1. Deviations are recorded in every result file's
 /parameters.
 
-Every scene's pile is settled in phase 1 at PILE_FRICTION = 0.05, the lowest
-friction coefficient of the paper's study (mu = 0.05 and 0.3): a ridge's pile
-is made once and run at every mu, and it must already be at rest with the
-weakest friction (a pile at rest within the 0.05 friction cone is at rest
-within the 0.3 cone too). The pile and mesh file names carry it
+The coarse scenes' piles are settled in phase 1 at PILE_FRICTION = 0.05, the
+lowest friction coefficient of the paper's study, from a compact start tilted
+at most 30 deg: at rest within the 0.05 friction cone, they are at rest within
+the 0.3 cone too, and dense (porosity 0.19-0.22 at 1.7 m; 0.14 at 4 m). The
+paper scene's piles form at 0.3 from random orientations, as loose as the
+paper's, and are then held at 0.05 with their face contacts frozen (where the
+mesh bonds them) until the blocks held by friction alone have slid to a new
+rest: at rest at every mu of the study (docs/pile_and_mesh.md). The pile and
+mesh file names carry the friction the pile formed at
 (icerubble/run/scene_cache.py).
 """
-# Friction of phase 1 (yade_scripts/make_pile.py mu_settle): the lowest mu of the study.
+# Friction of phase 1 (yade_scripts/make_pile.py mu_settle) of the coarse
+# scenes' dense piles: the lowest mu of the study.
 PILE_FRICTION = 0.05
+
+# The paper's phase 1 (section 2.4): blocks "released under water with random
+# orientations and velocities" (tilt uniform in +-90 deg), rising and settling
+# with the friction of ice on ice (Table 1's rougher value, 0.3), their number
+# filling Table 1's keel (h ~ 4 m at porosity ~0.25) in the 50 m domain.
+# Measured: porosity (void/total) and keel depth in docs/pile_and_mesh.md.
+# Then the hold stage: freeze bonds form where blocks meet on a face, and every
+# other contact slides at the study's lowest mu until the pile is at rest there
+# too (make_pile.py mu_hold), so the pile is at rest at every mu of the study.
+PAPER_PILE = dict(domain_width=50.0, keel_depth=4.0, porosity_guess=0.25, mu_settle=0.3,
+                  max_tilt=90.0, mu_hold=PILE_FRICTION)
 
 SCENES = {
     "paper": dict(
-        pile=dict(domain_width=50.0, keel_depth=4.0, mu_settle=PILE_FRICTION),
+        pile=PAPER_PILE,
         element_size=0.085,
         params=dict(penalty=2e11, target_travel=0.3),
     ),
@@ -42,6 +60,16 @@ SCENES = {
         pile=dict(domain_width=10.0, keel_depth=1.8, mu_settle=PILE_FRICTION),
         element_size=0.15,
         params=dict(penalty=5e9, target_travel=0.03),
+    ),
+    # The paper's keel depth, penalty and strengths in a domain a workstation
+    # can study: the central 20 m of the paper scene's ridge N (its pile cut at
+    # x = +-10 m, as phase 1's walls cut it), so the paper scene itself is the
+    # reference for what the narrower domain and coarser mesh cost
+    # (docs/study_paper_depth.md).
+    "deep": dict(
+        pile_of="paper", domain_width=20.0,
+        element_size=0.15,
+        params=dict(penalty=2e11, target_travel=0.02),
     ),
     # a 30 m keel at the demo's resolution: wide enough for a far field that
     # barely moves (where the sleeping far field pays; bench/runtime_vs_error.py)
@@ -96,6 +124,8 @@ NUMERICS = {
                      settle_mass_scaling_dt=2.4e-6),
     },
 }
+# the deep scene has the paper scene's penalty: the same numerics
+NUMERICS["deep"] = {k: dict(v) for k, v in NUMERICS["paper"].items()}
 for _name in ("small", "wide", "demo", "tiny"):
     NUMERICS[_name] = {
         "paper": dict(dt_fraction=0.8, mass_scaling_dt=3e-6),
@@ -115,6 +145,24 @@ def numerics(scene_name, name=None):
     if name not in presets:
         raise ValueError(f"numerics={name!r} is unknown: valid values are {', '.join(sorted(presets))}")
     return dict(presets[name])
+
+
+def pile_scene(name):
+    """The scene whose piles scene `name` meshes (itself, or the one it crops)."""
+    return scene(name).get("pile_of", name)
+
+
+def pile_friction(name):
+    """The friction the piles of scene `name` rose and settled at in phase 1
+    (it names their files)."""
+    return float(scene(pile_scene(name))["pile"]["mu_settle"])
+
+
+def pile_rest_friction(name):
+    """The lowest friction the piles of scene `name` are at rest at: the hold
+    stage's (face contacts frozen, the rest sliding) if they had one."""
+    pile = scene(pile_scene(name))["pile"]
+    return float(pile.get("mu_hold", pile["mu_settle"]))
 
 
 def scene(name):

@@ -224,11 +224,14 @@ class PunchThrough:
         # for piles that were not settled, e.g. constructed ones). Below it the
         # pile is not known to be at rest: loose blocks may slide a long way.
         self.pile_friction = float(a.get("pile_friction", math.nan))
-        if self.params["mu"] < self.pile_friction:
+        # ... or the lower friction its hold stage brought it to rest at
+        self.pile_rest_friction = float(a.get("pile_hold_friction", self.pile_friction))
+        if self.params["mu"] < self.pile_rest_friction:
             print(f"[punch-through] warning: mu = {self.params['mu']:g} is below the friction the pile "
-                  f"was settled at ({self.pile_friction:g}); loose blocks may slide for long "
+                  f"was settled at ({self.pile_rest_friction:g}); loose blocks may slide for long "
                   "while settling (make the pile at the lowest mu it will be run at)", flush=True)
         pile_attrs = dict(porosity=float(a["porosity"]), friction=self.pile_friction,
+                          **({"hold_friction": self.pile_rest_friction} if "pile_hold_friction" in a else {}),
                           n_blocks=int(np.sum(self.scene.body_kind == 0)),
                           keel_top_y=float(a["keel_top_y"]), keel_bottom_y=float(a["keel_bottom_y"]),
                           keel_x_min=float(a["keel_x_min"]), keel_x_max=float(a["keel_x_max"]),
@@ -578,8 +581,8 @@ class PunchThrough:
                 break
             if t_rel >= o.settle_max_time:
                 hint = ""
-                if self.params["mu"] < self.pile_friction:
-                    hint = (f"; the pile was settled at friction {self.pile_friction:g} > mu = "
+                if self.params["mu"] < self.pile_rest_friction:
+                    hint = (f"; the pile was settled at friction {self.pile_rest_friction:g} > mu = "
                             f"{self.params['mu']:g}: make it at the lowest mu it is run at (mu_settle)")
                 raise RuntimeError(
                     f"the scene did not come to rest within settle_max_time={o.settle_max_time} s: "

@@ -32,7 +32,7 @@ from .. import parameters as P
 from ..files.pile_file import read_pile
 from ..geometry import mesh_order, meshing
 from . import shipped_ridges
-from .presets import scene
+from .presets import pile_friction, pile_scene, scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 MAKE_PILE = os.path.join(ROOT, "yade_scripts", "make_pile.py")
@@ -43,8 +43,25 @@ def run_phase1(pile_path, seed, pile_params, threads=1):
 
     One thread by default: YADE's pile is then the same bit for bit for the
     same seed (with two threads it is not: contact order varies); two threads
-    are ~1.4x faster for large piles."""
-    cols = dict(pile_params, seed=int(seed), out=pile_path)
+    are ~1.4x faster for large piles. A pile with a hold stage (mu_hold) is
+    made in two YADE runs, the rise and the hold of its result (hold_from), so
+    a pile made here is made as the shipped ones were."""
+    params = dict(pile_params)
+    mu_hold = params.pop("mu_hold", None)
+    if mu_hold is None or mu_hold < 0:
+        _yade_make_pile(dict(params, seed=int(seed), out=pile_path), threads)
+        return
+    rise = pile_path + ".rise.h5"
+    try:
+        _yade_make_pile(dict(params, seed=int(seed), out=rise), threads)
+        _yade_make_pile(dict(params, seed=int(seed), mu_hold=mu_hold, hold_from=rise, out=pile_path),
+                        threads)
+    finally:
+        if os.path.exists(rise):
+            os.remove(rise)
+
+
+def _yade_make_pile(cols, threads):
     with tempfile.NamedTemporaryFile("w", suffix=".table", delete=False) as f:
         f.write(" ".join(cols) + "\n")
         f.write(" ".join(repr(v) for v in cols.values()) + "\n")
@@ -56,31 +73,38 @@ def run_phase1(pile_path, seed, pile_params, threads=1):
         r = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True)
     finally:
         os.remove(table)
-    if r.returncode != 0 or not os.path.exists(pile_path):
+    if r.returncode != 0 or not os.path.exists(cols["out"]):
         tail = "\n".join((r.stdout + r.stderr).strip().splitlines()[-15:])
         raise RuntimeError(f"phase 1 (YADE pile) failed with exit code {r.returncode}:\n{tail}")
     last = [ln for ln in r.stdout.splitlines() if ln.startswith("make_pile:")]
-    print(last[-1] if last else f"make_pile: wrote {pile_path}", f"({time.perf_counter() - t0:.0f} s)",
+    print(last[-1] if last else f"make_pile: wrote {cols['out']}", f"({time.perf_counter() - t0:.0f} s)",
           flush=True)
 
 
 def scene_files(name, ridge, root="runs", threads=1):
-    """(pile_path, mesh_path) of scene `name`, ridge number `ridge` (its seed)."""
+    """(pile_path, mesh_path) of scene `name`, ridge number `ridge` (its seed).
+
+    A scene that meshes the central part of another scene's piles (``pile_of``)
+    shares that scene's pile file and has a mesh of its own."""
     sc = scene(name)
     ridge = P.require_whole("ridge", ridge, 0)   # it seeds the pile
     # absolute: phase 1 runs YADE in another folder
     d = os.path.join(os.path.abspath(root), "scenes")
     os.makedirs(d, exist_ok=True)
-    mu = float(sc["pile"]["mu_settle"])
+    source = pile_scene(name)
+    mu = pile_friction(name)
+    pile_base = os.path.join(d, shipped_ridges.file_stem(source, ridge, mu))
     base = os.path.join(d, shipped_ridges.file_stem(name, ridge, mu))
-    pile_path, mesh_path = base + "_pile.h5", base + "_mesh.h5"
-    ship = shipped_ridges.shipped(name, ridge, mu)
+    pile_path, mesh_path = pile_base + "_pile.h5", base + "_mesh.h5"
+    ship = shipped_ridges.shipped(source, ridge, mu)
     if os.path.exists(pile_path) and os.path.exists(mesh_path) and _mesh_current(mesh_path):
-        _check_friction(pile_path, name, mu)
-        _check_shipped(pile_path, ship, base)
+        _check_friction(pile_path, source, mu)
+        _check_shipped(pile_path, ship, pile_base)
         return pile_path, mesh_path
-    with _scene_lock(base + "_scene.lock"):
-        _make(name, sc, ridge, mu, pile_path, mesh_path, threads, ship, base)
+    with _scene_lock(pile_base + "_scene.lock"):
+        _make_pile(source, scene(source), ridge, mu, pile_path, threads, ship, pile_base)
+    with _scene_lock(base + "_mesh.lock") if base != pile_base else contextlib.nullcontext():
+        _make_mesh(name, sc, ridge, pile_path, mesh_path, shipped_ridges.shipped(name, ridge, mu))
     return pile_path, mesh_path
 
 
@@ -126,8 +150,8 @@ def _check_shipped(pile_path, ship, base):
         f"Move {base}_* away (the pile, its mesh and rest states) to run the ridge every machine runs.")
 
 
-def _make(name, sc, ridge, mu, pile_path, mesh_path, threads, ship, base):
-    """The pile (shipped, or phase 1 in YADE) and its mesh, each unless it exists."""
+def _make_pile(name, sc, ridge, mu, pile_path, threads, ship, base):
+    """The pile (shipped, or phase 1 in YADE) unless it exists."""
     if not os.path.exists(pile_path) and ship is not None:
         print(f"[scene] {name} ridge {ridge}: the shipped pile {os.path.relpath(ship[0], ROOT)} "
               f"(made in YADE on {ship[1]['made_on']}; the same on every machine)", flush=True)
@@ -141,6 +165,10 @@ def _make(name, sc, ridge, mu, pile_path, mesh_path, threads, ship, base):
         run_phase1(pile_path, ridge, sc["pile"], threads=threads)
     _check_friction(pile_path, name, mu)
     _check_shipped(pile_path, ship, base)
+
+
+def _make_mesh(name, sc, ridge, pile_path, mesh_path, ship):
+    """The scene's mesh of the pile unless a current one exists."""
     if os.path.exists(mesh_path) and not _mesh_current(mesh_path):
         print(f"[scene] {mesh_path} predates the locality numbering of its nodes: meshing it again", flush=True)
     if not os.path.exists(mesh_path) or not _mesh_current(mesh_path):
@@ -162,7 +190,8 @@ def mesh_scene(sc, pile_path, mesh_path):
     # block edges shorter than a fifth of the element size are collapsed: they
     # would only make tiny elements that set a tiny stable step
     return meshing.mesh_pile_file(pile_path, mesh_path, element_size=sc["element_size"],
-                                  min_feature=0.2 * sc["element_size"])
+                                  min_feature=0.2 * sc["element_size"],
+                                  domain_width=sc.get("domain_width"))
 
 
 if __name__ == "__main__":

@@ -50,7 +50,8 @@ def shipped(scene_name, ridge, pile_friction):
     entry = manifest().get(stem)
     if entry is None:
         return None
-    return os.path.join(RIDGES_DIR, stem + "_pile.h5"), entry
+    # a scene meshing the central part of another's pile names that pile
+    return os.path.join(RIDGES_DIR, entry.get("pile", stem + "_pile.h5")), entry
 
 
 def digest(path):

@@ -194,3 +194,36 @@ def test_a_file_that_is_not_a_pile_stops_before_work(tmp_path):
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode != 0 and "not an HDF5" in proc.stderr
     assert not out.exists()
+
+
+def test_a_narrower_domain_meshes_the_central_part_of_the_pile():
+    """domain_width below the pile's cuts its blocks at +-W/2 as phase 1's walls
+    do; a piece thinner than one element is dropped, whole blocks outside too."""
+    A = box(-3.0, -1.0, YB - 0.3, YB)            # cut at x = -2.5: keeps 1.5 m
+    B = box(-2.55, -1.5, YB - 0.6, YB - 0.3)     # cut at -2.5: keeps 1.0 m, loses 5 cm
+    C = box(-2.5 - 0.3 + 0.04, -2.46, YB - 0.9, YB - 0.6)  # 4 cm inside after the cut: dropped
+    D = box(2.6, 3.5, YB - 0.3, YB)              # wholly outside: dropped
+    full = meshing.build_mesh(pile_dict([A, B, C, D]), element_size=0.1)
+    m = meshing.build_mesh(pile_dict([A, B, C, D]), element_size=0.1, domain_width=5.0)
+    np.testing.assert_array_equal(m["pile_block"], [0, 1])
+    assert m["settings"]["domain_width"] == 5.0 and m["pile_domain_width"] == W
+    assert m["nodes"][:, 0].min() == pytest.approx(-2.5) and m["nodes"][:, 0].max() == pytest.approx(2.5)
+    area = np.abs(meshing._signed_areas(m["nodes"], m["triangles"]))
+    blocks = np.bincount(m["body"], weights=area)[:2]
+    np.testing.assert_allclose(blocks, [1.5 * 0.3, 1.0 * 0.3], rtol=1e-9)
+    # A and B still bond to each other and to the layer as in the full mesh
+    assert {k for k in bond_lengths(m) if k[0] < 2 and k[1] < 2} == {(0, 1)}
+    assert bond_lengths(m)[(0, 1)] == pytest.approx(1.0, rel=1e-9)
+    assert len(full["pile_block"]) == 4 and "pile_domain_width" in full
+    with pytest.raises(ValueError, match="domain_width"):
+        meshing.build_mesh(pile_dict([A]), element_size=0.1, domain_width=9.0)
+
+
+def test_a_cut_piece_without_a_bond_is_dropped_with_the_crop():
+    """A piece the crop leaves with no bonded contact lost what held it: dropped.
+    A whole block without bonds (held by friction) is the pile's and stays."""
+    A = box(-3.0, -1.0, YB - 0.3, YB)                    # cut at -2.5, bonded to the layer
+    F = box(-2.9, -2.3, YB - 0.9, YB - 0.6)              # cut at -2.5, 0.2 m left, touching nothing
+    G = box(0.5, 1.5, YB - 0.9, YB - 0.6)                # whole, touching nothing: stays
+    m = meshing.build_mesh(pile_dict([A, F, G]), element_size=0.1, domain_width=5.0)
+    np.testing.assert_array_equal(m["pile_block"], [0, 2])

@@ -21,22 +21,24 @@ import pytest
 
 from icerubble.files.pile_file import read_pile
 from icerubble.run import scene_cache, shipped_ridges as SR
-from icerubble.run.presets import PILE_FRICTION
+from icerubble.run.presets import PILE_FRICTION, pile_friction, pile_scene
 from tests.paths import ROOT
 
 # meshing a paper ridge takes 6-8 s: the suite meshes the small scenes' ridges and paper ridge 1
-MESHED = [sr for sr in SR.ridges_to_ship() if sr[0] != "paper"] + [("paper", 1)]
+MESHED = [sr for sr in SR.ridges_to_ship() if sr[0] not in ("paper", "deep")] + [("paper", 1), ("deep", 1)]
 
 
 def test_every_ridge_a_table_names_is_shipped():
     entries = SR.manifest()
     for name, ridge in SR.ridges_to_ship():
-        stem = SR.file_stem(name, ridge, PILE_FRICTION)
+        mu = pile_friction(name)
+        stem = SR.file_stem(name, ridge, mu)
         assert stem in entries, f"{name} ridge {ridge} is named in a table but not shipped (tools/make_ridges.py)"
-        path = os.path.join(SR.RIDGES_DIR, stem + "_pile.h5")
+        path = os.path.join(SR.RIDGES_DIR, SR.file_stem(pile_scene(name), ridge, mu) + "_pile.h5")
+        assert SR.shipped(name, ridge, mu)[0] == path
         assert SR.digest(path) == entries[stem]["pile_digest"], f"{path} is not the pile its manifest names"
         meta = read_pile(path)["meta"]
-        assert meta["settled"] == 1 and meta["friction"] == PILE_FRICTION
+        assert meta["settled"] == 1 and meta["friction"] == mu
         assert meta["made_on"] and meta["shipped"] == os.path.relpath(path, ROOT)
 
 
@@ -50,14 +52,14 @@ def no_phase1(monkeypatch):
 @pytest.mark.parametrize("name,ridge", MESHED)
 def test_a_shipped_ridge_is_copied_and_meshes_as_where_it_was_made(name, ridge, tmp_path, no_phase1):
     pile_path, mesh_path = scene_cache.scene_files(name, ridge, root=str(tmp_path))
-    entry = SR.manifest()[SR.file_stem(name, ridge, PILE_FRICTION)]
+    mu = pile_friction(name)
+    entry = SR.manifest()[SR.file_stem(name, ridge, mu)]
     assert SR.digest(pile_path) == entry["pile_digest"]
     assert SR.digest(mesh_path) == entry["mesh_digest"], (
         f"this machine meshes {name} ridge {ridge} otherwise than where it was made: gmsh or numpy "
         "compute differently here (docs/reproducibility.md)")
     with h5py.File(mesh_path) as f:   # every result on it says where its pile came from
-        assert f.attrs["pile_shipped"].endswith(os.path.basename(SR.file_stem(name, ridge, PILE_FRICTION))
-                                                + "_pile.h5")
+        assert f.attrs["pile_shipped"].endswith(SR.file_stem(pile_scene(name), ridge, mu) + "_pile.h5")
         assert f.attrs["pile_made_on"] == entry["made_on"]
 
 
@@ -119,3 +121,14 @@ def test_a_run_computes_the_same_bits_on_an_older_processor(tmp_path):
         records.append(np.load(out / "record.npy"))
     assert records[0].shape == records[1].shape and records[0].shape[1] > 10
     assert records[0].tobytes() == records[1].tobytes()
+
+
+def test_the_paper_scenes_ridges_are_as_deep_and_loose_as_table_1s():
+    """Table 1: keel depth h ~ 4 m, bulk porosity ~0.25 (void / total area,
+    docs/pile_and_mesh.md); the block count fills h, the porosity is what
+    phase 1's procedure (random orientations, ice-ice friction) gives."""
+    ridges = [e for e in SR.manifest().values() if e["scene"] == "paper"]
+    assert len(ridges) >= 4
+    for e in ridges:
+        assert 3.6 <= e["keel_depth"] <= 4.4, e
+        assert 0.2 <= e["pile_porosity"] <= 0.3 and 0.2 <= e["mesh_porosity"] <= 0.3, e
