@@ -10,7 +10,7 @@ settled again instead of loading it. Two guards:
 - default_threads(): what "0 = OpenMP's default" means, read from where
   OpenMP reads it at start (OMP_NUM_THREADS, which `yade -jN` sets, else the
   CPUs this process may run on), never from the live setting; the engine
-  sets this count explicitly on each model (engine/model.py);
+  sets this count explicitly on each model (icerubble/engine/model.py);
 - openmp_threads_kept(): around gmsh, the live setting is put back, for the
   OpenMP code that does read it (YADE's own loops in a rigid-dem run).
 """

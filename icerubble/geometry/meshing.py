@@ -88,7 +88,7 @@ def _min_width(p):
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
                min_feature=0.01, fuzzy=1e-3, indenter_width=4.0, indenter_thickness=1.0,
                algorithm=6, feature_fraction=0.4, domain_width=None, verbose=False):
-    """Mesh a pile (dict from icerubble.pile.read_pile). Returns the mesh dict (see write_mesh).
+    """Mesh a pile (dict from icerubble.files.pile_file.read_pile). Returns the mesh dict (see write_mesh).
 
     ``domain_width`` below the pile's own meshes the central part of the pile
     (crop_blocks, pieces thinner than ``element_size`` dropped); its blocks are

@@ -1,4 +1,4 @@
-"""Small bonded scenes shared by the freeze-bond tests (tests/test_freeze_bonds*.py)."""
+"""Small bonded scenes shared by the freeze-bond tests (tests/engine/test_freeze_bonds_*.py)."""
 import numpy as np
 
 from icerubble import engine

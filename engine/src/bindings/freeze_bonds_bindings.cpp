@@ -1,4 +1,4 @@
-// Python access to the freeze bonds of a Model (wrapped by icerubble/fdem.py:
+// Python access to the freeze bonds of a Model (wrapped by icerubble/engine/model.py:
 // Model.set_bond_points, Model.bonds, checkpoints). Adds methods to the Model
 // class registered by model_bindings.cpp.
 #include <pybind11/numpy.h>

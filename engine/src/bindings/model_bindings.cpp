@@ -1,4 +1,4 @@
-// Python access to the engine (wrapped by icerubble/fdem.py, which is the
+// Python access to the engine (wrapped by icerubble/engine/model.py, which is the
 // documented API: validation messages, node sets, named results).
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>

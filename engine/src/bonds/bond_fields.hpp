@@ -31,7 +31,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }  // namespace bond_fields
 
 // The static description of the bonds, as found from the mesh
-// (icerubble/bond_points.py). Pairs are grouped by point (pair_point
+// (icerubble/geometry/bond_points.py). Pairs are grouped by point (pair_point
 // non-decreasing) and every point has at least one pair.
 #define ENGINE_BOND_INPUT_FIELDS(X)                                                           \
   X(point, int32_t, node, 0, "mesh node id")                                                  \

@@ -27,7 +27,7 @@ namespace engine {
 
 enum class DragModel : int { None = 0, Linear = 1, Quadratic = 2 };
 
-// Defaults of a Model built without the Python layer (icerubble.fdem sets
+// Defaults of a Model built without the Python layer (icerubble.engine sets
 // every parameter itself); the only place these numbers appear in C++.
 constexpr double kStandardGravity = 9.81;  // [m/s²]
 constexpr double kSeaWaterDensity = 1010.0;  // [kg/m³], the paper's Table 1 (docs/model.md §2)
