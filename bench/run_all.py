@@ -1,5 +1,7 @@
 """`make bench`: run every benchmark bench/*.py (each prints its figures and
-writes bench/results/<name>.json). Extra arguments (e.g. --quick) are passed on."""
+writes bench/results/<name>.json), stamp each result it rewrote with the code
+and machine (bench/stamps.py) and write bench/README.md from the results
+(bench/make_readme.py). Extra arguments (e.g. --quick) are passed on."""
 import glob
 import os
 import subprocess
@@ -7,26 +9,40 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import stamps  # noqa: E402
+
 # Benchmarks of many hours, run alone (each says how in its docstring).
 LONG = {"paper_peak.py": "the paper scene's cohesive peak under each preset: ~0.7-1 h for `fast` "
                          "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle"}
+# Not benchmarks: the stamps and the measured figures' page.
+HELPERS = {"run_all.py", "stamps.py", "make_readme.py"}
+RESULTS = os.path.join(HERE, "results")
+
+
+def result_times():
+    return {os.path.basename(p): os.path.getmtime(p) for p in glob.glob(os.path.join(RESULTS, "*.json"))}
 
 
 def main():
     scripts = sorted(p for p in glob.glob(os.path.join(HERE, "*.py"))
-                     if os.path.basename(p) not in LONG and os.path.basename(p) != os.path.basename(__file__))
+                     if os.path.basename(p) not in LONG and os.path.basename(p) not in HELPERS)
     for name, what in LONG.items():
         print(f"=== {name}: not run by make bench ({what}); /usr/bin/python3 bench/{name}", flush=True)
     failed = []
     for path in scripts:
         name = os.path.basename(path)
         print(f"=== {name}", flush=True)
-        start = time.time()
+        start, before = time.time(), result_times()
         rc = subprocess.call([sys.executable, path] + sys.argv[1:])
+        rewritten = [n for n, t in result_times().items() if before.get(n) != t and n != "stamps.json"]
+        if rc == 0 and rewritten:
+            stamps.stamp(rewritten)
         print(f"=== {name}: {'ok' if rc == 0 else f'FAILED (exit {rc})'} in {time.time() - start:.0f} s\n",
               flush=True)
         if rc:
             failed.append(name)
+    subprocess.check_call([sys.executable, os.path.join(HERE, "make_readme.py")])
     if failed:
         sys.exit(f"benchmarks failed: {', '.join(failed)}")
 
