@@ -1,39 +1,40 @@
 """Named scenes: pile, mesh and the numerical settings that go with them.
 
-``paper`` is the paper's set-up (Table 1): a 50 m wide, ~4 m deep keel at
-porosity ~0.26, the paper's element size class and penalty; its piles form as
-the paper's (PAPER_PILE below; measured in docs/pile_and_mesh.md). At that
-penalty the few tiny elements of a real pile's mesh bring the stable step down
-to ~1e-8 s, so the paper scene scales the inertial mass of the nodes that
-limit it (weight stays physical); see NUMERICS below and README "Speed against
-accuracy".
+Only the settings are here; what they cost and change is measured in
+bench/README.md, the piles' porosity and keel depth in docs/pile_and_mesh.md.
+
+``paper`` is the paper's set-up (Table 1): a 50 m wide, 4 m deep keel as loose
+as the paper's, the paper's element size class and Table 1's penalty; its
+piles form as the paper's (PAPER_PILE below). At that penalty the few tiny
+elements of a real pile's mesh bring the stable step far below the paper's
+1 us, so the paper scene scales the inertial mass of the nodes that limit it
+(weight stays physical); see NUMERICS below and docs/speed_and_accuracy.md.
 ``deep`` is the central 20 m of the paper scene's ridges on 0.15 m elements,
 with the paper's penalty and strengths: the paper's keel at a workstation's
 cost (docs/study_paper_depth.md).
-``small`` and ``demo`` are a 10 m wide, ~1.8 m deep keel on a coarser mesh
-that runs in minutes on a workstation; ``wide`` is the same at 30 m (a far
-field). To afford a larger time step they use a 40x softer contact penalty
-(5e9 Pa: contact overlaps stay of the order of micrometres at these loads);
-the demo and wide scenes also ramp the indenter up in 0.5 s instead of 2 s.
-Their meshes' stable steps are 3.7e-6 s on a clean mesh (small ridge 1) but
-4e-8 to 1.1e-7 s where the pile leaves a 2-4 mm element at a block junction
-(ridges 2-4; the block viscosity makes such an element's limit fall as its
-size squared), so they scale the masses of those few nodes to a 3e-6 s step:
-0.1-0.8 % added inertial mass on 40-260 nodes (recorded in the result).
-``tiny`` (8 blocks, 2 mm of travel, seconds) checks that a set-up runs.
+``small`` and ``demo`` are a 10 m wide, 1.8 m deep keel on a coarser mesh
+(0.15 m) that runs in minutes on a workstation; ``wide`` is the same at 30 m
+(a far field). To afford a larger time step they use a 40x softer contact
+penalty than Table 1's (5e9 Pa: contact overlaps stay of the order of
+micrometres at these loads); the demo and wide scenes also ramp the indenter
+up in 0.5 s instead of Table 1's 2 s. Where the pile leaves a 2-4 mm element
+at a block junction (the block viscosity makes such an element's limit fall
+as its size squared), they scale the masses of those few nodes to a 3e-6 s
+step (the added mass is recorded in the result).
+``tiny`` (8 blocks, 2 mm of travel, a 0.1 s ramp: seconds) checks that a
+set-up runs.
 Everything else is Table 1. Deviations are recorded in every result file's
 /parameters.
 
 The coarse scenes' piles are settled in phase 1 at PILE_FRICTION = 0.05, the
 lowest friction coefficient of the paper's study, from a compact start tilted
 at most 30 deg: at rest within the 0.05 friction cone, they are at rest within
-the 0.3 cone too, and dense (porosity 0.19-0.22 at 1.7 m; 0.14 at 4 m). The
-paper scene's piles form at 0.3 from random orientations, as loose as the
-paper's, and are then held at 0.05 with their face contacts frozen (where the
-mesh bonds them) until the blocks held by friction alone have slid to a new
-rest: at rest at every mu of the study (docs/pile_and_mesh.md). The pile and
-mesh file names carry the friction the pile formed at
-(icerubble/run/scene_cache.py).
+the 0.3 cone too, and dense. The paper scene's piles form at 0.3 from random
+orientations, as loose as the paper's, and are then held at 0.05 with their
+face contacts frozen (where the mesh bonds them) until the blocks held by
+friction alone have slid to a new rest: at rest at every mu of the study
+(docs/pile_and_mesh.md). The pile and mesh file names carry the friction the
+pile formed at (icerubble/run/scene_cache.py).
 """
 # Friction of phase 1 (yade_scripts/make_pile.py mu_settle) of the coarse
 # scenes' dense piles: the lowest mu of the study.
@@ -103,21 +104,21 @@ SCENES = {
 # same added mass); "fast" also runs at 0.95 of the stable step (at 1.0 the
 # step recomputed after a bond split could differ from it in the last digits).
 # What each costs in accuracy is measured by bench/runtime_vs_error.py
-# (bench/results/runtime_vs_error.json; README "Speed against accuracy").
+# (bench/README.md; docs/speed_and_accuracy.md).
 # The sleeping far field (RunOptions sleep) is in no preset: on the 30 m wide
-# keel it lets 4-6 % of the element work of the first 20 mm sleep and moves
-# F^m by 0.9-14 % (bench/sleeping.py): once the first bonds fail, the whole
-# keel rings (blocks 12-15 m from the indenter at 0.2-3 mm/s, mean
-# accelerations of 0.01-0.1 g over 0.5 ms), so no body stays at rest for long.
+# keel it saves a few per cent of the element work and moves F^m by more than
+# the step's scatter (bench/sleeping.py): once the first bonds fail, the whole
+# keel rings (docs/model.md §3.5), so no body stays at rest for long.
 NUMERICS = {
     "paper": {
         "paper": dict(dt_fraction=0.8, mass_scaling_dt=2e-7),
         # a 3 mm reach: nodes are bounded against what they can meet in the next
-        # 3 mm (the reach guard raises a node's mass when a block comes closer);
-        # on ridge 1 that makes 1e-6 s with 0.97 % added mass (1.34 % at 0.1 m)
-        # and they settle at twice their loading step (dynamic relaxation with
-        # 26 % / 46 % more inertial mass on the boundary nodes: the settle's
-        # steps halve; docs/model.md §3 "A larger step while settling")
+        # 3 mm (the reach guard raises a node's mass when a block comes closer),
+        # which affords a larger mass-scaling target for little added mass; they
+        # settle at twice their loading step (dynamic relaxation with more
+        # inertial mass on the boundary nodes: the settle's steps halve;
+        # docs/model.md §3 "A larger step while settling"; the added masses:
+        # bench/README.md, paper_cost.json)
         "balanced": dict(dt_fraction=0.8, mass_scaling_dt=1e-6, contact_reach=0.003,
                          settle_mass_scaling_dt=2e-6),
         "fast": dict(dt_fraction=0.95, mass_scaling_dt=1.2e-6, contact_reach=0.003,
@@ -129,8 +130,8 @@ NUMERICS["deep"] = {k: dict(v) for k, v in NUMERICS["paper"].items()}
 for _name in ("small", "wide", "demo", "tiny"):
     NUMERICS[_name] = {
         "paper": dict(dt_fraction=0.8, mass_scaling_dt=3e-6),
-        # settling at 4x the step (12 % more inertial mass on small ridge 1):
-        # its settle took 11.5 s instead of 41 s, the cohesive peak the same to 0.06 %
+        # settling at 4x the step: a fraction of the settle's steps, the same rest
+        # (tests/run/test_settle_mu.py)
         "balanced": dict(dt_fraction=0.8, mass_scaling_dt=3e-6, contact_reach=0.1, settle_mass_scaling_dt=1.2e-5),
         "fast": dict(dt_fraction=0.95, mass_scaling_dt=3e-6, contact_reach=0.1, settle_mass_scaling_dt=1.2e-5),
     }
