@@ -4,15 +4,17 @@ A renamed or deleted file leaves its old name behind in prose that no test
 reads (issue 27, item 5); this reads it. It looks in the docs (README.md,
 docs/*.md, bench/README.md and the other tracked Markdown) and in the comments
 and docstrings of the source (Python, C++, shell, the Makefile): string
-literals in code are left out, since there `engine/positions` is an HDF5
-group, not a file. Names looked for:
+literals in code are left out, since there a name like a path is often an
+HDF5 group of a checkpoint, not a file. Names looked for:
 - paths under one of the repository's top folders (`docs/model.md`,
   `tests/run/test_study.py::test_x`, `engine/src/contact/`; a pattern such as
   `tests/engine/test_freeze_bonds_*.py` or `bench/results/<name>.json` must
   match at least one file), and in the C++ the include-style paths
   (`contact/contact.hpp`, `cohesive_law/softening.hpp`);
 - dotted modules of the two packages (`icerubble.run.presets`,
-  `postproc.make_figures`, with an optional `.name` defined in the module).
+  `postproc.make_figures`, with an optional `.name` defined in the module);
+- a section of a page named by its words (`docs/model.md` §3 "A larger step
+  while settling"): the words must be on that page.
 Outputs a user or a run creates are not in the repository; the names below
 are exempt, each with why. Runs in about a second.
 """
@@ -37,6 +39,7 @@ NOT_SHIPPED = [
     (r"^icerubble/_[a-z_*]+\.so$", "a compiled extension `make build` makes"),
     (r"^docs/figures/study_paper_depth", "the figures the commands of docs/study_paper_depth.md write"),
     (r"^bench/results/deep_vs_paper\.json$", "bench/deep_vs_paper.py writes it; not yet run"),
+    (r"^bench/results/stamps\.json$", "the first stamp writes it (make bench, bench/stamps.py)"),
 ]
 
 DOCS = re.compile(r"\.md$")
@@ -149,6 +152,32 @@ def stale_names():
                 if not path_exists(name, (os.path.dirname(rel),) + INCLUDE_ROOTS + ("",)):
                     stale.append((rel, name))
     return sorted(set(stale))
+
+
+SECTION = re.compile(r'((?:docs/[\w.-]+\.md|bench/README\.md|README(?:\.md)?))`?\)?(?:\s*§[\d.]+)?,?\s+'
+                     r'["\u201c]([^"\u201d\n]{4,80})["\u201d]')
+
+
+def words(text):
+    return " ".join(text.lower().split())
+
+
+def stale_sections():
+    stale = []
+    for rel in tracked(DOCS) + tracked(CODE):
+        for m in SECTION.finditer(prose(rel)):
+            page = "README.md" if m.group(1).startswith("README") else m.group(1)
+            path = os.path.join(ROOT, page)
+            if os.path.exists(path):
+                with open(path) as f:
+                    if words(m.group(2)) not in words(f.read()):
+                        stale.append((rel, f'{page} "{m.group(2)}"'))
+    return stale
+
+
+def test_every_named_section_is_on_its_page():
+    stale = stale_sections()
+    assert not stale, "sections named but not on their page:\n" + "\n".join(f"  {f}: {n}" for f, n in stale)
 
 
 def test_every_named_file_module_and_test_exists():

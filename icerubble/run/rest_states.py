@@ -8,8 +8,8 @@ nor the indenter's ramp and travel: SETTLE_FREE. The paper's study sweeps
 tau_cr over five values for each ridge and mu; with a shared rest state the
 first of the five to settle writes it next to the scene's mesh and the other
 four load from it (checkpoint.restore(shared=True), with their own
-strengths), skipping a settle that costs ~0.45 h of the ~1.5 h to 20 mm on
-the paper scene (README "Speed against accuracy"). Only runs that start
+strengths), skipping a settle that is a large part of a short run on the
+paper scene (bench/README.md, paper_cost.json). Only runs that start
 after the rest state is written find it: runs that start together (a
 SLURM array's tasks, yade-batch -j 2) all settle.
 

@@ -57,7 +57,7 @@ def runs(files, tmp_path_factory):
     out = {}
     for mu in STUDY_MU:
         path = tmp_path_factory.mktemp(f"mu{mu}") / "run.h5"
-        # balanced: settling at 4x the step, the same rest (README, "Speed against accuracy")
+        # balanced: settling at 4x the step, the same rest (docs/speed_and_accuracy.md)
         options = RunOptions.from_numerics(numerics(SCENE, "balanced"), name="balanced")
         options.threads, options.vtu, options.progress_every_s = 1, False, 1e9
         run = PunchThrough(mesh_path, path, params=dict(sc["params"], mu=mu, target_travel=TRAVEL),
