@@ -48,7 +48,7 @@ def usage():
 
 
 def version():
-    from .files.h5io import code_version
+    from .code_identity import code_version
     return f"icerubble {code_version()}"
 
 
