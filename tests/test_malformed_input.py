@@ -382,7 +382,7 @@ def api_engine_nan_node(d, g):
 
 @case("api", r"'force/y_I'")
 def api_results_reader_without_travel(d, g):
-    from postproc import results
+    from icerubble.files import results
     path = broken(g["result"], d, lambda f: f.__delitem__("force/y_I"))
     return lambda: results.load(path)
 
