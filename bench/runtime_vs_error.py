@@ -27,7 +27,7 @@ import h5py
 from icerubble.files import results
 from icerubble.run.presets import numerics
 from icerubble.run.punch_through_run import RunOptions
-from icerubble.run.study import run_one
+from icerubble.study.line import run_one
 from postproc import loads
 from postproc.summary import summarize
 

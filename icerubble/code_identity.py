@@ -33,8 +33,8 @@ PACKAGE = os.path.dirname(os.path.abspath(__file__))
 EXTENSIONS = ("icerubble._engine", "icerubble._cohesive_law")
 # Modules that print, parse command lines or talk to schedulers, and compute
 # nothing a run records: a change to them keeps checkpoints valid.
-CONSOLE_ONLY = ("cli.py", "run/demo.py", "run/progress.py", "run/study_command.py", "run/study_folder.py",
-                "run/study_outcome.py", "run/study_progress.py", "run/slurm.py", "run/table_check.py",
+CONSOLE_ONLY = ("cli.py", "run/progress.py", "study/command.py", "study/folder.py",
+                "study/outcome.py", "study/progress.py", "study/slurm.py", "study/table_check.py",
                 "geometry/mesh_command.py")
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from icerubble.files import results
-from icerubble.run.table_check import check_table
+from icerubble.study.table_check import check_table
 from postproc import loads, model_comparison
 from tests.paths import ROOT
 
