@@ -32,9 +32,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 from icerubble import machine  # noqa: E402
+from icerubble.files import results  # noqa: E402
 from icerubble.run import presets  # noqa: E402
-from icerubble.run.study import run_one  # noqa: E402
-from postproc import failure_plane, loads, plug, results  # noqa: E402
+from icerubble.study.line import run_one  # noqa: E402
+from postproc import failure_plane, loads, plug  # noqa: E402
 
 OUT_JSON = os.path.join(ROOT, "bench", "results", "deep_vs_paper.json")
 TRAVEL = 20e-3                      # m: the paper's "after the steep decrease" instant

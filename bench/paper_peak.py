@@ -29,10 +29,11 @@ import os
 import h5py
 import numpy as np
 
+from icerubble.files import results
 from icerubble.run.presets import numerics, scene
 from icerubble.run.punch_through_run import PunchThrough, RunOptions
 from icerubble.run.scene_cache import scene_files
-from postproc import loads, results
+from postproc import loads
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT_JSON = os.path.join(ROOT, "bench", "results", "paper_peak.json")

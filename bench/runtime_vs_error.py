@@ -24,10 +24,11 @@ import time
 
 import h5py
 
+from icerubble.files import results
 from icerubble.run.presets import numerics
 from icerubble.run.punch_through_run import RunOptions
-from icerubble.run.study import run_one
-from postproc import loads, results
+from icerubble.study.line import run_one
+from postproc import loads
 from postproc.summary import summarize
 
 MEAN_WINDOWS_MM = [(1, 5), (5, 10), (10, 20)]

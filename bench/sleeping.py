@@ -23,10 +23,10 @@ import time
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from runtime_vs_error import errors, measures  # noqa: E402
 
+from icerubble.files import results  # noqa: E402
 from icerubble.run.presets import numerics  # noqa: E402
 from icerubble.run.punch_through_run import RunOptions  # noqa: E402
-from icerubble.run.study import run_one  # noqa: E402
-from postproc import results  # noqa: E402
+from icerubble.study.line import run_one  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # (name, thresholds): velocity [m/s] every node of a body stays under for a

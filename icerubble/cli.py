@@ -20,11 +20,13 @@ import sys
 from . import exit_status
 
 # command -> (module whose main(argv) it runs, what it does); modules are
-# imported on use, so a command does not pay for (or need) another's dependencies
+# imported on use, so a command does not pay for (or need) another's dependencies;
+# postproc's commands are named here, never imported by icerubble's modules
+# (tests/test_import_layers.py)
 COMMANDS = {
-    "demo": ("icerubble.run.demo", "pile -> mesh -> punch-through -> figures on a small scene (make demo)"),
+    "demo": ("postproc.demo", "pile -> mesh -> punch-through -> figures on a small scene (make demo)"),
     "mesh": ("icerubble.geometry.mesh_command", "mesh a settled pile with gmsh"),
-    "study": ("icerubble.run.study_command", "a yade-batch table of runs:"),
+    "study": ("icerubble.study.command", "a yade-batch table of runs:"),
     "figures": ("postproc.make_figures", "every figure and table of the paper from a folder of runs"),
     "run-figures": ("postproc.run_figures", "F-y_I record and u_y field of one run"),
     "summary": ("postproc.summary", "one line per run: peaks, alpha, n_t/n_s"),
@@ -35,7 +37,7 @@ COMMANDS = {
 
 def usage():
     """The text of `icerubble --help`."""
-    from .run.study_command import ACTIONS   # light: argparse and the study's files
+    from .study.command import ACTIONS   # light: argparse and the study's files
     width = max(map(len, COMMANDS)) + 2
     lines = ["usage: icerubble COMMAND [ARGS ...]   (icerubble COMMAND --help: its options)",
              "       icerubble --version", "", "commands:"]
@@ -48,7 +50,7 @@ def usage():
 
 
 def version():
-    from .files.h5io import code_version
+    from .code_identity import code_version
     return f"icerubble {code_version()}"
 
 

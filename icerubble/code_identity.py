@@ -2,7 +2,7 @@
 
 A run continued from a checkpoint is one run only if the code that wrote the
 checkpoint and the code that continues it compute alike. The git commit
-(files.h5io.code_version: "0.1.0+g1a2b3c4[.dirty]", recorded in every file
+(code_version below: "0.1.0+g1a2b3c4[.dirty]", recorded in every file
 for people to read) cannot tell: ".dirty" hides which edits, a commit that
 only touched the README changes it, and the compiled engine is a build
 output git does not see (a worktree may hold one built from other sources).
@@ -25,13 +25,16 @@ import functools
 import hashlib
 import importlib.util
 import os
+import subprocess
+
+from . import __version__
 
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
 EXTENSIONS = ("icerubble._engine", "icerubble._cohesive_law")
 # Modules that print, parse command lines or talk to schedulers, and compute
 # nothing a run records: a change to them keeps checkpoints valid.
-CONSOLE_ONLY = ("cli.py", "run/demo.py", "run/progress.py", "run/study_command.py", "run/study_folder.py",
-                "run/study_outcome.py", "run/study_progress.py", "run/slurm.py", "run/table_check.py",
+CONSOLE_ONLY = ("cli.py", "run/progress.py", "study/command.py", "study/folder.py",
+                "study/outcome.py", "study/progress.py", "study/slurm.py", "study/table_check.py",
                 "geometry/mesh_command.py")
 
 
@@ -66,11 +69,27 @@ def source_hash():
     return h.hexdigest()[:16]
 
 
+def code_version():
+    """Package version plus the git commit of the checkout, if there is one:
+    for people to read; whether two codes compute alike is source_hash's
+    (above)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    try:
+        rev = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True, timeout=5).stdout.strip()
+        dirty = subprocess.run(["git", "-C", here, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=5).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        rev, dirty = "", ""
+    if rev:
+        return f"{__version__}+g{rev}" + (".dirty" if dirty else "")
+    return __version__
+
+
 def refuse_other_code(attrs, path, what="checkpoint"):
     """ValueError unless the file with root attributes `attrs` was written by
     code of this source_hash (the rule above), saying which code wrote it,
     which is running and what to do."""
-    from .files.h5io import code_version
     theirs = attrs.get("source_hash")
     theirs = theirs.decode() if isinstance(theirs, bytes) else theirs
     if theirs == source_hash():

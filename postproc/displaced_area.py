@@ -18,8 +18,9 @@ rattle and hide the correlation the paper reports.
 """
 import numpy as np
 
+from icerubble.files.results import BLOCK
+
 from . import loads, plug
-from .results import BLOCK
 
 # Fig. 20: K = {0.1, 0.45, 0.9}, y_I = {20, 30, ..., 150} mm
 FIG20_K = (0.1, 0.45, 0.9)

@@ -3,10 +3,11 @@ F_d (eq 14) and the F-A_d correlation."""
 import numpy as np
 from matplotlib.collections import PolyCollection
 
+from icerubble.files.results import BLOCK
+
 from . import displaced_area as dA
 from . import loads, plotting, plug
 from .catalog import Missing
-from .results import BLOCK
 
 FIG18_K = (0.45, 0.9)
 

@@ -21,9 +21,10 @@ import sys
 import traceback
 
 from icerubble import cli
+from icerubble.files import results
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import failure_plane, figures_deformation, figures_failure, figures_force, results, summary, tables
+from . import failure_plane, figures_deformation, figures_failure, figures_force, summary, tables
 from .catalog import Catalog, Missing
 
 FIGURES = {**figures_force.FIGURES, **figures_failure.FIGURES, **figures_deformation.FIGURES}

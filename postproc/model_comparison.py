@@ -14,7 +14,9 @@ import os
 
 import numpy as np
 
-from . import plotting, results, summary
+from icerubble.files import results
+
+from . import plotting, summary
 
 ROWS = [  # (summary column, label, unit)
     ("F_m_kN_per_m", "F^m", "kN/m"),   # the cohesive peak (loads.cohesive_peak)

@@ -24,10 +24,11 @@ import sys
 import numpy as np
 
 from icerubble import cli
+from icerubble.files import results
 from icerubble.files.output_path import check_output_file, whole_file
 
 from . import displaced_area as dA
-from . import failure_plane, loads, plug, results, summary
+from . import failure_plane, loads, plug, summary
 from .failure_plane import mean_sd
 
 # The paper's numbers (section 3, Tables 2 and 3)

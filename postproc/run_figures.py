@@ -8,9 +8,10 @@ import os
 import sys
 
 from icerubble import cli
+from icerubble.files import results
 from icerubble.files.output_path import check_output_folder
 
-from . import loads, plotting, results
+from . import loads, plotting
 from .catalog import Missing
 from .figures_deformation import field_panel
 

@@ -9,8 +9,9 @@ depth h, the "cylindrical failure" in 2D). Three buoyant components F_b
 """
 import numpy as np
 
+from icerubble.files.results import FailureMode
+
 from .failure_plane import mean_sd
-from .results import FailureMode
 
 CYLINDRICAL_PLUG_FORCE = 11e3  # N/m, the paper's value for w_I = h = 4 m
 

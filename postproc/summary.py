@@ -10,9 +10,10 @@ import sys
 import numpy as np
 
 from icerubble import cli
+from icerubble.files import results
 from icerubble.files.output_path import check_output_file, whole_file
 
-from . import failure_plane, loads, plug, results, shear_strength
+from . import failure_plane, loads, plug, shear_strength
 
 F20_TRAVEL = 20e-3  # m: the paper's "after the steep decrease" instant (Figs. 13-15, Table 2)
 POST_PEAK_INTERVALS = ((20e-3, 150e-3), (150e-3, 300e-3))  # m (section 3.1.1, Figs. 18, 20)

@@ -24,9 +24,10 @@ import sys
 import h5py
 import numpy as np
 
+from icerubble.files.results import find_results, load
+
 from . import displaced_area as dA
 from .loads import cohesive_peak, load_at, record_maximum
-from .results import find_results, load
 
 NAME = re.compile(r"wm_(?P<cand>.+)_r(?P<ridge>\d+)_v(?P<v>[0-9.]+)\.h5$")
 K = 0.45

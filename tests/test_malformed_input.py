@@ -332,19 +332,19 @@ def api_resume_from_a_checkpoint_without_positions(d, g):
 
 @case("api", "scene='huge' is unknown")
 def api_study_unknown_scene(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     return lambda: run_one("huge", 1, out_dir=os.path.join(d, "runs"))
 
 
 @case("api", "numerics='turbo' is unknown")
 def api_study_unknown_preset(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     return lambda: run_one("tiny", 1, out_dir=os.path.join(d, "runs"), numerics_name="turbo")
 
 
 @case("api", "ridge=-2")
 def api_study_negative_ridge(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     return lambda: run_one("tiny", -2, out_dir=os.path.join(d, "runs"))
 
 
@@ -382,7 +382,7 @@ def api_engine_nan_node(d, g):
 
 @case("api", r"'force/y_I'")
 def api_results_reader_without_travel(d, g):
-    from postproc import results
+    from icerubble.files import results
     path = broken(g["result"], d, lambda f: f.__delitem__("force/y_I"))
     return lambda: results.load(path)
 
@@ -467,13 +467,13 @@ def cli_study_check_a_made_description_with_a_slash(d, g):
 
 @case("api", r"description '\.\./escaped' is not a plain file name")
 def api_study_description_up_a_folder(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     return lambda: run_one("tiny", 1, out_dir=os.path.join(d, "runs"), description="../escaped")
 
 
 @case("api", r"ridge=True must be a whole number >= 0")
 def api_study_boolean_ridge(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     return lambda: run_one("tiny", True, out_dir=os.path.join(d, "runs"))
 
 
@@ -576,7 +576,7 @@ def yade_punch_through_damaged_file_at_the_result(d, g):
 
 @case("api", r"r\.h5 exists but cannot be read as a result")
 def api_study_truncated_file_at_the_result(d, g):
-    from icerubble.run.study import run_one
+    from icerubble.study.line import run_one
     with open(g["result"], "rb") as f:
         head = f.read(4096)
     with open(os.path.join(d, "r.h5"), "wb") as f:   # a copy cut short
@@ -725,8 +725,8 @@ FAKE_YADE_BATCH = r'''#!/usr/bin/python3
 a few seconds, writes a complete result and a log that names it."""
 import os, sys, time
 import h5py
-from icerubble.run import study_outcome as SO
-from icerubble.run.table_check import read_table
+from icerubble.study import outcome as SO
+from icerubble.study.table_check import read_table
 table = sys.argv[-2]
 time.sleep(float(os.environ["FAKE_LINE_SECONDS"]))
 for n, row, _ in read_table(table)[1]:
@@ -825,7 +825,7 @@ def test_version_names_the_package_and_the_code():
 
 def test_help_lists_every_command_and_every_study_action():
     from icerubble.cli import COMMANDS
-    from icerubble.run.study_command import ACTIONS
+    from icerubble.study.command import ACTIONS
     r = icerubble("--help")
     assert r.returncode == 0
     listed = [ln.split()[0] for ln in r.stdout.splitlines() if ln.startswith("  ") and ln.strip()]

@@ -29,6 +29,7 @@ from icerubble.files.pile_file import read_pile  # noqa: E402
 from icerubble.run import shipped_ridges as SR  # noqa: E402
 from icerubble.run.presets import pile_friction, pile_scene, scene  # noqa: E402
 from icerubble.run.scene_cache import mesh_scene, run_phase1  # noqa: E402
+from icerubble.study.table_check import ridges_to_ship  # noqa: E402
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="tools/make_ridges.py", description=__doc__,
@@ -41,7 +42,7 @@ def main(argv=None):
     entries = SR.manifest()
     only = set(a.scenes.split(",")) if a.scenes else None
     # a scene that meshes another's piles after that scene's piles are shipped
-    for name, ridge in sorted(SR.ridges_to_ship(), key=lambda sr: (pile_scene(sr[0]) != sr[0], sr)):
+    for name, ridge in sorted(ridges_to_ship(), key=lambda sr: (pile_scene(sr[0]) != sr[0], sr)):
         if only is not None and name not in only:
             continue
         sc = scene(name)

@@ -40,10 +40,10 @@ from icerubble.run import checkpoint as ckpt  # noqa: E402
 from icerubble.run import run_identity as RI  # noqa: E402
 from icerubble.run.presets import DEFAULT_NUMERICS, numerics, scene  # noqa: E402
 from icerubble.run.punch_through_run import PunchThrough, RunOptions  # noqa: E402
-from icerubble.run.recorder import ENERGY_TERMS  # noqa: E402
+from icerubble.files.recorder import ENERGY_TERMS  # noqa: E402
 from icerubble.run.scene_cache import scene_files  # noqa: E402
 from icerubble.files.mesh_file import read_mesh  # noqa: E402
-from icerubble.run.study import run_name  # noqa: E402
+from icerubble.study.line import run_name  # noqa: E402
 
 FIRST_PEAK_TRAVEL = 5e-3
 

@@ -56,7 +56,7 @@ from icerubble import exit_status, machine
 from icerubble.files.pile_file import read_pile, write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
-from icerubble.run.table_check import reader_problems
+from icerubble.study.table_check import reader_problems
 
 # every touching pair prints a warning each step otherwise (docs/yade_notes.md)
 yade.log.setLevel('Polyhedra_support.cpp', yade.log.ERROR)

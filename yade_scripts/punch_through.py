@@ -32,7 +32,7 @@ _ROOT = os.path.dirname(os.path.dirname(os.path.abspath(sys.argv[0] if sys.argv[
 sys.path.insert(0, _ROOT)
 
 from icerubble import exit_status, parameters as P
-from icerubble.run.table_check import check_table
+from icerubble.study.table_check import check_table
 
 # The whole table is checked before this line runs (YADE would otherwise stop
 # at the first bad value with a NameError naming no column).
@@ -55,8 +55,8 @@ from yade.wrapper import O
 
 from icerubble.cli import os_error_text
 from icerubble.run.punch_through_run import RunInterrupted
-from icerubble.run.study import run_one
-from icerubble.run.study_outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESULT_MARK
+from icerubble.study.line import run_one
+from icerubble.study.outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESULT_MARK
 
 overrides = {k: getattr(table, k) for k in P.TABLE_1 if getattr(table, k) is not None}
 description = O.tags["description"] if "description" in O.tags.keys() else ""

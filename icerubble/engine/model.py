@@ -34,6 +34,8 @@ from icerubble import _engine  # noqa: E402
 from icerubble.openmp_threads import default_threads  # noqa: E402
 from icerubble.parameters import GRAVITY, RHO_W  # noqa: E402
 
+from .bond_pairs import bond_pairs  # noqa: E402
+
 InstabilityError = _engine.InstabilityError
 # The indenter's smooth speed ramp, the one the smooth_ramp boundary condition runs.
 ramp_velocity = _engine.ramp_velocity
@@ -517,7 +519,6 @@ class Model:
         contact mu (set(mu=...)); screen_interval/screen_fraction: pre-screening
         (docs/freeze_bonds.md), screen_interval=1 checks every point every step.
         """
-        from icerubble.geometry.bond_points import bond_pairs
         pairs = bond_pairs(bond_points, self.reference_positions)
         self._m.set_bonds(np.asarray(bond_points.node, dtype=np.int32),
                           np.asarray(bond_points.sigma_cr, dtype=float),

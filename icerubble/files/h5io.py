@@ -8,30 +8,11 @@ carrying the final name is complete even if the machine died while writing
 import datetime
 import os
 import socket
-import subprocess
 
 import h5py
 import numpy as np
 
-from .. import __version__
-from ..code_identity import source_hash
-
-
-def code_version():
-    """Package version plus the git commit of the checkout, if there is one:
-    for people to read; whether two codes compute alike is source_hash's
-    (code_identity.py)."""
-    here = os.path.dirname(os.path.abspath(__file__))
-    try:
-        rev = subprocess.run(["git", "-C", here, "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True, timeout=5).stdout.strip()
-        dirty = subprocess.run(["git", "-C", here, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, timeout=5).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        rev, dirty = "", ""
-    if rev:
-        return f"{__version__}+g{rev}" + (".dirty" if dirty else "")
-    return __version__
+from ..code_identity import code_version, source_hash
 
 
 def write_dataset(group, name, data, units, **attrs):

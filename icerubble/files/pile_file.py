@@ -7,7 +7,7 @@ as metres.
 """
 import numpy as np
 
-from ..geometry.pile import ccw
+from ..polygon import ccw
 from .h5io import AtomicH5, open_complete, read_checked, write_dataset
 
 PILE_FORMAT = "icerubble-pile"

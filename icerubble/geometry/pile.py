@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..parameters import LAYER_THICKNESS, RHO_I, RHO_W, require_range
+from ..polygon import ccw, polygon_area  # noqa: F401 (pile.ccw, pile.polygon_area)
 
 # Paper section 2.4.
 BLOCK_THICKNESS = (0.2, 0.4)
@@ -40,21 +41,6 @@ def rectangle(center, length, thickness, angle):
     local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
     rot = np.array([[c, -s], [s, c]])
     return np.asarray(center, float) + local @ rot.T
-
-
-def polygon_area(p):
-    """Signed area (shoelace); positive for counter-clockwise corners."""
-    p = np.asarray(p, float)
-    if len(p) < 3:
-        return 0.0
-    x, y = p[:, 0], p[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
-def ccw(p):
-    """Same polygon, counter-clockwise."""
-    p = np.asarray(p, float)
-    return p if polygon_area(p) >= 0 else p[::-1].copy()
 
 
 def clip_halfplane(poly, n, c):

@@ -4,7 +4,7 @@ pairs (docs/model.md §6), so that both models run the same ridge.
 - bodies: every mesh body (blocks, the two layer pieces, the indenter) as one
   polygon: the outline of its triangles in the mesh (collinear boundary nodes
   dropped), so exactly the shape the FEM-DEM run deforms;
-- bond pairs: the FEM-DEM's cohesive pairs (geometry/bond_points.bond_pairs):
+- bond pairs: the FEM-DEM's cohesive pairs (engine/bond_pairs.py):
   the same points, normals, crack lengths and depth-graded strengths, so both
   models bond the same faces in the same places;
 - bond stiffness: a rigid block has no elements to carry an intact bond, so
@@ -22,7 +22,8 @@ Nothing here needs YADE: the YADE driver builds bodies from it.
 import numpy as np
 
 from .. import parameters as P
-from ..geometry.bond_points import bond_pairs, find_bond_points
+from ..engine.bond_pairs import bond_pairs
+from ..geometry.bond_points import find_bond_points
 
 KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
 # [m] every body's outline moved inward: faces that coincide exactly make YADE's

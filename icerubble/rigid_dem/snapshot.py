@@ -39,8 +39,8 @@ import numpy as np
 from scipy.sparse import coo_matrix, identity
 from scipy.sparse.linalg import splu
 
-from postproc import results
 from .. import parameters as P
+from ..files import results
 from ..files.h5io import read_checked
 from .scene import KIND_LAYER, rigid_scene
 
@@ -170,7 +170,7 @@ def pick_snapshot(run, snapshot=None, y_I=None):
 
 
 def read_result(path):
-    """A result file read by postproc.results (ValueError if it is not a
+    """A result file read by files/results.py (ValueError if it is not a
     complete, readable result)."""
     try:
         return results.load(path)

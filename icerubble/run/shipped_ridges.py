@@ -16,7 +16,6 @@ manifest.json keeps each shipped ridge's mesh digest, so a machine whose
 gmsh meshes it differently says so (tests/run/test_shipped_ridges.py).
 `tools/make_ridges.py` makes the piles and the manifest.
 """
-import glob
 import hashlib
 import json
 import os
@@ -67,17 +66,3 @@ def digest(path):
     with h5py.File(path, "r") as f:
         f.visititems(add)
     return h.hexdigest()
-
-
-def ridges_to_ship():
-    """Every (scene, ridge) a study table in data/ names, and ALSO_SHIPPED."""
-    from .table_check import read_table
-    found = set(ALSO_SHIPPED)
-    for path in sorted(glob.glob(os.path.join(ROOT, "data", "*.table"))):
-        columns, rows = read_table(path)
-        if "ridge" not in columns:
-            continue   # a pile table (make_pile.py's seeds), not a study
-        for _, row, _ in rows:
-            # the YADE script's default scene is the demo's
-            found.add((row.get("scene", "demo").strip("'\""), int(row["ridge"])))
-    return sorted(found)

@@ -40,6 +40,6 @@ def test_bond_state_codes_are_the_exported_enums():
 def test_result_files_and_the_engine_name_failure_modes_alike():
     """/bonds/mode is written from the engine's codes and read by postproc
     with its own enum (postproc needs no compiled engine): the two agree."""
-    from postproc.results import FailureMode
+    from icerubble.files.results import FailureMode
     assert {m.name: int(m) for m in FailureMode} == \
         {k: int(v) for k, v in _engine.FailureMode.__members__.items()}

@@ -4,8 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from postproc import displaced_area, failure_plane, loads, plug, shear_strength, synthetic
-from postproc import results as R
+from icerubble.files import results as R
+from postproc import displaced_area, failure_plane, loads, plug, shear_strength
+
+from tests.postproc import synthetic
 
 W = 4.0          # indenter width [m]
 Y0 = -0.9109     # keel top [m]

@@ -9,7 +9,10 @@ import h5py
 import numpy as np
 import pytest
 
-from postproc import displaced_area, failure_plane, loads, plug, results, shear_strength, summary, synthetic
+from icerubble.files import results
+from postproc import displaced_area, failure_plane, loads, plug, shear_strength, summary
+
+from tests.postproc import synthetic
 
 W = 4.0          # indenter width [m]
 Y0 = -0.9109     # keel top [m]

@@ -5,7 +5,9 @@ import os
 
 import pytest
 
-from postproc import make_figures, synthetic
+from postproc import make_figures
+
+from tests.postproc import synthetic
 
 
 @pytest.fixture(scope="module")

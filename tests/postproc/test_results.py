@@ -5,7 +5,10 @@ import h5py
 import numpy as np
 import pytest
 
-from postproc import failure_plane, results, summary, synthetic
+from icerubble.files import results
+from postproc import failure_plane, summary
+
+from tests.postproc import synthetic
 
 
 def test_part_file_refused(tmp_path):

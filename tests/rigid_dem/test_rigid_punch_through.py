@@ -6,8 +6,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from icerubble.run.table_check import check_table
-from postproc import loads, model_comparison, results
+from icerubble.files import results
+from icerubble.study.table_check import check_table
+from postproc import loads, model_comparison
 from tests.paths import ROOT
 
 

@@ -13,7 +13,7 @@ import pytest
 from icerubble.rigid_dem.scene import INSET, rigid_scene
 from icerubble.rigid_dem.snapshot import fem_dem_state, read_result, result_mesh, result_params
 from icerubble.rigid_dem.water import polygon_frame
-from icerubble.run.recorder import RunRecorder
+from icerubble.files.recorder import RunRecorder
 from tests.paths import ROOT
 
 

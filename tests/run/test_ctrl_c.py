@@ -13,7 +13,7 @@ import subprocess
 import time
 
 from icerubble.files.h5io import open_complete
-from icerubble.run import study_outcome as SO
+from icerubble.study import outcome as SO
 from tests.paths import ROOT
 
 SCRIPT = os.path.join(ROOT, "yade_scripts", "punch_through.py")

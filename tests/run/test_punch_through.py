@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from icerubble.code_identity import source_hash
-from icerubble.files.h5io import code_version, open_complete
+from icerubble.code_identity import code_version
+from icerubble.files.h5io import open_complete
 from icerubble.run import checkpoint as ckpt
 from icerubble.run.punch_through_run import (MEAN_FORCE_MIN_TRAVEL, PunchThrough, RunInterrupted, RunOptions,
                                              catching_stop_signals)

@@ -5,7 +5,7 @@ import pytest
 from icerubble import parameters as P
 from icerubble.geometry.bond_points import find_bond_points
 from icerubble.files.h5io import open_complete
-from icerubble.run.recorder import ENERGY_TERMS, RunRecorder, snapshot_travels
+from icerubble.files.recorder import ENERGY_TERMS, RunRecorder, snapshot_travels
 from tests.geometry.test_bond_points import grid
 
 
@@ -57,7 +57,8 @@ def test_state_round_trip():
 
 
 def test_postproc_reads_what_the_recorder_writes(tmp_path):
-    from postproc import loads, results
+    from icerubble.files import results
+    from postproc import loads
     rec, nodes, tri = make_recorder()
     rec.set_reference(nodes)
     for k, y in enumerate(np.linspace(0, 0.03, 31)):
@@ -73,7 +74,8 @@ def test_postproc_reads_what_the_recorder_writes(tmp_path):
 def test_split_traction_written_read_and_restored_from_an_older_checkpoint(tmp_path):
     """/bonds/split_tn, split_tt go out in Pa; a checkpoint from before they were
     recorded restores with them NaN; the analyses count the initiation side from them."""
-    from postproc import results, summary
+    from icerubble.files import results
+    from postproc import summary
     rec, nodes, tri = make_recorder()
     P = len(rec.bp)
     old = rec.state()

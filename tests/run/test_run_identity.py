@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from icerubble.run import run_identity as RI
-from icerubble.run import study
+from icerubble.study import line as study
 from icerubble.run.punch_through_run import RunOptions
 from icerubble import parameters as P
 

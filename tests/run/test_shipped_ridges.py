@@ -22,15 +22,16 @@ import pytest
 from icerubble.files.pile_file import read_pile
 from icerubble.run import scene_cache, shipped_ridges as SR
 from icerubble.run.presets import PILE_FRICTION, pile_friction, pile_scene
+from icerubble.study.table_check import ridges_to_ship
 from tests.paths import ROOT
 
 # meshing a paper ridge takes 6-8 s: the suite meshes the small scenes' ridges and paper ridge 1
-MESHED = [sr for sr in SR.ridges_to_ship() if sr[0] not in ("paper", "deep")] + [("paper", 1), ("deep", 1)]
+MESHED = [sr for sr in ridges_to_ship() if sr[0] not in ("paper", "deep")] + [("paper", 1), ("deep", 1)]
 
 
 def test_every_ridge_a_table_names_is_shipped():
     entries = SR.manifest()
-    for name, ridge in SR.ridges_to_ship():
+    for name, ridge in ridges_to_ship():
         mu = pile_friction(name)
         stem = SR.file_stem(name, ridge, mu)
         assert stem in entries, f"{name} ridge {ridge} is named in a table but not shipped (tools/make_ridges.py)"
@@ -79,7 +80,7 @@ def test_a_pile_made_here_at_a_shipped_ridges_name_is_refused(tmp_path, no_phase
 
 MASKED_RUN = r"""
 import sys, numpy as np, h5py
-from icerubble.run.study import run_one
+from icerubble.study.line import run_one
 from icerubble.run.punch_through_run import RunOptions
 out = run_one("tiny", 1, out_dir=sys.argv[1], share_rest=False,
               options=RunOptions(threads=2, vtu=False, progress_every_s=1e9, dt_fraction=0.8))

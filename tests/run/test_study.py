@@ -5,7 +5,7 @@ import subprocess
 import pytest
 
 from icerubble.run.presets import SCENES, scene
-from icerubble.run.study import run_name, run_one
+from icerubble.study.line import run_name, run_one
 from tests.paths import ROOT
 
 

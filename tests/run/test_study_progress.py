@@ -1,4 +1,4 @@
-"""`icerubble study run` on the console (icerubble/run/study_progress.py): a
+"""`icerubble study run` on the console (icerubble/study/progress.py): a
 line when each table line starts and ends, and periodic lines with each
 running line's latest progress line and an ETA of the table. A stand-in for
 yade-batch writes the logs, so this takes seconds."""
@@ -6,8 +6,8 @@ import io
 import sys
 import textwrap
 
-from icerubble.run import study_outcome as SO
-from icerubble.run.study_progress import latest_progress, table_eta, watch
+from icerubble.study import outcome as SO
+from icerubble.study.progress import latest_progress, table_eta, watch
 
 FAKE_BATCH = textwrap.dedent(f"""
     import time

@@ -5,7 +5,7 @@ import os
 import h5py
 
 from icerubble.files.h5io import open_complete
-from icerubble.run import study_outcome as SO
+from icerubble.study import outcome as SO
 from tests.commands import icerubble
 
 

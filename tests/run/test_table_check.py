@@ -6,7 +6,7 @@ import subprocess
 
 import pytest
 
-from icerubble.run.table_check import check_table
+from icerubble.study.table_check import check_table
 from tests.commands import env as command_env, icerubble
 from tests.paths import ROOT
 

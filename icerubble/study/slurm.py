@@ -21,8 +21,8 @@ import shlex
 import shutil
 import subprocess
 
-from .study_folder import open_study, save_study, table_of
-from .study_outcome import BATCH_SUMMARY, EXIT_INTERRUPTED, JOB_START, log_path
+from .folder import open_study, save_study, table_of
+from .outcome import BATCH_SUMMARY, EXIT_INTERRUPTED, JOB_START, log_path
 from .table_check import read_table
 # seconds before the time limit at which the run is told to checkpoint and stop
 SIGNAL_GRACE_S = 300

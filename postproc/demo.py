@@ -10,20 +10,23 @@ icerubble/run/presets.py: a 10 m wide, ~1.8 m deep keel, Table 1 parameters
 in YADE once), so on every machine the demo runs the same ridge, on 2
 threads, and prints the same numbers (bench/results/demo_reference.json);
 another ridge number is made here by YADE's phase 1.
+
+It is a postproc module because it ends in figures: the run is icerubble's
+(study/line.py), the figures postproc's, and icerubble never imports postproc.
 """
 import argparse
 import os
 import sys
 import time
 
-from postproc import loads, run_figures
+from icerubble import cli, exit_status
+from icerubble.files.h5io import open_complete
+from icerubble.files.output_path import check_output_folder
+from icerubble.run.presets import DEFAULT_NUMERICS, numerics
+from icerubble.run.punch_through_run import RunInterrupted, RunOptions
+from icerubble.study.line import run_one
 
-from .. import cli, exit_status
-from ..files.h5io import open_complete
-from ..files.output_path import check_output_folder
-from .presets import DEFAULT_NUMERICS, numerics
-from .punch_through_run import RunInterrupted, RunOptions
-from .study import run_one
+from . import loads, run_figures
 
 # threads of the demo's run, on every machine (its numbers are the README's)
 DEMO_THREADS = 2

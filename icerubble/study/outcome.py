@@ -9,7 +9,7 @@ in the study's log folder) names the result file the driver wrote
 (RESULT_MARK), and that file must be complete. On a cluster a line's log
 holds every attempt (a requeued or resubmitted task appends): only the text
 after the last JOB_START counts, and the scheduler's queue says which lines
-are pending or running (icerubble/run/slurm.py).
+are pending or running (icerubble/study/slurm.py).
 """
 import os
 

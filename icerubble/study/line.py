@@ -8,10 +8,10 @@ import h5py
 
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
-from . import run_identity as RI
-from .punch_through_run import PunchThrough, RunOptions
-from .scene_cache import scene_files
-from .presets import DEFAULT_NUMERICS, numerics, scene
+from ..run import run_identity as RI
+from ..run.punch_through_run import PunchThrough, RunOptions
+from ..run.scene_cache import scene_files
+from ..run.presets import DEFAULT_NUMERICS, numerics, scene
 
 
 def run_name(scene_name, ridge, params):

@@ -1,4 +1,5 @@
-"""What a punch-through run records (docs/model.md §4), written as docs/results_format.md.
+"""What a punch-through run records (docs/model.md §4), written as docs/results_format.md
+(its reader: results.py).
 
 The recorder only holds arrays and writes them; the driver decides when to
 sample. Its state (everything recorded so far) goes into checkpoints, so a
@@ -8,7 +9,7 @@ import numpy as np
 
 from .. import parameters as P
 from .. import machine
-from ..files.h5io import AtomicH5, set_attrs, write_dataset
+from .h5io import AtomicH5, set_attrs, write_dataset
 
 RESULT_FORMAT = "icerubble-run"
 

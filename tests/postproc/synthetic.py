@@ -18,7 +18,7 @@ What a synthetic run contains (per ridge, mu, tau_cr):
   buoyancy of the moving rubble.
 Bond positions are not tied to mesh nodes (nothing in the analyses needs that).
 
-`python3 -m postproc.synthetic OUT_DIR` writes a small set.
+`python3 -m tests.postproc.synthetic OUT_DIR` (from the repository root) writes a small set.
 """
 import argparse
 import datetime
@@ -28,9 +28,8 @@ import sys
 import h5py
 import numpy as np
 
+from icerubble.files.results import FailureMode
 from icerubble.parameters import GRAVITY as G, RHO_I, RHO_W
-
-from .results import FailureMode
 
 H, W_I, T_C, DOMAIN = 4.0, 4.0, 1.0, 20.0
 DRAFT = RHO_I / RHO_W * T_C
@@ -293,7 +292,7 @@ def write_set(folder, ridges=("1", "2"), mus=(0.05, 0.3), tau_crs=(5e3, 12.5e3, 
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m postproc.synthetic", description=__doc__,
+    ap = argparse.ArgumentParser(prog="python3 -m tests.postproc.synthetic", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out_dir")
     ap.add_argument("--ridges", default="1,2,3,4")

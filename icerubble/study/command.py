@@ -16,7 +16,7 @@
 
 Results go to DIR (default runs/ in this checkout; a table's out_dir column
 overrides it); each study keeps its table, its job scripts and one log per line
-in DIR/logs/<table>/ (icerubble/run/study_folder.py).
+in DIR/logs/<table>/ (icerubble/study/folder.py).
 """
 import argparse
 import os
@@ -24,11 +24,11 @@ import shutil
 
 from .. import exit_status
 from ..files.output_path import check_output_folder
+from ..run.scene_cache import ROOT
+from . import outcome as SO
+from . import progress as study_progress
 from . import slurm
-from . import study_outcome as SO
-from . import study_progress
-from .scene_cache import ROOT
-from .study_folder import load_study, open_study, studies, study_dir, study_lock, table_of
+from .folder import load_study, open_study, studies, study_dir, study_lock, table_of
 from .table_check import check_table
 
 PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")

@@ -16,7 +16,7 @@ import subprocess
 import sys
 import time
 
-from . import study_outcome as SO
+from . import outcome as SO
 
 POLL_S = 2.0
 # a run's progress line (run/progress.py): "[label] step N ... ETA <= 12 s ..." or "ETA ?"

@@ -20,11 +20,14 @@ names only (nothing runs, and the study would report success).
 """
 import ast
 import difflib
+import glob
+import os
 import re
 
 from .. import parameters as P
-from .presets import NUMERICS, SCENES
-from .study import MODELS, result_name_problem
+from ..run import shipped_ridges as SR
+from ..run.presets import NUMERICS, SCENES
+from .line import MODELS, result_name_problem
 
 # Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
 DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model"}
@@ -217,3 +220,17 @@ def _head(path):
             if _uncommented(text).strip():
                 return i, _uncommented(text).split()
     return 1, []
+
+
+def ridges_to_ship():
+    """Every (scene, ridge) a study table in data/ names, and shipped_ridges.ALSO_SHIPPED:
+    the ridges that ship as piles (run/shipped_ridges.py, tools/make_ridges.py)."""
+    found = set(SR.ALSO_SHIPPED)
+    for path in sorted(glob.glob(os.path.join(SR.ROOT, "data", "*.table"))):
+        columns, rows = read_table(path)
+        if "ridge" not in columns:
+            continue   # a pile table (make_pile.py's seeds), not a study
+        for _, row, _ in rows:
+            # the YADE script's default scene is the demo's
+            found.add((row.get("scene", "demo").strip("'\""), int(row["ridge"])))
+    return sorted(found)
