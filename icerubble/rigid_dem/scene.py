@@ -4,7 +4,7 @@ pairs (docs/model.md §6), so that both models run the same ridge.
 - bodies: every mesh body (blocks, the two layer pieces, the indenter) as one
   polygon: the outline of its triangles in the mesh (collinear boundary nodes
   dropped), so exactly the shape the FEM-DEM run deforms;
-- bond pairs: the FEM-DEM's cohesive pairs (engine/bond_pairs.py):
+- bond pairs: the FEM-DEM's cohesive pairs (icerubble/engine/bond_pairs.py):
   the same points, normals, crack lengths and depth-graded strengths, so both
   models bond the same faces in the same places;
 - bond stiffness: a rigid block has no elements to carry an intact bond, so
