@@ -103,7 +103,7 @@ def scene_files(name, ridge, root="runs", threads=1):
         return pile_path, mesh_path
     with _scene_lock(pile_base + "_scene.lock"):
         _make_pile(source, scene(source), ridge, mu, pile_path, threads, ship, pile_base)
-    with _scene_lock(base + "_mesh.lock") if base != pile_base else contextlib.nullcontext():
+    with _scene_lock(base + "_scene.lock"):   # runs started together mesh it once
         _make_mesh(name, sc, ridge, pile_path, mesh_path, shipped_ridges.shipped(name, ridge, mu))
     return pile_path, mesh_path
 
