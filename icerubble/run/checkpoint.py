@@ -14,7 +14,7 @@ import numpy as np
 
 from ..code_identity import refuse_other_code
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
-from .recorder import ENERGY_TERMS, snapshot_travels
+from ..files.recorder import ENERGY_TERMS, snapshot_travels
 from .rest_states import SETTLE_FREE
 from .run_identity import PHYSICS_VERSION
 

@@ -35,7 +35,7 @@ from ..files.h5io import open_complete
 from ..files.mesh_file import read_mesh
 from .. import parameters as P
 from .progress import Progress, loading_eta_text, settle_eta_text
-from .recorder import RunRecorder
+from ..files.recorder import RunRecorder
 from .split_traction import point_split_traction
 from .scene import Scene
 from ..files.vtu import write_pvd, write_vtu
