@@ -195,6 +195,26 @@ def table(rows, runs):
     return "\n".join(L)
 
 
+def variant(row):
+    """What must not be mixed in one statistic: the model and eq 11's form."""
+    return row["model"], row["force_direction"]
+
+
+def tables_by_variant(rows, runs):
+    """One table per (model, force direction), as make_figures keeps them apart;
+    a heading names each when there is more than one (issue 26: eq 11's two
+    forms side by side against Tables 2-3)."""
+    keys = sorted({variant(r) for r in rows})
+    if len(keys) == 1:
+        return table(rows, runs)
+    parts = []
+    for key in keys:
+        sel = [i for i, r in enumerate(rows) if variant(r) == key]
+        parts.append(f"### {key[0]}, force_direction = {key[1]}\n\n"
+                     + table([rows[i] for i in sel], [runs[i] for i in sel]))
+    return "\n\n".join(parts)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="icerubble compare", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -207,7 +227,7 @@ def main(argv=None):
     rows, runs = rows_and_runs(a.results_dir, a.bond_points)
     if not rows:
         raise ValueError(f"no complete run results under {a.results_dir}")
-    text = table(rows, runs)
+    text = tables_by_variant(rows, runs)
     print(text)
     if a.out:
         with whole_file(a.out) as f:
