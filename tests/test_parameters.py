@@ -13,7 +13,7 @@ def test_defaults_are_table_1():
 
 
 @pytest.mark.parametrize("name,value", [("tau_cr", 0.0), ("sigma_cr", -1.0), ("mu", -0.1),
-                                        ("nu", 0.5), ("E", float("nan")), ("keel_depth", -4.0),
+                                        ("nu", 0.5), ("E", float("nan")), ("ramp_time", -1.0),
                                         ("force_direction", "sideways"), ("strength_bottom_fraction", 0.0)])
 def test_bad_values_name_parameter_and_range(name, value):
     with pytest.raises(ValueError) as e:
@@ -35,6 +35,53 @@ def test_ice_must_float():
 def test_draft_is_density_ratio():
     d = P.validate({})
     assert P.water_line_draft(d) == pytest.approx(920.0 / 1010.0)
+
+
+@pytest.mark.parametrize("name", sorted(P.MESH))
+def test_geometry_is_refused_naming_the_scenes(name):
+    """The geometry is the scene's mesh's: a geometry parameter asked of a run
+    would be ignored, so it is refused, saying to pick a scene (and which)."""
+    from icerubble.run.presets import SCENES
+    with pytest.raises(ValueError, match=f"{name} is the scene's geometry.*pick a scene") as e:
+        P.validate({name: 4.0}, scenes=SCENES)
+    assert all(s in str(e.value) for s in SCENES)
+
+
+def test_every_parameter_is_declared_once_with_unit_range_doc_and_group():
+    for k, p in P.REGISTRY.items():
+        assert p.group in P.GROUPS and p.unit and p.doc, k
+        if p.default is not None:   # the default is valid
+            assert P.check_value(k, p.default) == p.default or p.kind == "flag", k
+
+
+def test_what_derives_from_the_registry():
+    """Table columns, identity, settle key and the engine's keys are the registry's flags."""
+    assert set(P.defaults()) == {k for k, p in P.REGISTRY.items() if p.table}
+    assert not set(P.MESH) & set(P.defaults())
+    assert set(P.SETTLE_FREE) == {"tau_cr", "sigma_cr", "G", "strength_bottom_fraction", "force_direction",
+                                  "v_final", "ramp_time", "target_travel"}
+    from icerubble.engine import model
+    from icerubble.run import rest_states as RS
+    from icerubble.run.punch_through_run import RunOptions
+    assert RS.SETTLE_FREE == P.SETTLE_FREE and RS.SETTLE_OPTIONS == P.SETTLE_OPTIONS
+    assert set(model.PARAMETERS) == set(P.ENGINE)
+    # the engine's defaults are Table 1's where both name a value (drag_model included)
+    for k in set(P.ENGINE) & set(P.TABLE_1) - set(model.START_UNSET):
+        assert model.PARAMETERS[k][0] == P.REGISTRY[k].default, k
+    options = RunOptions()
+    for k in P.SETTLE_OPTIONS:
+        assert getattr(options, k) == P.REGISTRY[k].default, k
+
+
+def test_docs_parameter_table_is_the_registrys():
+    """docs/parameters.md holds the table the registry makes (regenerate it with
+    /usr/bin/python3 -m icerubble.parameters > docs/parameters.md)."""
+    from tests.paths import ROOT
+    import os
+    with open(os.path.join(ROOT, "docs", "parameters.md")) as f:
+        text = f.read()
+    assert P.docs_table() in text, ("docs/parameters.md is not the registry's table: regenerate it "
+                                    "(/usr/bin/python3 -m icerubble.parameters > docs/parameters.md)")
 
 
 def test_atomic_file_only_appears_complete(tmp_path):

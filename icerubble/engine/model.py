@@ -32,7 +32,7 @@ import numpy as np
 
 from icerubble import _engine  # noqa: E402
 from icerubble.openmp_threads import default_threads  # noqa: E402
-from icerubble.parameters import GRAVITY, RHO_W  # noqa: E402
+from icerubble import parameters as P  # noqa: E402
 
 from .bond_pairs import bond_pairs  # noqa: E402
 
@@ -41,47 +41,17 @@ InstabilityError = _engine.InstabilityError
 ramp_velocity = _engine.ramp_velocity
 
 MATERIAL_KEYS = ("E", "nu", "rho", "damping", "viscosity")
-MATERIAL_DEFAULTS = {"nu": 0.3, "damping": 0.0, "viscosity": 0.0}
-DRAG_MODELS = ("linear", "quadratic", "none")
+# nu: Table 1 has none, the registry's; damping (a time here) and viscosity: off
+MATERIAL_DEFAULTS = {"nu": P.REGISTRY["nu"].default, "damping": 0.0, "viscosity": 0.0}
+DRAG_MODELS = P.DRAG_MODELS
 
-# Parameter name -> (default, description) for Model.set().
-PARAMETERS = {
-    "dt": (None, "time step [s], > 0 and below the stable step"),
-    "dt_fraction": (None, "time step as this fraction (0, 1] of the stable step at the moment it is "
-                          "set (masses scaled); fixed after, like an explicit dt, which replaces it"),
-    "gravity": (True, "gravity on/off"),
-    "g": (GRAVITY, "gravitational acceleration [m/s²], >= 0"),
-    "buoyancy": (False, "buoyancy on/off"),
-    "drag": (False, "water drag on/off (the law is drag_model)"),
-    "drag_model": ("linear", "water drag law: 'linear' (-c_w v per body), 'quadratic' "
-                             "(-1/2 rho_w C_d |V| V L per body, L its width across V) or 'none'"),
-    "C_d": (1.0, "form drag coefficient of the quadratic drag law [-], >= 0"),
-    "rho_w": (RHO_W, "water density [kg/m³], >= 0"),
-    "y_w": (0.0, "water line [m]"),
-    "c_w": (2.5e4, "linear water drag constant [Pa s], >= 0"),
-    "penalty": (2e11, "contact penalty s [Pa], > 0"),
-    "mu": (0.3, "Coulomb friction coefficient, >= 0"),
-    "check_stable_dt": (True, "refuse dt above the stable step"),
-    "check_energy": (True, "stop when energy grows without a source"),
-    "energy_tolerance": (0.1, "stop when the energy balance residual exceeds this "
-                              "fraction of the energy terms, > 0"),
-    "threads": (0, "OpenMP threads, 0 = OMP_NUM_THREADS / all cores as the process started "
-                   "(openmp_threads.default_threads, whatever changed OpenMP's setting since)"),
-    "local_damping": (0.0, "local non-viscous (Cundall) damping in [0, 1), for reaching rest; "
-                           "its work is booked as damping"),
-    "mass_scaling_dt": (0.0, "selective mass scaling: add inertial mass (not weight) to the nodes "
-                             "that limit the stable step so that it is >= this [s]; 0 = off, >= 0"),
-    "contact_reach": (float("inf"), "the contact stable step counts only the boundaries within this "
-                                    "distance of each edge [m], > 0; inf = the whole mesh (re-checked "
-                                    "as nodes move, docs/engine_api.md)"),
-    "sleeping": (False, "sleeping far field on/off: bodies at rest are held and their triangles not "
-                        "computed (engine/src/model/sleeping.hpp)"),
-    "sleep_velocity": (1e-4, "a body is at rest when every node of it is slower than this [m/s], >= 0, ..."),
-    "sleep_force": (1e-3, "... and its mean resultant force and moment are below this fraction of its "
-                          "weight, >= 0; an asleep node wakes when its force changes by this fraction "
-                          "of its own weight"),
-    "sleep_quiet_steps": (100, "... over a window of this many steps, >= 1"),
-}
+# Parameter name -> (default, description) for Model.set(): the registry's
+# engine parameters (icerubble/parameters.py, engine=True), which also check
+# each value. The engine starts without a time step (step() refuses to run
+# until dt or dt_fraction is set), whatever Table 1's dt.
+START_UNSET = ("dt", "dt_fraction")
+PARAMETERS = {k: (None if k in START_UNSET else p.default,
+                  f"{p.doc} [{p.unit}], {p.range_text()}") for k, p in P.ENGINE.items()}
 SLEEP_PARAMETERS = ("sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps")
 
 
@@ -195,24 +165,7 @@ class Model:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)}; valid: {sorted(PARAMETERS)}")
         p = dict(self._params)
         for k, v in params.items():
-            if k in ("gravity", "buoyancy", "drag", "check_stable_dt", "check_energy", "sleeping"):
-                p[k] = _flag(k, v)
-            elif k == "drag_model":
-                if v not in DRAG_MODELS:
-                    raise ValueError(f"drag_model={v!r} is invalid: valid values are "
-                                     + ", ".join(repr(d) for d in DRAG_MODELS))
-                p[k] = v
-            elif k in ("threads", "sleep_quiet_steps"):
-                low = 0 if k == "threads" else 1
-                if not isinstance(v, numbers.Integral) or isinstance(v, bool) or v < low:
-                    raise ValueError(f"{k} must be an integer >= {low} (got {v!r})")
-                p[k] = int(v)
-            elif k == "mass_scaling_dt":
-                p[k] = _number(k, v)
-                if not (p[k] >= 0.0 and np.isfinite(p[k])):
-                    raise ValueError(f"mass_scaling_dt must be >= 0 s and finite, 0 = off (got {v!r})")
-            else:
-                p[k] = _number(k, v)
+            p[k] = P.check_value(k, v)
         if "dt" in params and "dt_fraction" in params:
             raise ValueError("give dt or dt_fraction, not both")
         if "dt" in params:
@@ -538,8 +491,9 @@ class Model:
         if unknown:
             raise ValueError(f"unknown bond parameter(s) {sorted(unknown)}; valid: {valid}")
         p = dict(self._m.bond_params(), **params)
-        if p["direction"] not in ("paper", "work_conjugate"):
-            raise ValueError(f"direction must be 'paper' or 'work_conjugate' (got {p['direction']!r})")
+        if p["direction"] not in P.FORCE_DIRECTIONS:
+            raise ValueError(f"direction must be {' or '.join(repr(d) for d in P.FORCE_DIRECTIONS)} "
+                             f"(got {p['direction']!r})")
         si = p["screen_interval"]
         if isinstance(si, (bool, np.bool_)) or not isinstance(si, numbers.Integral) or si < 1:
             raise ValueError(f"screen_interval must be an integer >= 1 (got {si!r})")

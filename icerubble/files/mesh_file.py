@@ -11,6 +11,26 @@ from .h5io import AtomicH5, open_complete, read_checked, write_dataset
 MESH_FORMAT = "icerubble-mesh"
 MESH_FORMAT_VERSION = 1
 
+# body_kind codes
+KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
+
+
+def mesh_geometry(mesh):
+    """The geometry of a mesh (read_mesh), as the registry's mesh group names
+    it (icerubble/parameters.py): what a run simulates and its result records
+    in /parameters, whatever Table 1 says (the geometry is the scene's)."""
+    a = mesh["attrs"]
+    body_kind = np.asarray(mesh["body_kind"])
+    indenter = np.nonzero(body_kind == KIND_INDENTER)[0]
+    if len(indenter) != 1:
+        raise ValueError(f"mesh must have exactly one indenter body (found {len(indenter)})")
+    tri = np.asarray(mesh["triangles"])
+    nodes = np.asarray(mesh["nodes"], dtype=float)[np.unique(tri[np.asarray(mesh["body"]) == indenter[0]])]
+    xs, ys = nodes[:, 0], nodes[:, 1]
+    return dict(keel_depth=float(a["keel_top_y"]) - float(a["keel_bottom_y"]),
+                indenter_width=float(xs.max() - xs.min()), indenter_thickness=float(ys.max() - ys.min()),
+                layer_thickness=float(a["layer_thickness"]), domain_width=float(a["domain_width"]))
+
 
 def write_mesh(path, m, source="", pile_origin=None):
     """Write the mesh dict of geometry.meshing.build_mesh to `path` (atomically).

@@ -23,6 +23,7 @@ import numpy as np
 
 from .. import parameters as P
 from ..engine.bond_pairs import bond_pairs
+from ..files.mesh_file import mesh_geometry
 from ..geometry.bond_points import find_bond_points
 
 KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
@@ -68,7 +69,8 @@ def rigid_scene(mesh, params, state=None):
     (N', 2) positions now, `triangles` (M, 3) the mesh's triangles on them (a
     split bond node's copies appended, as the FEM-DEM engine splits) and
     `failed` (P,) bool per bond point of the mesh: fully failed by then."""
-    p = P.validate(params)
+    # the geometry recorded is the mesh's, as a FEM-DEM run's (punch_through_run.py)
+    p = P.recorded(P.validate(params), mesh_geometry(mesh))
     a = mesh["attrs"]
     nodes = np.asarray(mesh["nodes"], float)
     tri = np.asarray(mesh["triangles"])

@@ -181,7 +181,7 @@ def read_result(path):
 def result_mesh(run):
     """The /mesh of result `run` as rigid_scene takes a mesh, with the
     attributes it needs: keel from /pile, layer thickness from /parameters
-    (both the simulated mesh's), the layer bottom its lowest node (what the
+    (both the simulated mesh's), the domain width the layer's, the layer bottom its lowest node (what the
     mesh file records: the layer is meshed from its bottom to its top). The
     result's own mesh, so a result loads without its mesh file."""
     with h5py.File(run.path, "r") as f:
@@ -199,8 +199,9 @@ def result_mesh(run):
     if abs((y.max() - y.min()) - t) > 1e-9 * max(1.0, t):
         raise ValueError(f"{run.path}: /parameters layer_thickness = {t} m, but the layer of /mesh is "
                          f"{y.max() - y.min()} m thick: the file does not describe one mesh")
+    x = nodes[layer_nodes, 0]   # the layer spans the domain
     attrs = dict(keel_top_y=float(run.pile["keel_top_y"]), keel_bottom_y=float(run.pile["keel_bottom_y"]),
-                 layer_bottom_y=float(y.min()), layer_thickness=t)
+                 layer_bottom_y=float(y.min()), layer_thickness=t, domain_width=float(x.max() - x.min()))
     return dict(nodes=nodes, triangles=tri, body=body, body_kind=kind, attrs=attrs)
 
 

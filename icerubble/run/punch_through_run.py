@@ -32,8 +32,9 @@ from . import checkpoint as ckpt
 from . import rest_states as RS
 from . import run_identity as RI
 from ..files.h5io import open_complete
-from ..files.mesh_file import read_mesh
+from ..files.mesh_file import mesh_geometry, read_mesh
 from .. import parameters as P
+from .presets import SCENES
 from .progress import Progress, loading_eta_text, settle_eta_text
 from ..files.recorder import RunRecorder
 from .split_traction import point_split_traction
@@ -98,30 +99,23 @@ def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
     return t0 + tau, engine.ramp_velocity(tau, v_final, ramp_time)
 
 
+_SETTLE = {k: P.REGISTRY[k].default for k in P.SETTLE_OPTIONS}
+
+
 class RunOptions:
     """How to run, as opposed to what to simulate (the parameters)."""
 
-    def __init__(self, settle_max_time=5.0, settle_min_time=0.05, settle_velocity=1e-4,
-                 settle_accel=1e-4, settle_hold_time=0.02,
+    def __init__(self, settle_max_time=_SETTLE["settle_max_time"], settle_min_time=_SETTLE["settle_min_time"],
+                 settle_velocity=_SETTLE["settle_velocity"], settle_accel=_SETTLE["settle_accel"],
+                 settle_hold_time=_SETTLE["settle_hold_time"],
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
                  stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None,
                  contact_reach=math.inf, numerics="", settle_mass_scaling_dt=None):
-        if settle_max_time <= 0:
-            raise ValueError(f"settle_max_time={settle_max_time} must be > 0 s")
-        if not 0 <= settle_min_time <= settle_max_time:
+        # the settle's options: the registry's (icerubble/parameters.py, group settle)
+        for k in P.SETTLE_OPTIONS:
+            setattr(self, k, P.check_value(k, locals()[k]))
+        if not settle_min_time <= settle_max_time:
             raise ValueError(f"settle_min_time={settle_min_time} must be in [0, settle_max_time] s")
-        if settle_velocity <= 0:
-            raise ValueError(f"settle_velocity={settle_velocity} must be > 0 m/s")
-        self.settle_max_time = settle_max_time
-        self.settle_min_time = settle_min_time
-        self.settle_velocity = settle_velocity
-        if settle_accel <= 0:
-            raise ValueError(f"settle_accel={settle_accel} must be > 0 (a free body's mean acceleration "
-                             "over a check interval, in g)")
-        self.settle_accel = settle_accel
-        if settle_hold_time <= 0:
-            raise ValueError(f"settle_hold_time={settle_hold_time} must be > 0 s")
-        self.settle_hold_time = settle_hold_time
         self.checkpoint_every_s = checkpoint_every_s
         self.progress_every_s = progress_every_s
         self.threads = threads
@@ -185,7 +179,7 @@ class PunchThrough:
         in what the settle never reads, or settles and leaves its own there
         (None: every run settles itself)."""
         # everything that can be wrong with the input fails here, before any work
-        self.params = P.validate(params or {})
+        self.params = P.validate(params or {}, scenes=SCENES)
         self.options = options or RunOptions()
         self.mesh = read_mesh(mesh_path)
         self.mesh_path = os.path.abspath(mesh_path)
@@ -196,13 +190,10 @@ class PunchThrough:
         self.meta = dict(ridge="", seed=-1, model="fem-dem")
         self.meta.update(meta or {})
         self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
-        # The geometry is the mesh's: record what was simulated, not the
-        # Table 1 defaults (the analyses read keel_depth, indenter_width ...).
-        sc = self.scene
-        self.params.update(keel_depth=sc.keel_depth, indenter_width=sc.indenter_width,
-                           indenter_thickness=sc.indenter_thickness,
-                           layer_thickness=sc.layer_thickness,
-                           domain_width=float(self.mesh["attrs"]["domain_width"]))
+        # The geometry is the mesh's (never a run parameter: validate refuses
+        # it): recorded as simulated (the analyses read keel_depth, indenter_width ...)
+        self.params = P.recorded(self.params, mesh_geometry(self.mesh))
+        self.scene.params = self.params
         self._configure_numerics(self.scene.model)
         if math.isfinite(self.options.contact_reach):
             self.meta.update(contact_reach=self.options.contact_reach)

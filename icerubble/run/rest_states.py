@@ -24,18 +24,16 @@ the result of its own settle.
 """
 import os
 
+from .. import parameters as P
 from ..code_identity import source_hash
 from . import run_identity as RI
 
-# Parameters the settle does not read (see above); a run that differs in
-# these alone loads from another run's rest state.
-SETTLE_FREE = ("tau_cr", "sigma_cr", "G", "strength_bottom_fraction", "force_direction",
-               "v_final", "ramp_time", "target_travel")
-
-# RunOptions of the settle itself (not in the run identity: their defaults
-# are every study's, but a rest state is shared only under the same ones)
-SETTLE_OPTIONS = ("settle_max_time", "settle_min_time", "settle_velocity", "settle_accel",
-                  "settle_hold_time")
+# Parameters the settle does not read (see above), and the settle's own
+# RunOptions (not in the run identity: their defaults are every study's, but
+# a rest state is shared only under the same ones): both the registry's
+# (icerubble/parameters.py: settle=False; group settle).
+SETTLE_FREE = P.SETTLE_FREE
+SETTLE_OPTIONS = P.SETTLE_OPTIONS
 
 
 def settle_identity(params, mesh, options, threads, model="fem-dem"):

@@ -16,6 +16,8 @@ import socket
 
 import numpy as np
 
+from .. import parameters as P
+
 # Bumped whenever a change of the engine alters what a run computes (forces,
 # time step, settling, recording), so that results made before are not
 # handed back as if the new code had made them.
@@ -62,11 +64,19 @@ def _json_default(v):
 
 
 def identity(params, mesh, options):
-    """The run's identity: validated request parameters, mesh digest, the
-    numerical options that change the result, and the physics version."""
+    """The run's identity: validated request parameters (those the registry
+    marks identity, icerubble/parameters.py), mesh digest, the numerical
+    options that change the result, and the physics version.
+
+    The geometry (keel_depth, domain_width, ...) is the mesh's, which the
+    digest holds: it is not a parameter of the identity. Identities made
+    before issue 27 held Table 1's geometry, which the run ignored: their
+    run ids differ from today's for the same run (the stored result is then
+    refused as another run's, its differences named: only those keys).
+    """
     ident = {
         "physics_version": PHYSICS_VERSION,
-        "parameters": {k: _plain(v) for k, v in sorted(params.items())},
+        "parameters": {k: _plain(v) for k, v in sorted(params.items()) if P.REGISTRY[k].identity},
         "mesh_sha256": mesh_digest(mesh),
         "dt_fraction": _plain(getattr(options, "dt_fraction", None)),
         "mass_scaling_dt": _plain(getattr(options, "mass_scaling_dt", None)),

@@ -13,9 +13,8 @@ import math
 import numpy as np
 
 from .. import engine
+from ..files.mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER, mesh_geometry  # noqa: F401 (KIND_BLOCK)
 from ..geometry.bond_points import find_bond_points
-
-KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
 
 
 def element_damping_time(params, element_size):
@@ -34,28 +33,24 @@ class Scene:
         self.params = params
         self.mesh = mesh
         a = mesh["attrs"]
+        geometry = mesh_geometry(mesh)
         self.layer_bottom_y = float(a["layer_bottom_y"])
-        self.layer_thickness = float(a["layer_thickness"])
+        self.layer_thickness = geometry["layer_thickness"]
         self.element_size = float(a["element_size"])
         self.keel_top_y = float(a["keel_top_y"])
         self.keel_bottom_y = float(a["keel_bottom_y"])
-        self.keel_depth = self.keel_top_y - self.keel_bottom_y
+        self.keel_depth = geometry["keel_depth"]
         # The water line: where this layer floats freely.
         self.y_w = self.layer_bottom_y + params["rho_i"] / params["rho_w"] * self.layer_thickness
         body_kind = np.asarray(mesh["body_kind"])
         self.body_kind = body_kind
         self.indenter_bodies = np.nonzero(body_kind == KIND_INDENTER)[0]
-        if len(self.indenter_bodies) != 1:
-            raise ValueError(f"mesh must have exactly one indenter body (found {len(self.indenter_bodies)})")
         tri = np.asarray(mesh["triangles"])
         body = np.asarray(mesh["body"])
-        ind_tris = body == self.indenter_bodies[0]
-        self.indenter_nodes = np.unique(tri[ind_tris])
+        self.indenter_nodes = np.unique(tri[body == self.indenter_bodies[0]])
         nodes = np.asarray(mesh["nodes"], dtype=float)
-        xs = nodes[self.indenter_nodes, 0]
-        self.indenter_width = float(xs.max() - xs.min())
-        ys = nodes[self.indenter_nodes, 1]
-        self.indenter_thickness = float(ys.max() - ys.min())
+        self.indenter_width = geometry["indenter_width"]
+        self.indenter_thickness = geometry["indenter_thickness"]
 
         self.material = dict(E=params["E"], nu=params["nu"], rho=params["rho_i"],
                              damping=element_damping_time(params, self.element_size),

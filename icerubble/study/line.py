@@ -11,7 +11,7 @@ from .. import parameters as P
 from ..run import run_identity as RI
 from ..run.punch_through_run import PunchThrough, RunOptions
 from ..run.scene_cache import scene_files
-from ..run.presets import DEFAULT_NUMERICS, numerics, scene
+from ..run.presets import DEFAULT_NUMERICS, SCENES, numerics, scene
 
 
 def run_name(scene_name, ridge, params):
@@ -51,7 +51,7 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         raise ValueError(f"model={model!r} is unknown: valid values are {', '.join(MODELS)}")
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
-    params = P.validate(dict(sc["params"], **(overrides or {})))   # fail before any work
+    params = P.validate(dict(sc["params"], **(overrides or {})), scenes=SCENES)   # fail before any work
     if not description or description == "default":
         description = run_name(scene_name, ridge, params) + ("_rigid" if model == "rigid-dem" else "")
     why = result_name_problem(description)

@@ -29,7 +29,8 @@ from ..run import shipped_ridges as SR
 from ..run.presets import NUMERICS, SCENES
 from .line import MODELS, result_name_problem
 
-# Columns of the punch-through driver (yade_scripts/punch_through.py) beside Table 1.
+# Columns of the punch-through driver (yade_scripts/punch_through.py) beside the
+# run parameters (the registry's table columns, icerubble/parameters.py).
 DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model"}
 
 
@@ -89,7 +90,9 @@ def check_table(path):
     for c in columns:
         if c.startswith("!"):   # an environment variable for the line (YADE: !OMP_NUM_THREADS)
             continue
-        if c not in known:
+        if c in P.MESH:   # the scene's geometry, never a column
+            problems.append(f"line {_head_line(path)}, column {c}: {P.geometry_refused([c], SCENES)}")
+        elif c not in known:
             near = difflib.get_close_matches(c, sorted(known), n=1, cutoff=0.4)
             hint = f"; did you mean {near[0]!r}?" if near else ""
             if c.endswith("!") and "description" in columns:

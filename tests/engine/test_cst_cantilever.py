@@ -20,7 +20,7 @@ def tip_deflection(ny):
     m.fix("clamp")
     w1 = 3.516 * np.sqrt(E / (1 - NU**2) * H**2 / (12 * RHO * L**4))
     # Fully submerged without buoyancy: drag only, -c_w v m_i/M per node.
-    m.set(gravity=True, buoyancy=False, drag=True, y_w=10.0, c_w=2 * w1 * RHO * L * H)
+    m.set(gravity=True, buoyancy=False, drag=True, drag_model="linear", y_w=10.0, c_w=2 * w1 * RHO * L * H)
     m.set(dt=m.stable_time_step()["dt"])
     tip = np.flatnonzero(np.isclose(nodes[:, 0], L))
     chunk = int(0.25 * 2 * np.pi / w1 / m.params["dt"])

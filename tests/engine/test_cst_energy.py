@@ -21,7 +21,7 @@ def test_energy_balance_of_a_pulled_damped_half_submerged_bar():
     m.add_node_set("right", np.flatnonzero(nodes[:, 0] == 2.0))
     m.fix("left")
     m.prescribe_velocity("right", direction=(1.0, -0.5), v_final=2.0, ramp_time=2e-3)
-    m.set(gravity=True, buoyancy=True, drag=True, y_w=0.0, c_w=2e5)
+    m.set(gravity=True, buoyancy=True, drag=True, drag_model="linear", y_w=0.0, c_w=2e5)
     m.set(dt=0.9 * m.stable_time_step()["dt"])
     m.step(3000)
     e = m.energies()

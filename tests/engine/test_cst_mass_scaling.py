@@ -127,7 +127,7 @@ def test_weight_is_physical_and_a_scaled_block_floats_at_its_draft():
     t = 0.5
     m, nodes = sliver_block(0.7, nx=16, ny=4, h=0.125)
     regular = sliver_block(0.0, nx=16, ny=4, h=0.125)[0].stable_time_step()["dt"]
-    m.set(gravity=True, buoyancy=True, drag=True, y_w=0.0, rho_w=RHO_W, c_w=8e3,
+    m.set(gravity=True, buoyancy=True, drag=True, drag_model="linear", y_w=0.0, rho_w=RHO_W, c_w=8e3,
           mass_scaling_dt=0.5 * regular)
     st = m.stable_time_step()
     assert st["scaled_nodes"] > 0 and st["added_mass_fraction"] > 0.002

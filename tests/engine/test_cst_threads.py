@@ -22,7 +22,7 @@ body = np.repeat([0, 1], len(nb))
 m = engine.Model(nodes, tri, body, dict(E=1e8, nu=0.3, rho=920.0, damping=1e-5))
 m.add_node_set("left", np.flatnonzero(nodes[:, 0] == nodes[:, 0].min()))
 m.prescribe_velocity("left", direction=(1, 0), v_final=1.0, ramp_time=1e-3)
-m.set(gravity=True, buoyancy=True, drag=True, y_w=0.1, c_w=2.5e4)
+m.set(gravity=True, buoyancy=True, drag=True, drag_model="linear", y_w=0.1, c_w=2.5e4)
 v = np.zeros_like(nodes); v[len(na):, 0] = -1.0
 m.set_velocities(v)
 m.set(dt=0.9 * m.stable_time_step()["dt"])

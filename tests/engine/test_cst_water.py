@@ -61,7 +61,7 @@ def test_drag_on_a_rigidly_translating_submerged_block_is_minus_c_w_v():
     1e-4 here, so 1e-3."""
     c_w = 500.0
     m, nodes, _ = block(4, 2, 0.25)
-    m.set(gravity=False, drag=True, buoyancy=False, y_w=10.0, c_w=c_w)
+    m.set(gravity=False, drag=True, drag_model="linear", buoyancy=False, y_w=10.0, c_w=c_w)
     v0 = np.array([1.0, -0.5])
     m.set_velocities(np.tile(v0, (len(nodes), 1)))
     m.evaluate()
@@ -79,7 +79,7 @@ def test_drag_on_a_rigidly_translating_submerged_block_is_minus_c_w_v():
 
 def test_drag_scales_with_submerged_fraction():
     m, nodes, _ = block(4, 4, 0.25, origin=(0.0, -0.3))  # 1 x 1 block, 0.3 m below water
-    m.set(gravity=False, drag=True, y_w=0.0, c_w=1000.0)
+    m.set(gravity=False, drag=True, drag_model="linear", y_w=0.0, c_w=1000.0)
     m.set_velocities(np.tile([0.0, 2.0], (len(nodes), 1)))
     m.evaluate()
     # The water line cuts through triangles: 30 % submerged, 1e-12 round-off.
@@ -98,7 +98,7 @@ def test_floating_block_settles_at_its_draft():
     exercised."""
     t = 0.5
     m, nodes, _ = block(8, 2, 0.25, origin=(-1.0, 0.0))
-    m.set(gravity=True, buoyancy=True, drag=True, y_w=0.0, rho_w=RHO_W, c_w=8e3)
+    m.set(gravity=True, buoyancy=True, drag=True, drag_model="linear", y_w=0.0, rho_w=RHO_W, c_w=8e3)
     m.set(dt=0.9 * m.stable_time_step()["dt"])
     m.step(int(8.0 / m.params["dt"]))
     bottom = m.y[nodes[:, 1] == 0.0].mean()

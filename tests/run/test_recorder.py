@@ -14,7 +14,8 @@ def make_recorder():
     body = (c[:, 0] > 1.0).astype(int)
     bp = find_bond_points(nodes, tri, body, keel_top_y=1.0, keel_depth=1.0,
                           sigma_cr=10e3, tau_cr=50e3, G=15.0)
-    params = P.validate({"target_travel": 0.03})
+    # the run records the geometry measured on its mesh (here Table 1's)
+    params = P.recorded(P.validate({"target_travel": 0.03}), {k: p.default for k, p in P.MESH.items()})
     mesh = dict(nodes=nodes, triangles=tri, body=body, body_kind=np.zeros(2, int))
     rec = RunRecorder(params, mesh, bp, dict(porosity=0.25, n_blocks=2),
                       dict(ridge="test", seed=1, model="fem-dem"))

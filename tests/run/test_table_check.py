@@ -44,6 +44,10 @@ CASES = [
     ("column names only", "# to come\n" + HEAD + "# r1 1 0.3 5e3 'small'\n", "line 2: column names only"),
     ("a boolean ridge", HEAD + "r1 True 0.3 5e3 'small'\n", "line 2, column ridge: True must be a whole number"),
     ("a boolean strength", HEAD + "r1 1 0.3 True 'small'\n", "line 2, column tau_cr: parameter tau_cr=True is a boolean"),
+    # the geometry is the scene's mesh's: a column would be ignored, so it is refused
+    ("a geometry column", "description scene keel_depth\nr1 'small' 4.0\n",
+     "line 1, column keel_depth: keel_depth is the scene's geometry, taken from its mesh: not a run parameter; "
+     "to change the geometry pick a scene (deep, demo, paper, small, tiny, wide;"),
     ("a description with a folder", HEAD + "runs/r1 1 0.3 5e3 'small'\n",
      "line 2, column description: 'runs/r1' is not a plain file name"),
 ]
