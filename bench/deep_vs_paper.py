@@ -56,13 +56,12 @@ def measures(path):
     r = results.load(path)
     y, F = r.force_y, r.force_F
     F_m, y_m = loads.cohesive_peak(y, F)
-    alphas = failure_plane.alpha_samples(r)
+    alpha_mean, alpha_sd = failure_plane.mean_sd(failure_plane.alpha_samples(r))
     areas = [plug.plug_area(r, t) for t in failure_plane.ALPHA_TRAVELS]
     a = r.attrs
     return dict(F_m_kN_per_m=F_m / 1e3, y_I_peak_mm=y_m * 1e3,
                 F_20mm_kN_per_m=loads.load_at(y, F, TRAVEL) / 1e3,
-                alpha_mean_1_20mm_deg=failure_plane.mean_sd(alphas)[0],
-                alpha_sd_1_20mm_deg=failure_plane.mean_sd(alphas)[1],
+                alpha_mean_1_20mm_deg=alpha_mean, alpha_sd_1_20mm_deg=alpha_sd,
                 A_p_mean_1_20mm_m2=failure_plane.mean_sd(areas)[0],
                 keel_depth_m=r.keel_depth, porosity=r.porosity,
                 n_triangles=int(len(r.elem_area)), dt_s=float(r.parameters.get("dt", np.nan)),

@@ -1,6 +1,6 @@
-"""A polygon's signed area and orientation: what the pile file's writer
-(files/pile_file.py) and the geometry (geometry/pile.py) both need, kept below
-both. Pure numpy, importable from inside ``yade``.
+"""A polygon's signed area, orientation and width: what the pile file's writer
+(files/pile_file.py), the geometry (geometry/) and the rigid-block model
+(rigid_dem/) need, kept below them all. Pure numpy, importable from inside ``yade``.
 """
 import numpy as np
 
@@ -18,3 +18,18 @@ def ccw(p):
     """Same polygon, counter-clockwise."""
     p = np.asarray(p, float)
     return p if polygon_area(p) >= 0 else p[::-1].copy()
+
+
+def min_width(p):
+    """Smallest extent of a convex polygon across its edges [m] (0 for a
+    degenerate one; edges of zero length have no direction and are skipped)."""
+    p = np.asarray(p, float)
+    widths = []
+    for k in range(len(p)):
+        e = p[(k + 1) % len(p)] - p[k]
+        ln = np.hypot(*e)
+        if ln == 0.0:
+            continue
+        d = (p - p[k]) @ (np.array([-e[1], e[0]]) / ln)
+        widths.append(d.max() - d.min())
+    return float(min(widths)) if widths else 0.0

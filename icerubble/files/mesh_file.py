@@ -11,7 +11,8 @@ from .h5io import AtomicH5, open_complete, read_checked, write_dataset
 MESH_FORMAT = "icerubble-mesh"
 MESH_FORMAT_VERSION = 1
 
-# body_kind codes
+# body_kind codes of every mesh and result (docs/conventions.md): declared here,
+# where the file that carries them is read and written
 KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
 
 

@@ -15,6 +15,7 @@ import h5py
 import numpy as np
 
 from .h5io import open_complete, read_checked
+from .mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER
 from .recorder import RESULT_FORMAT
 
 FORMAT_NAME = RESULT_FORMAT   # written by recorder.py
@@ -23,8 +24,8 @@ OPTIONAL_GROUPS = ("snapshots", "energy", "fields")
 OPTIONAL_BOND_FIELDS = ("split_tn", "split_tt")   # older files lack them
 REQUIRED_GROUPS = ("parameters", "pile", "mesh", "force", "bonds")
 
-# Body kinds (docs/conventions.md)
-BLOCK, LAYER, INDENTER = 0, 1, 2
+# Body kinds (docs/conventions.md), the mesh file's codes
+BLOCK, LAYER, INDENTER = KIND_BLOCK, KIND_LAYER, KIND_INDENTER
 
 
 class FailureMode(enum.IntEnum):

@@ -19,14 +19,14 @@ import time
 
 import numpy as np
 
+from .. import polygon
+from ..files.mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER
 from ..openmp_threads import openmp_threads_kept
 from ..parameters import require_range
 from . import pile as _pile
 from . import mesh_order
 from .bond_points import bond_edges
 from .contact_resolution import resolve_contacts
-
-KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
 
 
 def _validate(element_size, gap_tol, min_bond_length, eps_sep, min_feature, indenter_width,
@@ -59,30 +59,17 @@ def crop_blocks(corners, domain_width, min_width):
     pile), as phase 1's side walls cut them; a piece thinner than ``min_width``
     (its smallest width across, over its edge normals) is dropped, since it could
     only be meshed with elements smaller than the scene's. Returns (polygons,
-    kept): the pieces and the pile index of each."""
+    kept, cut): the pieces, the pile index of each, and whether the crop cut it."""
     x0, x1 = -0.5 * domain_width, 0.5 * domain_width
-    polys, kept = [], []
+    polys, kept, cut = [], [], []
     for i, c in enumerate(corners):
         p = _pile.clip_box(_pile.ccw(c), x0, x1, -np.inf, np.inf)
-        if len(p) < 3 or _min_width(p) < min_width:
+        if len(p) < 3 or polygon.min_width(p) < min_width:
             continue
         polys.append(p)
         kept.append(i)
-    return polys, np.array(kept, dtype=np.int64)
-
-
-def _min_width(p):
-    """Smallest extent of a convex polygon across its edges (0 for a degenerate one)."""
-    widths = []
-    for k in range(len(p)):
-        e = p[(k + 1) % len(p)] - p[k]
-        ln = np.hypot(*e)
-        if ln == 0.0:
-            continue
-        n = np.array([-e[1], e[0]]) / ln
-        d = (p - p[k]) @ n
-        widths.append(d.max() - d.min())
-    return min(widths) if widths else 0.0
+        cut.append(bool(c[:, 0].min() < x0 or c[:, 0].max() > x1))
+    return polys, np.array(kept, dtype=np.int64), np.array(cut, dtype=bool)
 
 
 def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, eps_sep=2e-3,
@@ -111,9 +98,10 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     feature = max(min_feature, feature_fraction * element_size)
     info = {}
     if W < W_pile:
-        blocks, pile_block = crop_blocks(pile_data["corners"], W, element_size)
+        blocks, pile_block, cut = crop_blocks(pile_data["corners"], W, element_size)
     else:
-        blocks, pile_block = list(pile_data["corners"]), np.arange(len(pile_data["corners"]))
+        n = len(pile_data["corners"])
+        blocks, pile_block, cut = list(pile_data["corners"]), np.arange(n), np.zeros(n, dtype=bool)
 
     def resolve():
         info.clear()   # the clean-up counts of the last resolution
@@ -125,12 +113,11 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
         # part beyond the cut): it would float off, so it is dropped too (and
         # then any cut piece bonded only to it)
         bonded = {i for i, j, _, b in contacts if b} | {j for i, j, _, b in contacts if b and j >= 0}
-        loose = {k for k, i in enumerate(pile_block) if k not in bonded
-                 and np.ptp(pile_data["corners"][i][:, 0]) - np.ptp(blocks[k][:, 0]) > 1e-9}
+        loose = {k for k in np.flatnonzero(cut) if k not in bonded}
         if not loose:
             break
         keep = [k for k in range(len(blocks)) if k not in loose]
-        blocks, pile_block = [blocks[k] for k in keep], pile_block[keep]
+        blocks, pile_block, cut = [blocks[k] for k in keep], pile_block[keep], cut[keep]
         polys, contacts = resolve()
     times["resolve"] = time.perf_counter() - t0
     nb = len(polys)

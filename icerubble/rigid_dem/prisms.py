@@ -10,6 +10,7 @@ import numpy as np
 from yade import Vector3, polyhedra_utils
 from yade.wrapper import O
 
+from ..polygon import min_width
 from .scene import INSET, KIND_BLOCK, KIND_LAYER
 
 DT_SAFETY = 0.5
@@ -78,18 +79,6 @@ def polygon_inset(poly, d):
         t = np.linalg.solve(A, p[i] - p[j])
         out.append(p[j] + t[0] * e[j])
     return np.array(out)
-
-
-def min_width(poly):
-    """Smallest extent of a convex polygon across its edges [m]."""
-    q = np.asarray(poly, float)
-    best = math.inf
-    for i in range(len(q)):
-        e = q[(i + 1) % len(q)] - q[i]
-        n = np.array([-e[1], e[0]]) / np.hypot(*e)
-        s = (q - q[i]) @ n
-        best = min(best, s.max() - s.min())
-    return best
 
 
 def place_bodies(mat, sc):

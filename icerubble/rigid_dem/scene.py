@@ -23,10 +23,9 @@ import numpy as np
 
 from .. import parameters as P
 from ..engine.bond_pairs import bond_pairs
-from ..files.mesh_file import mesh_geometry
+from ..files.mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER, mesh_geometry
 from ..geometry.bond_points import find_bond_points
 
-KIND_BLOCK, KIND_LAYER, KIND_INDENTER = 0, 1, 2
 # [m] every body's outline moved inward: faces that coincide exactly make YADE's
 # polyhedra overlap run away; 10 um apart they do not, and the gap is closed at
 # once under load (2 mm, the mesh's eps_sep, delayed contact by 2 mm of travel)

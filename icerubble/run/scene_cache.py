@@ -103,8 +103,10 @@ def scene_files(name, ridge, root="runs", threads=1):
         return pile_path, mesh_path
     with _scene_lock(pile_base + "_scene.lock"):
         _make_pile(source, scene(source), ridge, mu, pile_path, threads, ship, pile_base)
+    # a cropping scene's manifest entry has its own mesh digest
+    mesh_ship = ship if source == name else shipped_ridges.shipped(name, ridge, mu)
     with _scene_lock(base + "_scene.lock"):   # runs started together mesh it once
-        _make_mesh(name, sc, ridge, pile_path, mesh_path, shipped_ridges.shipped(name, ridge, mu))
+        _make_mesh(name, sc, ridge, pile_path, mesh_path, mesh_ship)
     return pile_path, mesh_path
 
 
