@@ -187,10 +187,38 @@ def time_vs_error(d):
             + ["", "A bar's wave:", ""] + table(["cells", "h (m)", "wave speed error"], wave))
 
 
+def gpu_body_forces(d):
+    base = d["cpu"][0]
+    rows = [[r["threads"], fmt(r["ms_per_step"]), f"{base['ms_per_step'] / r['ms_per_step']:.2f}",
+             f"{100 * base['ms_per_step'] / r['ms_per_step'] / (r['threads'] / base['threads']):.0f} %",
+             fmt(r["elements_ms"]), fmt(r["drag_ms"]), fmt(r["contact_detection_ms"] + r["contact_forces_ms"]),
+             fmt(r["integration_ms"])] for r in d["cpu"]]
+    lines = [f"The {d['scene']} scene's mesh `{d['mesh']}` ({d['n_triangles']:,} triangles, {d['n_nodes']:,} nodes), "
+             f"load phase, `{d['preset']}` numerics, on {d['cpu_count']} cores:", ""]
+    lines += table(["threads", "ms per step", "speed-up", "efficiency", "elements (ms)", "of which drag",
+                    "contact", "integration"], rows)
+    if d.get("triad_GBps"):
+        lines += ["", "Memory bandwidth (STREAM triad, bench/stream_triad.cpp), GB/s: "
+                  + "; ".join(f"{t['threads']} threads {t['GBps']:.0f} ({t['mb_per_array']:.0f} MB arrays)"
+                              for t in d["triad_GBps"])]
+    g = d.get("gpu")
+    if g:
+        ok = g["compare"]["ok"]
+        stages = ", ".join(f"{k} {v:.1f}" for k, v in g["stages_us"].items())
+        lines += ["", f"GPU ({g['device']}): the body-force stage (elements, water, node gather; "
+                  f"icerubble/engine/gpu.py) takes {g['body_forces_us']:.1f} µs per evaluation (a CUDA graph); "
+                  f"its kernels launched one by one: {stages} µs. Against the CPU's elements part: "
+                  + ", ".join(f"{r['elements_ms'] * 1e3 / g['body_forces_us']:.0f}× {r['threads']} threads"
+                              for r in d["cpu"])
+                  + f". Fields as the CPU's: {'yes' if ok else 'NO'} (element and buoyancy fields bit for bit, "
+                  f"quadratic drag and the energy sum to {max(g['compare']['drag_k'][1], g['compare']['elastic_energy'][1]):.1e})."]
+    return lines
+
+
 FORMATS = {"demo_reference.json": demo_reference, "paper_cost.json": paper_cost, "paper_peak.json": paper_peak,
            "runtime_vs_error.json": runtime_vs_error, "sleeping_wide.json": sleeping,
            "rigid_cost.json": rigid_cost, "bonds.json": bonds, "collision.json": collision,
-           "time_vs_error.json": time_vs_error}
+           "time_vs_error.json": time_vs_error, "gpu_body_forces.json": gpu_body_forces}
 
 
 def title(script):

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_engine, m) {
   engine::bind_freeze_bonds(m);
   engine::bind_loads(m);
   engine::bind_rigid(m);
+  engine::bind_device(m);
 }

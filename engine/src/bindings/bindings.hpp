@@ -8,4 +8,5 @@ void bind_model(pybind11::module_& m);
 void bind_freeze_bonds(pybind11::module_& m);  // after bind_model: adds to Model
 void bind_loads(pybind11::module_& m);
 void bind_rigid(pybind11::module_& m);  // rigid-block water law (discrete-only model)
+void bind_device(pybind11::module_& m);  // the GPU backend (cuda/)
 }

@@ -315,6 +315,7 @@ void bind_model(py::module_& m) {
         const StepTimings& t = M.timings();
         py::dict d;
         d["elements"] = t.elements;
+        d["drag"] = t.drag;
         d["contact_detection"] = t.contact_detection;
         d["contact_forces"] = t.contact_forces;
         d["bonds"] = t.bonds;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "element/cst_kernel.hpp"
 #include "element/material.hpp"
 #include "common/mesh_arrays.hpp"
 
@@ -34,6 +35,9 @@ struct ElementSweep {
 void element_forces(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat,
                     bool damping, int32_t begin, int32_t end, ElementSweep& out,
                     const int32_t* list = nullptr);
+
+// The element pass's arrays of a mesh (element/cst_kernel.hpp).
+CstArrays cst_arrays(const Nodes& nodes, Triangles& tris, const std::vector<ElementMaterial>& mat);
 
 // Strain energy of one triangle at the current positions [J/m] (diagnostics).
 double element_strain_energy(const Nodes& nodes, const Triangles& tris,

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "common/mesh_arrays.hpp"
+#include "loads/water_kernel.hpp"
 
 namespace engine {
 
@@ -46,11 +47,9 @@ struct ExternalParams {
   bool water() const { return buoyancy || drag_on(); }
 };
 
-// Submerged area and centroid of a triangle below y_w.
-struct Submerged {
-  double area = 0.0, cx = 0.0, cy = 0.0;
-};
-Submerged submerged_part(double ax, double ay, double bx, double by, double cx, double cy, double y_w);
+// The water pass's arrays of a mesh (loads/water_kernel.hpp).
+WaterArrays water_arrays(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
+                         const std::vector<double>& body_area0, const std::vector<double>& body_drag);
 
 // Per triangle in [begin, end): buoyancy per corner and the drag coefficient
 // of each corner (Triangles::corner_load) from the bodies' drag

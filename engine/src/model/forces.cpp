@@ -12,39 +12,21 @@
 
 namespace engine {
 
-// The per-node sums of the corner forces (elastic, viscous, buoyancy) and the
-// drag coefficient, in the fixed gather order, plus gravity and drag: the
-// node's total of everything but contact, bonds and friction. Also used for a
-// node that has just been split off (FreezeBonds::split_points).
-void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g) {
-  const int32_t* start = gather_.start.data();
-  const int32_t* slot = gather_.slot.data();
-  const double* load = tris_.corner_load.data();
+// The gather's arrays (model/gather_kernel.hpp): the per-node sums of the
+// corner forces (elastic, viscous, buoyancy) and the drag coefficient, in the
+// fixed gather order, plus gravity and drag.
+GatherArrays Model::gather_arrays(bool damping, bool water, bool buoy, bool drag, double g) {
   Nodes& N = nodes_;
-  double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
-  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-    const double* c = load + CornerLoad::stride * size_t(slot[j]);
-    fx += c[CornerLoad::fx];
-    fy += c[CornerLoad::fy];
-    if (damping) {
-      vx += c[CornerLoad::visc_x];
-      vy += c[CornerLoad::visc_y];
-    }
-    if (water) {
-      if (buoy) fb += c[CornerLoad::buoy_y];
-      if (drag) k += c[CornerLoad::drag_k];
-    }
-  }
-  N.f_int_x[i] = fx;
-  N.f_int_y[i] = fy;
-  N.f_visc_x[i] = vx;
-  N.f_visc_y[i] = vy;
-  N.f_buoy_y[i] = fb;
-  N.drag_k[i] = k;
-  N.f_x[i] = fx - k * N.vx[i];
-  // Weight from the physical mass: mass scaling adds inertia, not weight.
-  N.f_y[i] = fy + fb - k * N.vy[i] - N.mass_phys[i] * g;
-  N.f_coh_x[i] = N.f_coh_y[i] = 0.0;
+  return {gather_.start.data(), gather_.slot.data(), N.vx.data(),
+          N.vy.data(), N.mass_phys.data(), N.f_int_x.data(), N.f_int_y.data(), N.f_visc_x.data(),
+          N.f_visc_y.data(), N.f_buoy_y.data(), N.drag_k.data(), N.f_x.data(), N.f_y.data(),
+          N.f_coh_x.data(), N.f_coh_y.data(), damping, water, buoy, drag, g};
+}
+
+// A node's total of everything but contact, bonds and friction; also used
+// for a node that has just been split off (FreezeBonds::split_points).
+void Model::gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g) {
+  gather_node_loads(gather_arrays(damping, water, buoy, drag, g), CornerRecords{tris_.corner_load.data()}, i);
 }
 
 void Model::compute_body_forces() {
@@ -57,7 +39,10 @@ void Model::compute_body_forces() {
   const bool water = ext_.water();
   const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
   const double g = ext_.gravity ? ext_.g : 0.0;
-  if (drag) body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
+  if (drag) {
+    Stopwatch drag_sw(timings_.drag);
+    body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
+  }
   // Sleeping far field: only the listed triangles are computed; the others
   // keep their stored (exact, frozen) forces and energies.
   const bool sleeping = sleep_.on && !compute_all_next_;
@@ -72,8 +57,10 @@ void Model::compute_body_forces() {
     gather_plan_.build(tris_, gather_, n, team_size, topology_version_);
   Nodes& N = nodes_;
   // a node's sums of this step's corner loads; the contact and cohesive passes add into f_con
+  const GatherArrays gathered = gather_arrays(damping, water, buoy, drag, g);
+  const CornerRecords corners{tris_.corner_load.data()};
   const auto gather = [&](int32_t i) {
-    gather_node(i, damping, water, buoy, drag, g);
+    gather_node_loads(gathered, corners, i);
     N.f_con_x[i] = N.f_con_y[i] = 0.0;
   };
   #pragma omp parallel num_threads(nt) if (threaded)

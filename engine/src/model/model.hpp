@@ -11,6 +11,7 @@
 #include "contact/contact.hpp"
 #include "element/cst_element.hpp"
 #include "model/energy.hpp"
+#include "model/gather_kernel.hpp"
 #include "model/gather_plan.hpp"
 #include "model/step_sums.hpp"
 #include "loads/external_forces.hpp"
@@ -31,6 +32,7 @@ struct InstabilityError : std::runtime_error {
 // Wall time spent in each part of the step [s], cumulative.
 struct StepTimings {
   double elements = 0.0;           // element and body forces, gather onto nodes
+  double drag = 0.0;               // of which the bodies' quadratic drag constants
   double contact_detection = 0.0;  // as reported by the contact module
   double contact_forces = 0.0;     // rest of the contact calls (normal + friction)
   double bonds = 0.0;              // freeze-bond check and cohesive forces
@@ -192,6 +194,9 @@ class Model {
   const std::vector<BoundaryCondition>& boundary_conditions() const { return bcs_; }
   const std::vector<Material>& materials() const { return materials_; }
   const std::vector<double>& body_area0() const { return body_area0_; }
+  const std::vector<ElementMaterial>& element_materials() const { return elem_mat_; }
+  const BodyTriangleLists& body_triangles() const { return body_tris_; }
+  bool any_damping() const { return any_damping_; }
   ContactSolver& contact() { return contact_; }
   int32_t n_bodies() const { return int32_t(materials_.size()); }
   double time() const { return time_; }
@@ -218,6 +223,7 @@ class Model {
   void compute_forces(History history);
   // one node's sums of corner forces + gravity and drag (also after a split)
   void gather_node(int32_t i, bool damping, bool water, bool buoy, bool drag, double g);
+  GatherArrays gather_arrays(bool damping, bool water, bool buoy, bool drag, double g);
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
   void check_freeze_bonds();        // (4) hook: bond stress check, node splitting

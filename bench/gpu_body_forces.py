@@ -1,0 +1,111 @@
+"""The engine's step cost by thread count, and its body-force stage on the
+GPU (not a test; docs/gpu.md). Writes bench/results/gpu_body_forces.json.
+
+    python3 bench/gpu_body_forces.py --mesh MESH.h5 [--scene paper] [--threads 1 2 4 8 16]
+
+For each thread count: the ms per step of the load phase (water, drag,
+contact, held layer top, driven indenter; the `fast` preset's numerics) and
+its parts (elements with the water loads and the node gather; contact
+detection; contact forces and friction; bonds; integration). Then, where the
+GPU backend runs: the body-force stage's time on the GPU (a CUDA graph of its
+launches, device events) against the elements part of one CPU step, and
+whether its fields equal the CPU's bits at the same state.
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import time
+
+from icerubble import parameters as P
+from icerubble.engine import gpu
+from icerubble.code_identity import code_version, source_hash
+from icerubble.machine import processor
+from icerubble.files.mesh_file import read_mesh
+from icerubble.run.presets import NUMERICS, scene
+from icerubble.run.punch_through_run import smooth_ramp_table
+from icerubble.run.scene import Scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "bench", "results", "gpu_body_forces.json")
+PARTS = ("elements", "drag", "contact_detection", "contact_forces", "bonds", "integration")
+
+
+def load_phase_model(mesh, scene_name, preset, threads):
+    params = P.validate(dict(scene(scene_name)["params"]))
+    numerics = NUMERICS[scene_name][preset]
+    m = Scene(mesh, params, threads=threads).model
+    m.set(contact_reach=numerics.get("contact_reach", float("inf")),
+          mass_scaling_dt=numerics.get("mass_scaling_dt") or 0.0)
+    m.set(dt_fraction=numerics["dt_fraction"])
+    m.fix("layer_top")
+    t, v = smooth_ramp_table(0.0, params["v_final"], params["ramp_time"])
+    m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, v))
+    return m
+
+
+def per_step(m, steps):
+    t0 = m.timings()
+    w0 = time.perf_counter()
+    m.step(steps)
+    wall = (time.perf_counter() - w0) / steps
+    t1 = m.timings()
+    return dict(ms_per_step=1e3 * wall, **{p + "_ms": 1e3 * (t1[p] - t0[p]) / steps for p in PARTS})
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--mesh", required=True, help="a scene's mesh file (runs/scenes/*_mesh.h5)")
+    ap.add_argument("--scene", default="paper", help="the scene whose parameters it runs with")
+    ap.add_argument("--preset", default="fast")
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--warmup", type=int, default=50)
+    ap.add_argument("--repeats", type=int, default=2000, help="GPU evaluations timed")
+    ap.add_argument("--triad", help="a compiled bench/stream_triad.cpp: the memory bandwidth by thread count")
+    ap.add_argument("--out", default=OUT)
+    a = ap.parse_args(argv)
+    mesh = read_mesh(a.mesh)
+    m = load_phase_model(mesh, a.scene, a.preset, a.threads[0])
+    m.step(a.warmup)
+    rows = []
+    for k in a.threads:
+        m.set(threads=k)
+        m.step(10)
+        r = dict(threads=k, **per_step(m, a.steps))
+        rows.append(r)
+        parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
+        print(f"{k:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+    out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
+               n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(),
+               code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None)
+    if a.triad:
+        text = subprocess.run([a.triad] + [str(k) for k in a.threads], capture_output=True, text=True,
+                              check=True).stdout
+        print(text, end="")
+        out["triad_GBps"] = [dict(mb_per_array=float(mb), threads=int(k), GBps=float(g)) for mb, k, g in
+                             re.findall(r"triad\s+([\d.]+) MB per array,\s+(\d+) threads:\s+([\d.]+) GB/s", text)]
+    if gpu.available():
+        cmp = gpu.compare(m)
+        stage = gpu.BodyForces(m)
+        s = stage.seconds_per_run(a.repeats)
+        parts = {k: 1e6 * v for k, v in stage.stage_seconds(max(a.repeats // 10, 10)).items()}
+        out["gpu"] = dict(device=gpu.device_name(), body_forces_us=1e6 * s, stages_us=parts, compare=cmp)
+        print(f"GPU {gpu.device_name()}: body-force stage {1e6 * s:.1f} us per evaluation "
+              f"({m.n_triangles / s / 1e9:.2f} G triangles/s); launched one by one: "
+              + ", ".join(f"{k} {v:.1f}" for k, v in parts.items()) + " us")
+        for r in rows:
+            print(f"  against {r['threads']:2d} threads' elements part {r['elements_ms']:.3f} ms: "
+                  f"{r['elements_ms'] * 1e-3 / s:.0f}x")
+        print(f"  as the CPU: {'yes' if cmp['ok'] else 'NO'} ({cmp})")
+    else:
+        print(f"GPU: {gpu.why_unavailable()}")
+    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
+    with open(a.out, "w") as f:
+        json.dump(out, f, indent=1)
+    print(f"wrote {a.out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,70 @@
+// Python access to the GPU backend (cuda/body_forces.hpp); in a build without
+// CUDA the same names exist and say there is no GPU backend.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include "bindings/bindings.hpp"
+#include "cuda/body_forces.hpp"
+#include "model/model.hpp"
+
+namespace py = pybind11;
+
+namespace engine {
+
+namespace {
+
+py::array_t<double> copy(const std::vector<double>& v) {
+  return py::array_t<double>(ssize_t(v.size()), v.data());
+}
+
+py::dict as_dict(const BodyForceFields& f) {
+  py::dict d;
+  d["f_int_x"] = copy(f.f_int_x);
+  d["f_int_y"] = copy(f.f_int_y);
+  d["f_visc_x"] = copy(f.f_visc_x);
+  d["f_visc_y"] = copy(f.f_visc_y);
+  d["f_buoy_y"] = copy(f.f_buoy_y);
+  d["drag_k"] = copy(f.drag_k);
+  d["stress"] = copy(f.stress);
+  d["energy"] = copy(f.energy);
+  d["elastic_energy"] = f.elastic_energy;
+  d["first_inverted"] = f.first_inverted;
+  return d;
+}
+
+// The CPU's fields of the same stage, from the model's last force evaluation.
+BodyForceFields cpu_fields(const Model& m) {
+  const Nodes& N = m.nodes();
+  const Triangles& T = m.triangles();
+  BodyForceFields f;
+  f.f_int_x = N.f_int_x;
+  f.f_int_y = N.f_int_y;
+  f.f_visc_x = N.f_visc_x;
+  f.f_visc_y = N.f_visc_y;
+  f.f_buoy_y = N.f_buoy_y;
+  f.drag_k = N.drag_k;
+  f.stress = T.stress;
+  f.energy = T.energy;
+  f.elastic_energy = m.energy().elastic;
+  return f;
+}
+
+}  // namespace
+
+void bind_device(py::module_& m) {
+  m.def("cuda_built", &cuda_built, "whether this build has the GPU backend");
+  m.def("cuda_device", &cuda_device_name, "the GPU the backend sees ('' if none)");
+  m.def("body_force_fields", [](const Model& model) { return as_dict(cpu_fields(model)); },
+        "the CPU's body-force fields of the model's last evaluation (what DeviceBodyForces computes)");
+  py::class_<DeviceBodyForces>(m, "DeviceBodyForces")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("upload_state", &DeviceBodyForces::upload_state)
+      .def("run", &DeviceBodyForces::run)
+      .def("time_per_run", &DeviceBodyForces::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("stage_times", &DeviceBodyForces::stage_times, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("fields", [](DeviceBodyForces& d) { return as_dict(d.fields()); });
+}
+
+}  // namespace engine

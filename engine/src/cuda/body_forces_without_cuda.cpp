@@ -1,0 +1,29 @@
+// The GPU backend's entry points in a build without a CUDA toolkit: each
+// says so (the CPU engine is complete without it).
+#include <stdexcept>
+
+#include "cuda/body_forces.hpp"
+
+namespace engine {
+
+namespace {
+[[noreturn]] void no_gpu() {
+  throw std::runtime_error(
+      "this build has no GPU backend: no CUDA toolkit (nvcc) was found when it was built; "
+      "install one and run `make build` again (docs/gpu.md)");
+}
+}  // namespace
+
+bool cuda_built() { return false; }
+std::string cuda_device_name() { return ""; }
+
+struct DeviceBodyForces::Impl {};
+DeviceBodyForces::DeviceBodyForces(const Model&) { no_gpu(); }
+DeviceBodyForces::~DeviceBodyForces() = default;
+void DeviceBodyForces::upload_state(const Model&) { no_gpu(); }
+void DeviceBodyForces::run() { no_gpu(); }
+double DeviceBodyForces::time_per_run(int) { no_gpu(); }
+std::vector<double> DeviceBodyForces::stage_times(int) { no_gpu(); }
+BodyForceFields DeviceBodyForces::fields() { no_gpu(); }
+
+}  // namespace engine

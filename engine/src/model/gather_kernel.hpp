@@ -1,0 +1,66 @@
+// One node's gather (docs/model.md §3): the sums of its corners' loads in
+// the fixed order of NodeGather (ascending corner slot), plus gravity and
+// drag, written once for both backends (Model::gather_node on the CPU,
+// cuda/body_forces.cu per node). A node's sums do not depend on which thread
+// or GPU lane takes it, so both backends give the same bits.
+#pragma once
+#include <cstdint>
+
+#include "common/corner_layout.hpp"
+#include "common/host_device.hpp"
+#include "common/mesh_arrays.hpp"
+
+namespace engine {
+
+struct GatherArrays {
+  const int32_t* start;  // NodeGather
+  const int32_t* slot;
+  const double* vx;
+  const double* vy;
+  const double* mass_phys;
+  double* f_int_x;
+  double* f_int_y;
+  double* f_visc_x;
+  double* f_visc_y;
+  double* f_buoy_y;
+  double* drag_k;
+  double* f_x;
+  double* f_y;
+  double* f_coh_x;
+  double* f_coh_y;
+  bool damping, water, buoyancy, drag;
+  double g;  // gravity [m/s²], 0 without
+};
+
+// Node i's total of everything but contact, bonds and friction (and its
+// parts by origin); zeroes its cohesive force for the bond pass. The corner
+// loads are read from `load` (common/corner_layout.hpp).
+template <class Corners>
+ICERUBBLE_HD void gather_node_loads(const GatherArrays& a, Corners load, int32_t i) {
+  double fx = 0.0, fy = 0.0, vx = 0.0, vy = 0.0, fb = 0.0, k = 0.0;
+  for (int32_t j = a.start[i]; j < a.start[i + 1]; ++j) {
+    const size_t c = size_t(a.slot[j]);
+    fx += load(c, CornerLoad::fx);
+    fy += load(c, CornerLoad::fy);
+    if (a.damping) {
+      vx += load(c, CornerLoad::visc_x);
+      vy += load(c, CornerLoad::visc_y);
+    }
+    if (a.water) {
+      if (a.buoyancy) fb += load(c, CornerLoad::buoy_y);
+      if (a.drag) k += load(c, CornerLoad::drag_k);
+    }
+  }
+  a.f_int_x[i] = fx;
+  a.f_int_y[i] = fy;
+  a.f_visc_x[i] = vx;
+  a.f_visc_y[i] = vy;
+  a.f_buoy_y[i] = fb;
+  a.drag_k[i] = k;
+  a.f_x[i] = fx - k * a.vx[i];
+  // Weight from the physical mass: mass scaling adds inertia, not weight.
+  a.f_y[i] = fy + fb - k * a.vy[i] - a.mass_phys[i] * a.g;
+  a.f_coh_x[i] = a.f_coh_y[i] = 0.0;
+}
+
+}  // namespace engine

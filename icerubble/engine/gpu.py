@@ -1,0 +1,111 @@
+"""The GPU backend (docs/gpu.md), as far as it is built: the body-force stage
+of a step (elements, buoyancy and drag, the node gather) on one CUDA GPU, from
+the same per-triangle, per-body and per-node functions the CPU engine runs.
+
+    from icerubble.engine import gpu
+    if gpu.available():
+        stage = gpu.BodyForces(model)     # copies the mesh and the state
+        stage.run(); fields = stage.fields()
+
+`compare(model)` checks it against the CPU: the element and buoyancy fields
+bit for bit; quadratic drag's body constants and the energy sum, which the
+GPU sums in another (fixed) order, to round-off.
+"""
+import numpy as np
+
+from .. import _engine
+
+# Per-node and per-triangle fields the stage writes with the CPU's arithmetic
+# in the CPU's order: each must equal the CPU's bits.
+EXACT_FIELDS = ("f_int_x", "f_int_y", "f_visc_x", "f_visc_y", "f_buoy_y", "stress", "energy")
+# ... and those summed per body in another order on the GPU (quadratic drag:
+# a warp per body): to round-off, relative to the field's largest entry.
+SUMMED_FIELDS = ("drag_k",)
+FIELDS = EXACT_FIELDS + SUMMED_FIELDS
+ROUND_OFF = 1e-12
+# the stage's kernels, in launch order (BodyForces.stage_seconds)
+STAGES = ("drag", "triangles", "gather", "energy_sum")
+
+
+def built():
+    """Whether this build of the engine has the GPU backend (a CUDA toolkit was found)."""
+    return bool(_engine.cuda_built())
+
+
+def device_name():
+    """The GPU the backend sees ('' when there is none or the build has no backend)."""
+    return _engine.cuda_device() if built() else ""
+
+
+def available():
+    """Whether the GPU backend can run here: built with it, and a GPU visible."""
+    return bool(device_name())
+
+
+def why_unavailable():
+    """A sentence saying why the GPU backend cannot run here ('' if it can)."""
+    if not built():
+        return "this build has no GPU backend (no CUDA toolkit was found when it was built)"
+    if not device_name():
+        return "no CUDA GPU is visible"
+    return ""
+
+
+class BodyForces:
+    """The body-force stage of `model` (an engine.Model) on the GPU."""
+
+    def __init__(self, model):
+        reason = why_unavailable()
+        if reason:
+            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        self._model = model
+        self._d = _engine.DeviceBodyForces(model._m)
+
+    def upload_state(self):
+        """Copy the model's positions and velocities now."""
+        self._d.upload_state(self._model._m)
+
+    def run(self):
+        self._d.run()
+
+    def seconds_per_run(self, repeats=1000):
+        """Mean GPU time of one evaluation [s] (CUDA graph, device events)."""
+        return self._d.time_per_run(int(repeats))
+
+    def stage_seconds(self, repeats=200):
+        """Mean GPU time of each stage [s], launched one by one: quadratic
+        drag, triangles (elements, water, energy partials), node gather,
+        energy sum."""
+        return dict(zip(STAGES, self._d.stage_times(int(repeats))))
+
+    def fields(self):
+        return self._d.fields()
+
+
+def cpu_fields(model):
+    """The CPU's fields of the same stage, from the model's last evaluation."""
+    return _engine.body_force_fields(model._m)
+
+
+def compare(model):
+    """Evaluate `model` on the CPU and its body-force stage on the GPU at the
+    same state. Returns {field: (entries whose bits differ, largest difference
+    relative to the field's largest entry)} for FIELDS and 'elastic_energy',
+    and 'ok': the EXACT_FIELDS equal, the others within ROUND_OFF."""
+    model.evaluate()
+    cpu = cpu_fields(model)
+    stage = BodyForces(model)
+    stage.run()
+    gpu = stage.fields()
+    out = {}
+    for k in FIELDS + ("elastic_energy",):
+        a, b = np.atleast_1d(np.asarray(cpu[k], float)), np.atleast_1d(np.asarray(gpu[k], float))
+        if a.shape != b.shape:
+            out[k] = (-1, np.inf)
+            continue
+        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
+        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
+                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    out["ok"] = (all(out[k][0] == 0 for k in EXACT_FIELDS)
+                 and all(out[k][1] <= ROUND_OFF for k in SUMMED_FIELDS + ("elastic_energy",)))
+    return out
