@@ -212,6 +212,11 @@ def gpu_body_forces(d):
                               for r in d["cpu"])
                   + f". Fields as the CPU's: {'yes' if ok else 'NO'} (element and buoyancy fields bit for bit, "
                   f"quadratic drag and the energy sum to {max(g['compare']['drag_k'][1], g['compare']['elastic_energy'][1]):.1e})."]
+        if "node_update_us" in g:
+            lines += ["", f"GPU: the node update (central difference and the ledger's sums; its positions and "
+                      f"velocities the CPU's bits, tools/gpu_check.py) takes {g['node_update_us']:.1f} µs, against "
+                      f"{d['cpu'][-1]['integration_ms'] * 1e3:.0f} µs for the integration part at "
+                      f"{d['cpu'][-1]['threads']} threads."]
     return lines
 
 

@@ -109,3 +109,73 @@ def compare(model):
     out["ok"] = (all(out[k][0] == 0 for k in EXACT_FIELDS)
                  and all(out[k][1] <= ROUND_OFF for k in SUMMED_FIELDS + ("elastic_energy",)))
     return out
+
+
+# NodeUpdate's sums, in the order the GPU returns them (model/update_kernel.hpp NodeWork)
+UPDATE_TERMS = ("kinetic2_new", "kinetic2_old", "viscous", "local_damping", "contact", "friction", "cohesive",
+                "gravity", "buoyancy", "drag", "boundary", "elastic_new", "elastic_old")
+
+
+class NodeUpdate:
+    """The central-difference update of `model` (an engine.Model) on the GPU,
+    from the node state and the forces of the model's last evaluation."""
+
+    def __init__(self, model):
+        reason = why_unavailable()
+        if reason:
+            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        self._d = _engine.DeviceNodeUpdate(model._m)
+
+    def run(self):
+        self._d.run()
+
+    def seconds_per_run(self, repeats=1000):
+        """Mean GPU time of one update [s] (device events; repeated in place)."""
+        return self._d.time_per_run(int(repeats))
+
+    def fields(self):
+        f = self._d.fields()
+        f["sums"] = dict(zip(UPDATE_TERMS, np.asarray(f["sums"]).tolist()))
+        return f
+
+
+def ledger_of_one_step(sums, dt):
+    """The ledger terms one step adds from its sums (Model::update_positions),
+    as engine.Model.energies() names them, for a ledger reset just before."""
+    s = sums
+    return dict(kinetic=0.5 * s["kinetic2_new"], damping=-dt * (s["viscous"] + s["local_damping"]),
+                contact=-dt * s["contact"], friction=-dt * s["friction"], work_gravity=dt * -s["gravity"],
+                work_buoyancy=dt * s["buoyancy"], drag=dt * s["drag"], work_boundary=dt * s["boundary"])
+
+
+def compare_update(model):
+    """One step of `model` on the CPU against its update on the GPU from the
+    same forces (the model's evaluation at the step's start). Returns
+    {field: (entries whose bits differ, largest difference relative to the
+    field's largest entry)} for x, y, vx, vy, and the ledger terms' largest
+    difference relative to the largest of them ('ledger'), and 'ok': the
+    node fields equal, the ledger within ROUND_OFF; None when a bond point
+    split in that step (the CPU's step then has other forces)."""
+    model.evaluate()
+    stage = NodeUpdate(model)
+    stage.run()
+    gpu = stage.fields()
+    n = model.n_nodes
+    model.reset_energy()
+    model.step(1)
+    if model.n_nodes != n:
+        return None
+    xy, v = model.positions, model.velocities
+    cpu = dict(x=xy[:, 0], y=xy[:, 1], vx=v[:, 0], vy=v[:, 1])
+    out = {}
+    for k in ("x", "y", "vx", "vy"):
+        a, b = np.ascontiguousarray(cpu[k], float), np.asarray(gpu[k], float)
+        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
+        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
+                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    e = model.energies()
+    ledger = ledger_of_one_step(gpu["sums"], model.dt)
+    scale = max(max(abs(e[k]) for k in ledger), 1e-300)
+    out["ledger"] = max(abs(ledger[k] - e[k]) for k in ledger) / scale
+    out["ok"] = all(out[k][0] == 0 for k in ("x", "y", "vx", "vy")) and out["ledger"] <= ROUND_OFF
+    return out

@@ -44,3 +44,13 @@ def test_a_second_gpu_run_gives_the_same_bits():
     for k in gpu.FIELDS:
         assert np.array_equal(np.asarray(a[k]).view(np.uint64), np.asarray(b[k]).view(np.uint64)), k
     assert a["elastic_energy"] == b["elastic_energy"]
+
+
+@needs_gpu
+@pytest.mark.parametrize("drag_model", ["linear", "quadratic"])
+def test_the_gpu_update_is_the_cpus_step(drag_model):
+    m = floating_blocks(np.random.default_rng(11), drag_model)
+    m.step(2)
+    cmp = gpu.compare_update(m)
+    assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {"x": 0, "y": 0, "vx": 0, "vy": 0}
+    assert cmp["ledger"] <= gpu.ROUND_OFF

@@ -5,6 +5,7 @@
 
 #include "bindings/bindings.hpp"
 #include "cuda/body_forces.hpp"
+#include "cuda/node_update.hpp"
 #include "model/model.hpp"
 
 namespace py = pybind11;
@@ -65,6 +66,21 @@ void bind_device(py::module_& m) {
       .def("stage_times", &DeviceBodyForces::stage_times, py::arg("repeats"),
            py::call_guard<py::gil_scoped_release>())
       .def("fields", [](DeviceBodyForces& d) { return as_dict(d.fields()); });
+  py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("run", &DeviceNodeUpdate::run)
+      .def("time_per_run", &DeviceNodeUpdate::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("fields", [](DeviceNodeUpdate& d) {
+        const NodeUpdateFields f = d.fields();
+        py::dict out;
+        out["x"] = copy(f.x);
+        out["y"] = copy(f.y);
+        out["vx"] = copy(f.vx);
+        out["vy"] = copy(f.vy);
+        out["sums"] = copy(f.sums);
+        return out;
+      });
 }
 
 }  // namespace engine

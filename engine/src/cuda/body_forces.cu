@@ -4,6 +4,7 @@
 #include "cuda/body_forces.hpp"
 
 #include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
 #include "element/cst_kernel.hpp"
 #include "loads/drag_kernel.hpp"
 #include "loads/water_kernel.hpp"
@@ -23,37 +24,6 @@ constexpr int kBodyBlock = 256;
 constexpr int kSumThreads = 1024;
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
-
-// Sums in a fixed tree over a block's N lanes (N a power of two; every lane
-// calls it): every run gives the same bits, no atomics in any sum.
-template <int N>
-__device__ double block_sum(double v, double* shared) {
-  shared[threadIdx.x] = v;
-  __syncthreads();
-  for (int w = N / 2; w > 0; w /= 2) {
-    if (int(threadIdx.x) < w) shared[threadIdx.x] += shared[threadIdx.x + w];
-    __syncthreads();
-  }
-  const double total = shared[0];
-  __syncthreads();  // the buffer is free again
-  return total;
-}
-
-template <int N, bool kMax>
-__device__ double block_extreme(double v, double* shared) {
-  shared[threadIdx.x] = v;
-  __syncthreads();
-  for (int w = N / 2; w > 0; w /= 2) {
-    if (int(threadIdx.x) < w) {
-      const double o = shared[threadIdx.x + w];
-      if (kMax ? o > shared[threadIdx.x] : o < shared[threadIdx.x]) shared[threadIdx.x] = o;
-    }
-    __syncthreads();
-  }
-  const double e = shared[0];
-  __syncthreads();
-  return e;
-}
 
 // Quadratic drag, first each triangle's velocity term, stored at its place k
 // in the bodies' triangle lists (so that a body's terms are contiguous) ...

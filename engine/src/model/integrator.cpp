@@ -144,6 +144,16 @@ void Model::compute_forces(History history) {
   apply_boundary_conditions();  // fixed nodes, prescribed velocities, reactions
 }
 
+UpdateArrays Model::update_arrays(double dt, double g, double alpha) {
+  Nodes& N = nodes_;
+  return {N.x.data(),       N.y.data(),       N.vx.data(),       N.vy.data(),      N.mass.data(),
+          N.mass_phys.data(), N.f_x.data(),   N.f_y.data(),      N.f_pre_x.data(), N.f_pre_y.data(),
+          N.f_int_x.data(), N.f_int_y.data(), N.f_visc_x.data(), N.f_visc_y.data(), N.f_con_x.data(),
+          N.f_con_y.data(), N.f_coh_x.data(), N.f_coh_y.data(), N.f_buoy_y.data(), N.drag_k.data(),
+          N.r_x.data(),     N.r_y.data(),     N.v_bc_x.data(),   N.v_bc_y.data(),  N.constrained.data(),
+          dt,               g,                alpha};
+}
+
 void Model::update_positions() {
   Stopwatch sw(timings_.integration);
   const int nt = int(partial_.size());
@@ -158,6 +168,7 @@ void Model::update_positions() {
   if (sleeping && body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
   uint8_t* body_wake = body_wake_.data();
   const int32_t* node_body = node_body_.data();
+  const UpdateArrays u = update_arrays(dt, g, alpha);
   #pragma omp parallel num_threads(nt) if (use_threads())
   {
     Nodes& N = nodes_;
@@ -170,9 +181,6 @@ void Model::update_positions() {
     double sleep_changes = 0.0;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      const double m = N.mass[i];
-      const double vox = N.vx[i], voy = N.vy[i];
-      const uint8_t c = N.constrained[i];
       if (sleeping && N.sleep[i]) {
         // held in place (v = 0: no work, no kinetic energy). Its first frozen
         // update keeps its force as the reference; after that it wakes when
@@ -192,35 +200,21 @@ void Model::update_positions() {
         #pragma omp atomic write
         body_wake[node_body[i]] = uint8_t(1);
       }
-      double dfx = 0.0, dfy = 0.0;  // local damping force
-      if (alpha > 0.0) {
-        const double fx = N.f_x[i], fy = N.f_y[i];
-        if (!(c & 1) && fx * vox != 0.0) dfx = -alpha * std::fabs(fx) * (vox > 0.0 ? 1.0 : -1.0);
-        if (!(c & 2) && fy * voy != 0.0) dfy = -alpha * std::fabs(fy) * (voy > 0.0 ? 1.0 : -1.0);
-      }
-      const double vnx = (c & 1) ? N.v_bc_x[i] : vox + dt * (N.f_x[i] + dfx) / m;
-      const double vny = (c & 2) ? N.v_bc_y[i] : voy + dt * (N.f_y[i] + dfy) / m;
-      N.vx[i] = vnx;
-      N.vy[i] = vny;
-      N.x[i] += dt * vnx;
-      N.y[i] += dt * vny;
-      if (sleeping && !c) count_quiet(sp, vnx, vny, N.quiet[i]);
-      // Midpoint-rule power of each force with v(t) = (v^{n-1/2} + v^{n+1/2})/2.
-      const double bx = 0.5 * (vox + vnx), by = 0.5 * (voy + vny);
-      const double elx = N.f_int_x[i] - N.f_visc_x[i], ely = N.f_int_y[i] - N.f_visc_y[i];
-      kinetic2_new += m * (vnx * vnx + vny * vny);
-      kinetic2_old += m * (vox * vox + voy * voy);
-      viscous += N.f_visc_x[i] * bx + N.f_visc_y[i] * by;
-      local_damping += dfx * bx + dfy * by;
-      contact += N.f_con_x[i] * bx + N.f_con_y[i] * by;
-      friction += (N.f_x[i] - N.f_pre_x[i]) * bx + (N.f_y[i] - N.f_pre_y[i]) * by;
-      cohesive += N.f_coh_x[i] * bx + N.f_coh_y[i] * by;
-      gravity -= N.mass_phys[i] * g * by;  // the weight's power (physical mass)
-      buoyancy += N.f_buoy_y[i] * by;
-      drag -= N.drag_k[i] * (vox * bx + voy * by);
-      boundary += N.r_x[i] * bx + N.r_y[i] * by;
-      elastic_new += elx * vnx + ely * vny;
-      elastic_old += elx * vox + ely * voy;
+      const NodeWork w = update_node(u, i);
+      if (sleeping && !N.constrained[i]) count_quiet(sp, N.vx[i], N.vy[i], N.quiet[i]);
+      kinetic2_new += w.kinetic2_new;
+      kinetic2_old += w.kinetic2_old;
+      viscous += w.viscous;
+      local_damping += w.local_damping;
+      contact += w.contact;
+      friction += w.friction;
+      cohesive += w.cohesive;
+      gravity -= w.gravity;
+      buoyancy += w.buoyancy;
+      drag -= w.drag;
+      boundary += w.boundary;
+      elastic_new += w.elastic_new;
+      elastic_old += w.elastic_old;
     }
     StepSums& p = partial_[omp_get_thread_num()].s;
     p.sleep_changes = sleep_changes;

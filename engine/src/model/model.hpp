@@ -12,6 +12,7 @@
 #include "element/cst_element.hpp"
 #include "model/energy.hpp"
 #include "model/gather_kernel.hpp"
+#include "model/update_kernel.hpp"
 #include "model/gather_plan.hpp"
 #include "model/step_sums.hpp"
 #include "loads/external_forces.hpp"
@@ -197,6 +198,7 @@ class Model {
   const std::vector<ElementMaterial>& element_materials() const { return elem_mat_; }
   const BodyTriangleLists& body_triangles() const { return body_tris_; }
   bool any_damping() const { return any_damping_; }
+  double local_damping() const { return local_damping_; }
   ContactSolver& contact() { return contact_; }
   int32_t n_bodies() const { return int32_t(materials_.size()); }
   double time() const { return time_; }
@@ -232,6 +234,7 @@ class Model {
   void apply_friction(History history);  // (3b) friction, once all other forces are known
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
   void update_positions();          // (7) central difference + work integration
+  UpdateArrays update_arrays(double dt, double g, double alpha);  // model/update_kernel.hpp
   void guard_stability();
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
   void update_sleep();             // after an update: wake woken bodies, sleep bodies at rest

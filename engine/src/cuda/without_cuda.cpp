@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cuda/body_forces.hpp"
+#include "cuda/node_update.hpp"
 
 namespace engine {
 
@@ -25,5 +26,12 @@ void DeviceBodyForces::run() { no_gpu(); }
 double DeviceBodyForces::time_per_run(int) { no_gpu(); }
 std::vector<double> DeviceBodyForces::stage_times(int) { no_gpu(); }
 BodyForceFields DeviceBodyForces::fields() { no_gpu(); }
+
+struct DeviceNodeUpdate::Impl {};
+DeviceNodeUpdate::DeviceNodeUpdate(const Model&) { no_gpu(); }
+DeviceNodeUpdate::~DeviceNodeUpdate() = default;
+void DeviceNodeUpdate::run() { no_gpu(); }
+double DeviceNodeUpdate::time_per_run(int) { no_gpu(); }
+NodeUpdateFields DeviceNodeUpdate::fields() { no_gpu(); }
 
 }  // namespace engine

@@ -1,0 +1,147 @@
+// The node update on the GPU (cuda/node_update.hpp): update_node per node,
+// each block's NodeWork terms summed in a fixed tree, then the blocks'
+// partial sums in a fixed order.
+#include "cuda/node_update.hpp"
+
+#include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
+#include "model/model.hpp"
+#include "model/update_kernel.hpp"
+
+namespace engine {
+
+namespace {
+
+constexpr int kBlock = 128;
+constexpr int kTerms = 13;  // NodeWork's fields
+constexpr int kSumThreads = 1024;
+
+__global__ void __launch_bounds__(kBlock) update_kernel(UpdateArrays a, int32_t n, double* partial, int32_t n_blocks) {
+  __shared__ double shared[kBlock];
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  NodeWork w{};
+  if (i < n) w = update_node(a, i);
+  const double terms[kTerms] = {w.kinetic2_new, w.kinetic2_old, w.viscous, w.local_damping, w.contact,
+                                w.friction, w.cohesive, w.gravity, w.buoyancy, w.drag, w.boundary,
+                                w.elastic_new, w.elastic_old};
+  #pragma unroll
+  for (int k = 0; k < kTerms; ++k) {
+    const double s = block_sum<kBlock>(terms[k], shared);
+    if (threadIdx.x == 0) partial[size_t(k) * n_blocks + blockIdx.x] = s;
+  }
+}
+
+// Term k's partials in a fixed order, one block per term.
+__global__ void __launch_bounds__(kSumThreads) sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
+  __shared__ double shared[kSumThreads];
+  const double* p = partial + size_t(blockIdx.x) * n_blocks;
+  double s = 0.0;
+  for (int32_t k = threadIdx.x; k < n_blocks; k += kSumThreads) s += p[k];
+  s = block_sum<kSumThreads>(s, shared);
+  if (threadIdx.x == 0) sums[blockIdx.x] = s;
+}
+
+}  // namespace
+
+struct DeviceNodeUpdate::Impl {
+  int32_t n = 0;
+  double dt = 0.0, g = 0.0, alpha = 0.0;
+  DeviceArray<double> x, y, vx, vy, mass, mass_phys, f_x, f_y, f_pre_x, f_pre_y, f_int_x, f_int_y, f_visc_x,
+      f_visc_y, f_con_x, f_con_y, f_coh_x, f_coh_y, f_buoy_y, drag_k, r_x, r_y, v_bc_x, v_bc_y, partial, sums;
+  DeviceArray<uint8_t> constrained;
+  cudaStream_t stream = nullptr;
+
+  int n_blocks() const { return (n + kBlock - 1) / kBlock; }
+
+  void launch() {
+    const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
+                         mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
+                         f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
+                         f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
+                         r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
+                         dt,             g,              alpha};
+    update_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, n, partial.data(), n_blocks());
+    sums_kernel<<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+    cuda_check(cudaGetLastError(), "kernel launch");
+  }
+};
+
+DeviceNodeUpdate::DeviceNodeUpdate(const Model& m) : impl_(new Impl) {
+  Impl& d = *impl_;
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
+    cudaGetLastError();
+    throw std::runtime_error("GPU: no CUDA device is visible");
+  }
+  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  const Nodes& N = m.nodes();
+  d.n = N.size();
+  d.dt = m.dt();
+  d.g = m.external().gravity ? m.external().g : 0.0;
+  d.alpha = m.local_damping();
+  d.x.upload(N.x);
+  d.y.upload(N.y);
+  d.vx.upload(N.vx);
+  d.vy.upload(N.vy);
+  d.mass.upload(N.mass);
+  d.mass_phys.upload(N.mass_phys);
+  d.f_x.upload(N.f_x);
+  d.f_y.upload(N.f_y);
+  d.f_pre_x.upload(N.f_pre_x);
+  d.f_pre_y.upload(N.f_pre_y);
+  d.f_int_x.upload(N.f_int_x);
+  d.f_int_y.upload(N.f_int_y);
+  d.f_visc_x.upload(N.f_visc_x);
+  d.f_visc_y.upload(N.f_visc_y);
+  d.f_con_x.upload(N.f_con_x);
+  d.f_con_y.upload(N.f_con_y);
+  d.f_coh_x.upload(N.f_coh_x);
+  d.f_coh_y.upload(N.f_coh_y);
+  d.f_buoy_y.upload(N.f_buoy_y);
+  d.drag_k.upload(N.drag_k);
+  d.r_x.upload(N.r_x);
+  d.r_y.upload(N.r_y);
+  d.v_bc_x.upload(N.v_bc_x);
+  d.v_bc_y.upload(N.v_bc_y);
+  d.constrained.upload(N.constrained);
+  d.partial.resize(size_t(kTerms) * d.n_blocks());
+  d.sums.resize(kTerms);
+}
+
+DeviceNodeUpdate::~DeviceNodeUpdate() {
+  if (impl_->stream) cudaStreamDestroy(impl_->stream);
+}
+
+void DeviceNodeUpdate::run() { impl_->launch(); }
+
+double DeviceNodeUpdate::time_per_run(int repeats) {
+  Impl& d = *impl_;
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  for (int k = 0; k < 3; ++k) d.launch();
+  cudaEvent_t a, b;
+  cuda_check(cudaEventCreate(&a), "event");
+  cuda_check(cudaEventCreate(&b), "event");
+  cuda_check(cudaEventRecord(a, d.stream), "event");
+  for (int k = 0; k < repeats; ++k) d.launch();
+  cuda_check(cudaEventRecord(b, d.stream), "event");
+  cuda_check(cudaEventSynchronize(b), "event");
+  float ms = 0.0f;
+  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
+  cudaEventDestroy(a);
+  cudaEventDestroy(b);
+  return 1e-3 * double(ms) / repeats;
+}
+
+NodeUpdateFields DeviceNodeUpdate::fields() {
+  Impl& d = *impl_;
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU update");
+  NodeUpdateFields f;
+  f.x = d.x.download();
+  f.y = d.y.download();
+  f.vx = d.vx.download();
+  f.vy = d.vy.download();
+  f.sums = d.sums.download();
+  return f;
+}
+
+}  // namespace engine
