@@ -10,7 +10,7 @@ detection; contact forces and friction; bonds; integration). Then, where the
 GPU backend runs: the body-force stage's time on the GPU (a CUDA graph of its
 launches, device events) against the elements part of one CPU step, and
 whether its fields equal the CPU's bits at the same state; and the node
-update's time on the GPU.
+update's and the normal contact pass's times on the GPU.
 """
 import argparse
 import json
@@ -93,13 +93,18 @@ def main(argv=None):
         s = stage.seconds_per_run(a.repeats)
         parts = {k: 1e6 * v for k, v in stage.stage_seconds(max(a.repeats // 10, 10)).items()}
         update_us = 1e6 * gpu.NodeUpdate(m).seconds_per_run(a.repeats)
+        contact = gpu.ContactNormal(m)
+        contact_us = 1e6 * contact.seconds_per_run(a.repeats)
         out["gpu"] = dict(device=gpu.device_name(), body_forces_us=1e6 * s, stages_us=parts, compare=cmp,
-                          node_update_us=update_us)
+                          node_update_us=update_us, contact_normal_us=contact_us,
+                          contact_candidates=contact.candidates)
         print(f"GPU {gpu.device_name()}: body-force stage {1e6 * s:.1f} us per evaluation "
               f"({m.n_triangles / s / 1e9:.2f} G triangles/s); launched one by one: "
               + ", ".join(f"{k} {v:.1f}" for k, v in parts.items()) + " us")
         print(f"  node update (central difference, ledger sums) {update_us:.1f} us; against {a.threads[-1]} "
               f"threads' integration part {rows[-1]['integration_ms']:.3f} ms")
+        print(f"  normal contact ({contact.candidates} candidates) {contact_us:.1f} us; against {a.threads[-1]} "
+              f"threads' contact forces part {rows[-1]['contact_forces_ms']:.3f} ms (friction included)")
         for r in rows:
             print(f"  against {r['threads']:2d} threads' elements part {r['elements_ms']:.3f} ms: "
                   f"{r['elements_ms'] * 1e-3 / s:.0f}x")

@@ -217,6 +217,11 @@ def gpu_body_forces(d):
                       f"velocities the CPU's bits, tools/gpu_check.py) takes {g['node_update_us']:.1f} µs, against "
                       f"{d['cpu'][-1]['integration_ms'] * 1e3:.0f} µs for the integration part at "
                       f"{d['cpu'][-1]['threads']} threads."]
+        if "contact_normal_us" in g:
+            lines += ["", f"GPU: the normal contact pass ({g['contact_candidates']:,} candidate pairs; the contact "
+                      f"forces the CPU's bits) takes {g['contact_normal_us']:.1f} µs, against "
+                      f"{d['cpu'][-1]['contact_forces_ms'] * 1e3:.0f} µs for the contact forces part (friction "
+                      f"included) at {d['cpu'][-1]['threads']} threads."]
     return lines
 
 

@@ -12,7 +12,11 @@ Checks, each printed with its outcome:
   3. the GPU gives the same bits on a second run (no atomics in any sum);
   4. the node update (central difference and the ledger's sums) on the GPU
      from the forces of the CPU's evaluation against the CPU's step: positions
-     and velocities bit for bit, the ledger's terms to round-off.
+     and velocities bit for bit, the ledger's terms to round-off;
+  5. the normal contact pass (the pair kernel over the CPU's candidates, each
+     node's sum in the CPU's order) on pressed blocks and each mesh: the
+     contact forces bit for bit, the touching pairs alike, their energy to
+     round-off.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -25,7 +29,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
-from tests.engine.gpu_scenes import floating_blocks  # noqa: E402
+from tests.engine.gpu_scenes import floating_blocks, pressed_blocks  # noqa: E402
 
 
 
@@ -49,6 +53,14 @@ def report_update(name, cmp):
     return cmp["ok"]
 
 
+def report_contact(name, cmp):
+    differ = {k: cmp[k][0] for k in ("f_con_x", "f_con_y") if cmp[k][0]}
+    detail = "contact forces the CPU's bits" if not differ else f"entries differing: {differ}"
+    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, contact: {detail}; touching pairs {cmp['touching']}; "
+          f"energy {cmp['energy_rel']:.1e} relative", flush=True)
+    return cmp["ok"]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", nargs="*", default=[], help="scene mesh files (runs/scenes/*_mesh.h5)")
@@ -67,6 +79,7 @@ def main(argv=None):
         m = floating_blocks(rng, drag_model)
         ok &= report(f"three floating blocks, {drag_model} drag", gpu.compare(m))
         ok &= report_update(f"three floating blocks, {drag_model} drag", gpu.compare_update(m))
+    ok &= report_contact("pressed blocks", gpu.compare_contact(pressed_blocks(rng)))
     m = floating_blocks(rng, "quadratic")
     stage = gpu.BodyForces(m)
     stage.run()
@@ -88,6 +101,7 @@ def main(argv=None):
             xy = m.positions
             m.set_positions(xy + rng.uniform(-1e-4, 1e-4, xy.shape))
             ok &= report(f"{os.path.basename(path)}, every node nudged", gpu.compare(m))
+            ok &= report_contact(os.path.basename(path), gpu.compare_contact(m))
             ok &= report_update(os.path.basename(path), gpu.compare_update(m))
     print("GPU check passed" if ok else "GPU check FAILED")
     return 0 if ok else 1

@@ -179,3 +179,52 @@ def compare_update(model):
     out["ledger"] = max(abs(ledger[k] - e[k]) for k in ledger) / scale
     out["ok"] = all(out[k][0] == 0 for k in ("x", "y", "vx", "vy")) and out["ledger"] <= ROUND_OFF
     return out
+
+
+class ContactNormal:
+    """The normal contact pass of `model` (an engine.Model) on the GPU: the
+    pair kernel over the candidate list of the model's last contact pass."""
+
+    def __init__(self, model):
+        reason = why_unavailable()
+        if reason:
+            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        self._d = _engine.DeviceContactNormal(model._m)
+
+    @property
+    def candidates(self):
+        return self._d.candidates
+
+    def run(self):
+        self._d.run()
+
+    def seconds_per_run(self, repeats=1000):
+        """Mean GPU time of one pass [s] (device events)."""
+        return self._d.time_per_run(int(repeats))
+
+    def fields(self):
+        return self._d.fields()
+
+
+def compare_contact(model):
+    """Evaluate `model` on the CPU and its normal contact pass on the GPU at
+    the same state (the CPU's candidate list). Returns {'f_con_x', 'f_con_y':
+    (entries whose bits differ, largest difference relative to the field's
+    largest entry)}, 'touching' (CPU, GPU), 'energy_rel' (summed in another
+    order on the GPU) and 'ok'."""
+    model.evaluate()
+    cpu = _engine.contact_fields(model._m)
+    stage = ContactNormal(model)
+    stage.run()
+    gpu = stage.fields()
+    out = {}
+    for k in ("f_con_x", "f_con_y"):
+        a, b = np.asarray(cpu[k], float), np.asarray(gpu[k], float)
+        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
+        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
+                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    out["touching"] = (int(cpu["touching"]), int(gpu["touching"]))
+    out["energy_rel"] = abs(gpu["energy"] - cpu["energy"]) / max(abs(cpu["energy"]), 1e-300)
+    out["ok"] = (out["f_con_x"][0] == 0 and out["f_con_y"][0] == 0 and out["touching"][0] == out["touching"][1]
+                 and out["energy_rel"] <= ROUND_OFF)
+    return out

@@ -1,4 +1,4 @@
-"""The scene the GPU backend is checked on (tests/engine/test_gpu_backend.py,
+"""The scenes the GPU backend is checked on (tests/engine/test_gpu_backend.py,
 tools/gpu_check.py): three floating blocks straddling the water line, with
 damping, viscosity and a drag model, their nodes nudged and given random
 velocities, so every branch of the body-force stage's kernels runs (partly
@@ -23,4 +23,21 @@ def floating_blocks(rng, drag_model):
     m.set(buoyancy=True, drag=drag_model != "none", drag_model=drag_model, y_w=0.0, dt_fraction=0.8)
     m.set_positions(nodes + rng.uniform(-0.004, 0.004, nodes.shape))
     m.set_velocities(rng.normal(0.0, 0.05, nodes.shape))
+    return m
+
+
+def pressed_blocks(rng):
+    """A 1.2 m x 0.3 m block on a wider one, 20 um into it, tilted and nudged
+    so that every contact pair is cut differently: many touching pairs."""
+    n0, t0 = engine.rectangle_mesh(24, 6, 0.05, origin=(0.0, -0.3))
+    n1, t1 = engine.rectangle_mesh(24, 6, 0.05, origin=(0.3, -2e-5))
+    nodes = np.vstack([n0, n1])
+    tris = np.vstack([t0, t1 + len(n0)])
+    body = np.array([0] * len(t0) + [1] * len(t1))
+    m = engine.Model(nodes, tris, body, materials={b: dict(E=5e9, nu=0.3, rho=920.0) for b in range(2)})
+    m.set(penalty=2e11, mu=0.3, dt_fraction=0.8)
+    tilt = 1e-5 * (n1[:, 0] - 0.9)  # a 10 urad tilt of the top block
+    xy = nodes.copy()
+    xy[len(n0):, 1] += tilt
+    m.set_positions(xy + rng.uniform(-2e-6, 2e-6, nodes.shape))
     return m

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import floating_blocks
+from tests.engine.gpu_scenes import floating_blocks, pressed_blocks
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -54,3 +54,11 @@ def test_the_gpu_update_is_the_cpus_step(drag_model):
     cmp = gpu.compare_update(m)
     assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {"x": 0, "y": 0, "vx": 0, "vy": 0}
     assert cmp["ledger"] <= gpu.ROUND_OFF
+
+
+@needs_gpu
+def test_the_gpu_normal_contact_is_the_cpus():
+    cmp = gpu.compare_contact(pressed_blocks(np.random.default_rng(5)))
+    assert cmp["touching"][0] > 10 and cmp["touching"][0] == cmp["touching"][1]
+    assert (cmp["f_con_x"][0], cmp["f_con_y"][0]) == (0, 0)
+    assert cmp["energy_rel"] <= gpu.ROUND_OFF

@@ -5,6 +5,7 @@
 
 #include "bindings/bindings.hpp"
 #include "cuda/body_forces.hpp"
+#include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
 
@@ -57,6 +58,14 @@ void bind_device(py::module_& m) {
   m.def("cuda_device", &cuda_device_name, "the GPU the backend sees ('' if none)");
   m.def("body_force_fields", [](const Model& model) { return as_dict(cpu_fields(model)); },
         "the CPU's body-force fields of the model's last evaluation (what DeviceBodyForces computes)");
+  m.def("contact_fields", [](const Model& model) {
+        py::dict d;
+        d["f_con_x"] = copy(model.nodes().f_con_x);
+        d["f_con_y"] = copy(model.nodes().f_con_y);
+        d["energy"] = model.contact().stored_energy();
+        d["touching"] = model.contact().touching_pairs();
+        return d;
+      }, "the CPU's normal contact fields of the model's last evaluation (what DeviceContactNormal computes)");
   py::class_<DeviceBodyForces>(m, "DeviceBodyForces")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("upload_state", &DeviceBodyForces::upload_state)
@@ -66,6 +75,21 @@ void bind_device(py::module_& m) {
       .def("stage_times", &DeviceBodyForces::stage_times, py::arg("repeats"),
            py::call_guard<py::gil_scoped_release>())
       .def("fields", [](DeviceBodyForces& d) { return as_dict(d.fields()); });
+  py::class_<DeviceContactNormal>(m, "DeviceContactNormal")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("run", &DeviceContactNormal::run)
+      .def("time_per_run", &DeviceContactNormal::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("candidates", &DeviceContactNormal::candidates)
+      .def("fields", [](DeviceContactNormal& d) {
+        const ContactNormalFields f = d.fields();
+        py::dict out;
+        out["f_con_x"] = copy(f.f_con_x);
+        out["f_con_y"] = copy(f.f_con_y);
+        out["energy"] = f.energy;
+        out["touching"] = f.touching;
+        return out;
+      });
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceNodeUpdate::run)

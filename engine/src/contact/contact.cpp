@@ -115,15 +115,8 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
     const double ya[3] = {in.y[va[0]], in.y[va[1]], in.y[va[2]]};
     const double xb[3] = {in.x[vb[0]], in.x[vb[1]], in.x[vb[2]]};
     const double yb[3] = {in.y[vb[0]], in.y[vb[1]], in.y[vb[2]]};
-    // Candidates carry a skin: drop those whose current boxes are apart.
-    if (std::fmax(xa[0], std::fmax(xa[1], xa[2])) < std::fmin(xb[0], std::fmin(xb[1], xb[2])) ||
-        std::fmax(xb[0], std::fmax(xb[1], xb[2])) < std::fmin(xa[0], std::fmin(xa[1], xa[2])) ||
-        std::fmax(ya[0], std::fmax(ya[1], ya[2])) < std::fmin(yb[0], std::fmin(yb[1], yb[2])) ||
-        std::fmax(yb[0], std::fmax(yb[1], yb[2])) < std::fmin(ya[0], std::fmin(ya[1], ya[2]))) {
-      hit_[i] = 0;
-      continue;
-    }
-    hit_[i] = potential_contact_pair(xa, ya, xb, yb, p.penalty, results_[i]) ? 1 : 0;
+    // Candidates carry a skin: those whose current boxes are apart are no hit.
+    hit_[i] = contact_candidate(xa, ya, xb, yb, p.penalty, results_[i]) ? 1 : 0;
   }
 
   // Touching pairs in (contactor, target) order, not in the order the

@@ -46,10 +46,9 @@ struct PairContact {
   double nt[3];   // target shape functions at (px, py)
 };
 
-// Returns false (and leaves `out` unspecified) when the triangles do not overlap
-// with positive area. Either orientation of the node order is accepted.
-// s: penalty [Pa per m width].
-bool potential_contact_pair(const double xc[3], const double yc[3], const double xt[3],
-                            const double yt[3], double s, PairContact& out);
-
 }  // namespace engine
+
+// potential_contact_pair(xc, yc, xt, yt, s, out): returns false (and leaves
+// `out` unspecified) when the triangles do not overlap with positive area.
+// Either orientation of the node order is accepted. s: penalty [Pa per m width].
+#include "contact/potential_contact_kernel.hpp"

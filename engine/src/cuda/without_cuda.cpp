@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cuda/body_forces.hpp"
+#include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 
 namespace engine {
@@ -33,5 +34,13 @@ DeviceNodeUpdate::~DeviceNodeUpdate() = default;
 void DeviceNodeUpdate::run() { no_gpu(); }
 double DeviceNodeUpdate::time_per_run(int) { no_gpu(); }
 NodeUpdateFields DeviceNodeUpdate::fields() { no_gpu(); }
+
+struct DeviceContactNormal::Impl {};
+DeviceContactNormal::DeviceContactNormal(const Model&) { no_gpu(); }
+DeviceContactNormal::~DeviceContactNormal() = default;
+void DeviceContactNormal::run() { no_gpu(); }
+double DeviceContactNormal::time_per_run(int) { no_gpu(); }
+ContactNormalFields DeviceContactNormal::fields() { no_gpu(); }
+int64_t DeviceContactNormal::candidates() const { no_gpu(); }
 
 }  // namespace engine

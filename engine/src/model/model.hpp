@@ -200,6 +200,7 @@ class Model {
   bool any_damping() const { return any_damping_; }
   double local_damping() const { return local_damping_; }
   ContactSolver& contact() { return contact_; }
+  const ContactSolver& contact() const { return contact_; }
   int32_t n_bodies() const { return int32_t(materials_.size()); }
   double time() const { return time_; }
   int64_t step_count() const { return step_count_; }

@@ -1,11 +1,15 @@
-// Pair kernel of the potential contact force method; the formulas and the
-// energy they derive from are explained in potential_contact.hpp.
-#include "contact/potential_contact.hpp"
-
+// The potential contact pair kernel (potential_contact.hpp explains the
+// formulas and the energy they derive from), written once for both backends:
+// the CPU's ContactSolver calls it per candidate pair, the GPU backend per
+// candidate per lane (cuda/contact_normal.cu).
+#pragma once
 #include <cmath>
 
+#include "common/host_device.hpp"
+#include "contact/potential_contact.hpp"
+
 namespace engine {
-namespace {
+namespace contact_kernel {
 
 // A triangle cut by 3 half-planes has at most 6 vertices, by 2 more at most 8.
 constexpr int kMaxPoly = 12;
@@ -24,21 +28,21 @@ struct Tri {
   double gx[3], gy[3];
   int perm[3];  // local vertex k is caller's vertex perm[k]
 
-  double lambda(int k, double px, double py) const {
+  ICERUBBLE_HD double lambda(int k, double px, double py) const {
     return 1.0 / 3.0 + gx[k] * (px - cx) + gy[k] * (py - cy);
   }
 };
 
 // Sets up `t` from the caller's vertices shifted by (ox, oy); makes it
 // counter-clockwise. Returns false for a degenerate triangle.
-bool make_tri(const double xs[3], const double ys[3], double ox, double oy, Tri& t) {
+ICERUBBLE_HD bool make_tri(const double xs[3], const double ys[3], double ox, double oy, Tri& t) {
   double x[3], y[3];
   for (int k = 0; k < 3; ++k) {
     x[k] = xs[k] - ox;
     y[k] = ys[k] - oy;
   }
   const double a2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
-  if (!(std::fabs(a2) > 0.0)) return false;
+  if (!(fabs(a2) > 0.0)) return false;
   t.perm[0] = 0;
   t.perm[1] = a2 > 0 ? 1 : 2;
   t.perm[2] = a2 > 0 ? 2 : 1;
@@ -46,7 +50,7 @@ bool make_tri(const double xs[3], const double ys[3], double ox, double oy, Tri&
     t.x[k] = x[t.perm[k]];
     t.y[k] = y[t.perm[k]];
   }
-  const double inv2a = 1.0 / std::fabs(a2);
+  const double inv2a = 1.0 / fabs(a2);
   for (int k = 0; k < 3; ++k) {
     const int i = (k + 1) % 3, j = (k + 2) % 3;
     t.gx[k] = (t.y[i] - t.y[j]) * inv2a;
@@ -59,7 +63,7 @@ bool make_tri(const double xs[3], const double ys[3], double ox, double oy, Tri&
 
 // Sutherland-Hodgman: keeps the part of `in` on the left of the directed line
 // a -> b (the inside of a counter-clockwise polygon).
-void clip(const Poly& in, double ax, double ay, double bx, double by, Poly& out) {
+ICERUBBLE_HD void clip(const Poly& in, double ax, double ay, double bx, double by, Poly& out) {
   out.n = 0;
   if (in.n == 0) return;
   const double ex = bx - ax, ey = by - ay;
@@ -88,7 +92,7 @@ void clip(const Poly& in, double ax, double ay, double bx, double by, Poly& out)
 // Area and centroid of a simple counter-clockwise polygon. Coordinates are
 // taken relative to the first vertex: overlaps are thin slivers (penetrations
 // of ~1e-10 m against edges of ~0.1 m) and this keeps their area accurate.
-double area_centroid(const Poly& p, double& gx, double& gy) {
+ICERUBBLE_HD double area_centroid(const Poly& p, double& gx, double& gy) {
   if (p.n < 3) return 0.0;
   const double x0 = p.x[0], y0 = p.y[0];
   double a2 = 0.0, sx = 0.0, sy = 0.0;
@@ -110,7 +114,7 @@ double area_centroid(const Poly& p, double& gx, double& gy) {
 // (which lies inside `owner`): owner nodes get  s A N^o_k(g) grad phi_o,
 // the other triangle's nodes get  -s A (N^p_j(g) grad phi_o + phi_o(g) grad N^p_j),
 // summed over the three sub-triangles of `owner`. Returns s int phi_o.
-double potential_term(const Tri& owner, const Tri& other, const Poly& ov, double s, double fo_x[3],
+ICERUBBLE_HD double potential_term(const Tri& owner, const Tri& other, const Poly& ov, double s, double fo_x[3],
                       double fo_y[3], double fp_x[3], double fp_y[3]) {
   double energy = 0.0;
   Poly q, tmp;
@@ -138,13 +142,14 @@ double potential_term(const Tri& owner, const Tri& other, const Poly& ov, double
   return energy;
 }
 
-}  // namespace
+}  // namespace contact_kernel
 
-bool potential_contact_pair(const double xc[3], const double yc[3], const double xt[3],
+ICERUBBLE_HD bool potential_contact_pair(const double xc[3], const double yc[3], const double xt[3],
                             const double yt[3], double s, PairContact& out) {
   // Local frame at the target centroid: overlaps are tiny compared with the
   // global coordinates, so work with small numbers.
   const double ox = (xt[0] + xt[1] + xt[2]) / 3.0, oy = (yt[0] + yt[1] + yt[2]) / 3.0;
+  using namespace contact_kernel;
   Tri c, t;
   if (!make_tri(xc, yc, ox, oy, c) || !make_tri(xt, yt, ox, oy, t)) return false;
 
@@ -179,6 +184,19 @@ bool potential_contact_pair(const double xc[3], const double yc[3], const double
   out.px = gx + ox;
   out.py = gy + oy;
   return true;
+}
+
+// A candidate pair (contactor a, target b: their corner coordinates): false
+// when their current boxes are apart (candidates carry a skin) or they do not
+// overlap with positive area; else their pair contact in `out`.
+ICERUBBLE_HD bool contact_candidate(const double xa[3], const double ya[3], const double xb[3],
+                                    const double yb[3], double s, PairContact& out) {
+  if (fmax(xa[0], fmax(xa[1], xa[2])) < fmin(xb[0], fmin(xb[1], xb[2])) ||
+      fmax(xb[0], fmax(xb[1], xb[2])) < fmin(xa[0], fmin(xa[1], xa[2])) ||
+      fmax(ya[0], fmax(ya[1], ya[2])) < fmin(yb[0], fmin(yb[1], yb[2])) ||
+      fmax(yb[0], fmax(yb[1], yb[2])) < fmin(ya[0], fmin(ya[1], ya[2])))
+    return false;
+  return potential_contact_pair(xa, ya, xb, yb, s, out);
 }
 
 }  // namespace engine

@@ -1,0 +1,194 @@
+// The normal contact pass on the GPU (cuda/contact_normal.hpp). The host
+// orders the candidates as the CPU orders touching pairs, by (contactor,
+// target), and lists each node's (pair, corner) entries in that order; a
+// lane per candidate evaluates the pair kernel, a lane per node adds its
+// touching entries in list order: the CPU's sums, bit for bit.
+#include "cuda/contact_normal.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "contact/potential_contact_kernel.hpp"
+#include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
+#include "model/model.hpp"
+
+namespace engine {
+
+namespace {
+
+constexpr int kBlock = 128;
+constexpr int kSumThreads = 1024;
+
+__global__ void pair_kernel(const double* x, const double* y, const int32_t* tri, const int32_t* pa,
+                            const int32_t* pb, int64_t n, double s, double* fx, double* fy, uint8_t* hit,
+                            double* energy) {
+  const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (p >= n) return;
+  const int32_t* va = tri + 3 * int64_t(pa[p]);
+  const int32_t* vb = tri + 3 * int64_t(pb[p]);
+  const double xa[3] = {x[va[0]], x[va[1]], x[va[2]]}, ya[3] = {y[va[0]], y[va[1]], y[va[2]]};
+  const double xb[3] = {x[vb[0]], x[vb[1]], x[vb[2]]}, yb[3] = {y[vb[0]], y[vb[1]], y[vb[2]]};
+  PairContact r;
+  const bool h = contact_candidate(xa, ya, xb, yb, s, r);
+  hit[p] = h ? 1 : 0;
+  energy[p] = h ? r.energy : 0.0;
+  if (!h) return;
+  for (int k = 0; k < 6; ++k) {
+    fx[6 * p + k] = r.fx[k];
+    fy[6 * p + k] = r.fy[k];
+  }
+}
+
+// Node i's normal contact force: its entries (6 p + k) in the CPU's order,
+// the touching ones only (the CPU adds nothing for the others).
+__global__ void node_sum_kernel(const int64_t* start, const int64_t* entry, const uint8_t* hit, const double* fx,
+                                const double* fy, int32_t n_nodes, double* f_con_x, double* f_con_y) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n_nodes) return;
+  double sx = 0.0, sy = 0.0;
+  for (int64_t j = start[i]; j < start[i + 1]; ++j) {
+    const int64_t e = entry[j];
+    if (!hit[e / 6]) continue;
+    sx += fx[e];
+    sy += fy[e];
+  }
+  f_con_x[i] = sx;
+  f_con_y[i] = sy;
+}
+
+__global__ void __launch_bounds__(kSumThreads) pair_sums_kernel(const double* energy, const uint8_t* hit, int64_t n,
+                                                                double* total, int32_t* touching) {
+  __shared__ double shared[kSumThreads];
+  double e = 0.0, h = 0.0;
+  for (int64_t p = threadIdx.x; p < n; p += kSumThreads) {
+    e += energy[p];
+    h += hit[p];
+  }
+  e = block_sum<kSumThreads>(e, shared);
+  h = block_sum<kSumThreads>(h, shared);  // whole numbers: exact
+  if (threadIdx.x == 0) {
+    *total = e;
+    *touching = int32_t(h);
+  }
+}
+
+int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
+
+}  // namespace
+
+struct DeviceContactNormal::Impl {
+  int32_t n_nodes = 0;
+  int64_t n_pairs = 0;
+  double penalty = 0.0;
+  DeviceArray<double> x, y, fx, fy, pair_energy, f_con_x, f_con_y, total;
+  DeviceArray<int32_t> tri, pa, pb, touching;
+  DeviceArray<int64_t> start, entry;
+  DeviceArray<uint8_t> hit;
+  cudaStream_t stream = nullptr;
+
+  void launch() {
+    if (n_pairs) {
+      pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), tri.data(), pa.data(), pb.data(),
+                                                           n_pairs, penalty, fx.data(), fy.data(), hit.data(),
+                                                           pair_energy.data());
+    }
+    node_sum_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(start.data(), entry.data(), hit.data(), fx.data(),
+                                                            fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
+    pair_sums_kernel<<<1, kSumThreads, 0, stream>>>(pair_energy.data(), hit.data(), n_pairs, total.data(),
+                                                    touching.data());
+    cuda_check(cudaGetLastError(), "kernel launch");
+  }
+};
+
+DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
+  Impl& d = *impl_;
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
+    cudaGetLastError();
+    throw std::runtime_error("GPU: no CUDA device is visible");
+  }
+  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  const Nodes& N = m.nodes();
+  const std::vector<int32_t>& T = m.triangles().node;
+  const std::vector<CandidatePair>& cand = m.contact().candidates();
+  d.n_nodes = N.size();
+  d.n_pairs = int64_t(cand.size());
+  d.penalty = m.contact_params().penalty;
+  // the CPU's pair order: by (contactor, target)
+  std::vector<int64_t> order(cand.size());
+  std::iota(order.begin(), order.end(), int64_t(0));
+  std::sort(order.begin(), order.end(), [&](int64_t u, int64_t v) {
+    return cand[u].a != cand[v].a ? cand[u].a < cand[v].a : cand[u].b < cand[v].b;
+  });
+  std::vector<int32_t> pa(cand.size()), pb(cand.size());
+  for (size_t p = 0; p < order.size(); ++p) {
+    pa[p] = cand[order[p]].a;
+    pb[p] = cand[order[p]].b;
+  }
+  // each node's entries 6 p + k in (p, k) order: a counting sort by node
+  std::vector<int64_t> start(size_t(d.n_nodes) + 1, 0), entry(6 * cand.size());
+  const auto node_of = [&](int64_t e) {
+    const int64_t p = e / 6;
+    const int k = int(e % 6);
+    return k < 3 ? T[3 * size_t(pa[p]) + k] : T[3 * size_t(pb[p]) + k - 3];
+  };
+  for (int64_t e = 0; e < int64_t(entry.size()); ++e) ++start[node_of(e) + 1];
+  for (int32_t i = 0; i < d.n_nodes; ++i) start[i + 1] += start[i];
+  std::vector<int64_t> fill(start.begin(), start.end() - 1);
+  for (int64_t e = 0; e < int64_t(entry.size()); ++e) entry[fill[node_of(e)]++] = e;
+  d.x.upload(N.x);
+  d.y.upload(N.y);
+  d.tri.upload(T);
+  d.pa.upload(pa);
+  d.pb.upload(pb);
+  d.start.upload(start);
+  d.entry.upload(entry);
+  d.fx.resize(6 * cand.size());
+  d.fy.resize(6 * cand.size());
+  d.hit.resize(cand.size());
+  d.pair_energy.resize(cand.size());
+  d.f_con_x.resize(d.n_nodes);
+  d.f_con_y.resize(d.n_nodes);
+  d.total.resize(1);
+  d.touching.resize(1);
+}
+
+DeviceContactNormal::~DeviceContactNormal() {
+  if (impl_->stream) cudaStreamDestroy(impl_->stream);
+}
+
+void DeviceContactNormal::run() { impl_->launch(); }
+
+int64_t DeviceContactNormal::candidates() const { return impl_->n_pairs; }
+
+double DeviceContactNormal::time_per_run(int repeats) {
+  Impl& d = *impl_;
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  for (int k = 0; k < 3; ++k) d.launch();
+  cudaEvent_t a, b;
+  cuda_check(cudaEventCreate(&a), "event");
+  cuda_check(cudaEventCreate(&b), "event");
+  cuda_check(cudaEventRecord(a, d.stream), "event");
+  for (int k = 0; k < repeats; ++k) d.launch();
+  cuda_check(cudaEventRecord(b, d.stream), "event");
+  cuda_check(cudaEventSynchronize(b), "event");
+  float ms = 0.0f;
+  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
+  cudaEventDestroy(a);
+  cudaEventDestroy(b);
+  return 1e-3 * double(ms) / repeats;
+}
+
+ContactNormalFields DeviceContactNormal::fields() {
+  Impl& d = *impl_;
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU contact");
+  ContactNormalFields f;
+  f.f_con_x = d.f_con_x.download();
+  f.f_con_y = d.f_con_y.download();
+  f.energy = d.total.download()[0];
+  f.touching = d.touching.download()[0];
+  return f;
+}
+
+}  // namespace engine
