@@ -263,8 +263,9 @@ double FreezeBonds::point_ratio(const Model& M, int32_t p, double mu) {
   return reached ? std::max(worst, 1.0) : std::min(worst, std::nextafter(1.0, 0.0));
 }
 
-void FreezeBonds::check(Model& M) {
-  if (!params_.check_failure || intact_points_.empty()) return;
+SplitPlan FreezeBonds::check(const Model& M) {
+  SplitPlan plan;
+  if (!params_.check_failure || intact_points_.empty()) return plan;
   const int64_t step = M.step_count();
   const int32_t k = params_.screen_interval;
   const double frac = params_.screen_fraction;
@@ -285,18 +286,20 @@ void FreezeBonds::check(Model& M) {
     fail_[p] = r >= 1.0 ? (was_near || k == 1 ? 1 : 2) : 0;
   }
   st_.checks += evaluated;
-  std::vector<int32_t> failing;
   for (int32_t j = 0; j < n; ++j) {
     const int32_t p = intact_points_[j];
     if (fail_[p]) {
-      failing.push_back(p);
+      plan.points.push_back(p);
       if (fail_[p] == 2) ++st_.late_detections;  // found at a staggered check: up to k-1 steps late
     }
   }
-  if (!failing.empty()) {
-    split_points(M, failing);
-    refresh_lists();
-  }
+  return plan;
+}
+
+void FreezeBonds::split(Model& M, const SplitPlan& plan) {
+  if (plan.empty()) return;
+  split_points(M, plan.points);
+  refresh_lists();
 }
 
 // ---------------------------------------------------------------- eqs 9-11

@@ -5,10 +5,11 @@
 // a freeze-bond edge; it joins two bodies (one *pair*) or, at a junction, more
 // (one pair per two bodies that share a bond edge there). Every step:
 //   check():  for each intact bond point the traction t = sum (A_i/A) sigma_i n
-//             (eq 7) is tested against the criterion (eqs 5-6); a point that meets
-//             it splits (bond_split.cpp): one node per body, masses from the
-//             elements on each side, cohesive pairs with f0 from eq 8 and
-//             delta_f = 2 G l / f0 (eq 12).
+//             (eq 7) is tested against the criterion (eqs 5-6); the points that
+//             meet it are the step's split plan (the model is not changed);
+//   split():  the model's topology stage carries the plan out (bond_split.cpp):
+//             one node per body, masses from the elements on each side,
+//             cohesive pairs with f0 from eq 8 and delta_f = 2 G l / f0 (eq 12).
 //   apply():  the cohesive force pair of every opened pair (eqs 9-11) is added
 //             to nodes.f_coh; full failure and its mode are logged.
 // All arrays are structure-of-arrays; bond points and pairs are indexed as given
@@ -25,6 +26,13 @@
 namespace engine {
 
 class Model;
+
+// The bond points a step's check found at the criterion (eqs 5-7), in the
+// order of the intact-point list: what the model's topology stage splits.
+struct SplitPlan {
+  std::vector<int32_t> points;
+  bool empty() const { return points.empty(); }
+};
 
 struct BondParams {
   // Friction coefficient of the compressive branch of eq 6; NaN: use the
@@ -51,10 +59,14 @@ class FreezeBonds {
   const BondParams& params() const { return params_; }
   void clear();
 
-  // Engine hooks, in step order: check() (eqs 5-7, may split nodes) runs
-  // only in a committed step; apply() (eqs 9-11) adds the cohesive forces
-  // and, if commit, advances the pairs' history, events and energy.
-  void check(Model& M);
+  // Engine hooks, in step order: check() (eqs 5-7) runs only in a committed
+  // step and returns the split plan without changing the model (it moves on
+  // the bonds' own screening state); split() carries a plan out, called by
+  // the model's topology stage (Model::apply_topology_changes); apply()
+  // (eqs 9-11) adds the cohesive forces and, if commit, advances the pairs'
+  // history, events and energy.
+  SplitPlan check(const Model& M);
+  void split(Model& M, const SplitPlan& plan);
   void apply(Model& M, bool commit);
 
   // Checkpoints: state out, and back into a model rebuilt from the exported

@@ -171,9 +171,18 @@ void Model::compute_contact_forces() {
   contact_work_step_ = contact_.stored_energy();
 }
 
-void Model::check_freeze_bonds() {  // (4) freeze_bonds.cpp
+SplitPlan Model::check_freeze_bonds() {  // (4) freeze_bonds.cpp
   Stopwatch sw(timings_.bonds);
-  bonds_.check(*this);
+  return bonds_.check(*this);
+}
+
+// The step's topology changes, in one place: the bond points of the plan
+// split (new nodes, masses, gather lists, stable step; bond_split.cpp). The
+// checks before it only read the model.
+void Model::apply_topology_changes(const SplitPlan& plan) {
+  if (plan.empty()) return;
+  Stopwatch sw(timings_.bonds);
+  bonds_.split(*this, plan);
 }
 
 void Model::apply_cohesive_forces(History history) {  // (5) freeze_bonds.cpp

@@ -136,8 +136,8 @@ void Model::compute_forces(History history) {
   // synchronisations of two passes).
   compute_body_forces();
   compute_contact_forces();     // (2) neighbour search, (3) normal contact forces
-  if (history == History::commit)
-    check_freeze_bonds();       // (4) bond stress check (eqs 5-7), node splitting
+  if (history == History::commit)  // (4) bond stress check (eqs 5-7), then node splitting
+    apply_topology_changes(check_freeze_bonds());
   apply_cohesive_forces(history);  // (5) cohesive forces of opened bonds (eqs 8-12)
   assemble_forces();            // total of (1)-(6)
   apply_friction(history);      // (3b) Coulomb friction (eq 4), needs all forces above

@@ -229,7 +229,8 @@ class Model {
   GatherArrays gather_arrays(bool damping, bool water, bool buoy, bool drag, double g);
   void compute_body_forces();       // (1) elements and (6) gravity, buoyancy, drag
   void compute_contact_forces();    // (2) neighbour search, (3) normal contact
-  void check_freeze_bonds();        // (4) hook: bond stress check, node splitting
+  SplitPlan check_freeze_bonds();   // (4) hook: bond stress check (eqs 5-7), reads only
+  void apply_topology_changes(const SplitPlan& plan);  // (4) its node splitting
   void apply_cohesive_forces(History history);  // (5) hook: cohesive forces of opened bonds
   void assemble_forces();           // total force before friction
   void apply_friction(History history);  // (3b) friction, once all other forces are known
