@@ -10,7 +10,7 @@ detection; contact forces and friction; bonds; integration). Then, where the
 GPU backend runs: the body-force stage's time on the GPU (a CUDA graph of its
 launches, device events) against the elements part of one CPU step, and
 whether its fields equal the CPU's bits at the same state; and the node
-update's and the normal contact pass's times on the GPU.
+update's, the normal contact pass's and the bond check's times on the GPU.
 """
 import argparse
 import json
@@ -95,9 +95,11 @@ def main(argv=None):
         update_us = 1e6 * gpu.NodeUpdate(m).seconds_per_run(a.repeats)
         contact = gpu.ContactNormal(m)
         contact_us = 1e6 * contact.seconds_per_run(a.repeats)
+        bond_us = 1e6 * gpu.BondCheck(m).seconds_per_run(a.repeats)
         out["gpu"] = dict(device=gpu.device_name(), body_forces_us=1e6 * s, stages_us=parts, compare=cmp,
                           node_update_us=update_us, contact_normal_us=contact_us,
-                          contact_candidates=contact.candidates)
+                          contact_candidates=contact.candidates, bond_check_us=bond_us,
+                          bond_points_intact=int(m.bonds.counts["points"] - m.bonds.counts["split"]))
         print(f"GPU {gpu.device_name()}: body-force stage {1e6 * s:.1f} us per evaluation "
               f"({m.n_triangles / s / 1e9:.2f} G triangles/s); launched one by one: "
               + ", ".join(f"{k} {v:.1f}" for k, v in parts.items()) + " us")
@@ -105,6 +107,9 @@ def main(argv=None):
               f"threads' integration part {rows[-1]['integration_ms']:.3f} ms")
         print(f"  normal contact ({contact.candidates} candidates) {contact_us:.1f} us; against {a.threads[-1]} "
               f"threads' contact forces part {rows[-1]['contact_forces_ms']:.3f} ms (friction included)")
+        print(f"  bond check ({out['gpu']['bond_points_intact']} intact points, all of them) {bond_us:.1f} us; "
+              f"against {a.threads[-1]} threads' bonds part {rows[-1]['bonds_ms']:.3f} ms (screened, and the "
+              f"cohesive forces)")
         for r in rows:
             print(f"  against {r['threads']:2d} threads' elements part {r['elements_ms']:.3f} ms: "
                   f"{r['elements_ms'] * 1e-3 / s:.0f}x")

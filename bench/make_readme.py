@@ -222,6 +222,11 @@ def gpu_body_forces(d):
                       f"forces the CPU's bits) takes {g['contact_normal_us']:.1f} µs, against "
                       f"{d['cpu'][-1]['contact_forces_ms'] * 1e3:.0f} µs for the contact forces part (friction "
                       f"included) at {d['cpu'][-1]['threads']} threads."]
+        if "bond_check_us" in g:
+            lines += ["", f"GPU: the bond check of all {g['bond_points_intact']:,} intact bond points (eqs 5-7; "
+                      f"ratios, tractions and split plan the CPU's) takes {g['bond_check_us']:.1f} µs, against "
+                      f"{d['cpu'][-1]['bonds_ms'] * 1e3:.0f} µs for the bonds part (screened checks and the "
+                      f"cohesive forces) at {d['cpu'][-1]['threads']} threads."]
     return lines
 
 

@@ -16,7 +16,9 @@ Checks, each printed with its outcome:
   5. the normal contact pass (the pair kernel over the CPU's candidates, each
      node's sum in the CPU's order) on pressed blocks and each mesh: the
      contact forces bit for bit, the touching pairs alike, their energy to
-     round-off.
+     round-off;
+  6. the bond check (eqs 5-7) of every intact point on a bonded square and
+     each mesh: ratios and tractions the CPU's bits, the same split plan.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -29,7 +31,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
-from tests.engine.gpu_scenes import floating_blocks, pressed_blocks  # noqa: E402
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, pressed_blocks  # noqa: E402
 
 
 
@@ -61,6 +63,14 @@ def report_contact(name, cmp):
     return cmp["ok"]
 
 
+def report_bonds(name, cmp):
+    differ = {k: cmp[k] for k in ("ratio", "tn", "tt") if cmp[k]}
+    detail = "ratios and tractions the CPU's bits" if not differ else f"entries differing: {differ}"
+    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, bond check: {detail}; split plan {cmp['plan']} points, "
+          f"{'the same' if cmp['same_plan'] else 'DIFFERENT'}", flush=True)
+    return cmp["ok"]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", nargs="*", default=[], help="scene mesh files (runs/scenes/*_mesh.h5)")
@@ -80,6 +90,7 @@ def main(argv=None):
         ok &= report(f"three floating blocks, {drag_model} drag", gpu.compare(m))
         ok &= report_update(f"three floating blocks, {drag_model} drag", gpu.compare_update(m))
     ok &= report_contact("pressed blocks", gpu.compare_contact(pressed_blocks(rng)))
+    ok &= report_bonds("bonded square", gpu.compare_bond_check(bonded_square(rng)))
     m = floating_blocks(rng, "quadratic")
     stage = gpu.BodyForces(m)
     stage.run()
@@ -102,6 +113,7 @@ def main(argv=None):
             m.set_positions(xy + rng.uniform(-1e-4, 1e-4, xy.shape))
             ok &= report(f"{os.path.basename(path)}, every node nudged", gpu.compare(m))
             ok &= report_contact(os.path.basename(path), gpu.compare_contact(m))
+            ok &= report_bonds(os.path.basename(path), gpu.compare_bond_check(m))
             ok &= report_update(os.path.basename(path), gpu.compare_update(m))
     print("GPU check passed" if ok else "GPU check FAILED")
     return 0 if ok else 1

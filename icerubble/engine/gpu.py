@@ -228,3 +228,44 @@ def compare_contact(model):
     out["ok"] = (out["f_con_x"][0] == 0 and out["f_con_y"][0] == 0 and out["touching"][0] == out["touching"][1]
                  and out["energy_rel"] <= ROUND_OFF)
     return out
+
+
+class BondCheck:
+    """The bond check (eqs 5-7) of `model` (an engine.Model) on the GPU, every
+    intact bond point at the model's state (stresses of its last evaluation)."""
+
+    def __init__(self, model):
+        reason = why_unavailable()
+        if reason:
+            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        self._d = _engine.DeviceBondCheck(model._m)
+
+    def run(self):
+        self._d.run()
+
+    def seconds_per_run(self, repeats=1000):
+        """Mean GPU time of one check [s] (device events)."""
+        return self._d.time_per_run(int(repeats))
+
+    def fields(self):
+        return self._d.fields()
+
+
+def compare_bond_check(model):
+    """Evaluate `model` on the CPU, then check its intact bond points on the CPU
+    and on the GPU with the same kernel. Returns {'ratio', 'tn', 'tt': entries
+    whose bits differ}, 'plan' (points in the CPU's plan, in the GPU's),
+    'same_plan' and 'ok' (every field the CPU's bits, the same plan)."""
+    model.evaluate()
+    cpu = _engine.bond_check_fields(model._m)
+    stage = BondCheck(model)
+    stage.run()
+    gpu = stage.fields()
+    out = {}
+    for k in ("ratio", "tn", "tt"):
+        a, b = np.asarray(cpu[k], float), np.asarray(gpu[k], float)
+        out[k] = int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64)))  # NaN where not checked: same bits
+    out["plan"] = (len(cpu["plan"]), len(gpu["plan"]))
+    out["same_plan"] = bool(np.array_equal(cpu["plan"], gpu["plan"]))
+    out["ok"] = out["same_plan"] and out["ratio"] == out["tn"] == out["tt"] == 0
+    return out

@@ -41,3 +41,14 @@ def pressed_blocks(rng):
     xy[len(n0):, 1] += tilt
     m.set_positions(xy + rng.uniform(-2e-6, 2e-6, nodes.shape))
     return m
+
+
+def bonded_square(rng):
+    """Two blocks bonded along a diagonal (tests/engine/freeze_bonds_scenes.py),
+    their nodes nudged so that the stresses differ from point to point and
+    some bond points reach eq 5 and others do not."""
+    from tests.engine.freeze_bonds_scenes import diagonal_square
+    m, _, nodes = diagonal_square(sigma_cr=6e4, tau_cr=1.2e5, G=1.0)
+    m.set(dt_fraction=0.8)
+    m.set_positions(nodes + rng.uniform(-2e-6, 2e-6, nodes.shape))
+    return m

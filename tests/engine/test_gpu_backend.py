@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import floating_blocks, pressed_blocks
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, pressed_blocks
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -62,3 +62,11 @@ def test_the_gpu_normal_contact_is_the_cpus():
     assert cmp["touching"][0] > 10 and cmp["touching"][0] == cmp["touching"][1]
     assert (cmp["f_con_x"][0], cmp["f_con_y"][0]) == (0, 0)
     assert cmp["energy_rel"] <= gpu.ROUND_OFF
+
+
+@needs_gpu
+@pytest.mark.parametrize("seed", [1, 2, 4])
+def test_the_gpu_bond_check_gives_the_cpus_plan(seed):
+    cmp = gpu.compare_bond_check(bonded_square(np.random.default_rng(seed)))
+    assert cmp["plan"][0] > 0 and cmp["same_plan"]
+    assert (cmp["ratio"], cmp["tn"], cmp["tt"]) == (0, 0, 0)

@@ -4,6 +4,14 @@
 
 #include <cmath>
 
+// Compiled for the GPU too where nvcc includes it (the engine's bond check,
+// docs/gpu.md); plain inline functions otherwise.
+#if defined(__CUDACC__)
+#define COHESIVE_LAW_HD __host__ __device__ inline
+#else
+#define COHESIVE_LAW_HD inline
+#endif
+
 namespace cohesive_law {
 
 // Effective traction t_e of eq 6 for the normal (t_n, tension positive) and
@@ -12,15 +20,15 @@ namespace cohesive_law {
 // carries mu |t_n| of the shear, so only the excess counts (the paper's reason:
 // otherwise a crack opened at |t_t| = tau_cr would be arrested by friction).
 // t_e can be negative under strong compression; that simply means "far from failure".
-inline double effective_traction(double t_n, double t_t, double beta, double mu) {
-  if (t_n >= 0.0) return std::sqrt(t_t * t_t / (beta * beta) + t_n * t_n);
-  return (std::fabs(t_t) - mu * std::fabs(t_n)) / beta;
+COHESIVE_LAW_HD double effective_traction(double t_n, double t_t, double beta, double mu) {
+  if (t_n >= 0.0) return sqrt(t_t * t_t / (beta * beta) + t_n * t_n);
+  return (fabs(t_t) - mu * fabs(t_n)) / beta;
 }
 
 // Eq 5: the bond point starts to open when t_e >= sigma_cr. In pure tension this is
 // t_n = sigma_cr, in pure shear |t_t| = tau_cr, under compression
 // |t_t| = tau_cr + mu |t_n|, and for t_n >= 0 the ellipse (t_n/sigma_cr)^2 + (t_t/tau_cr)^2 = 1.
-inline bool criterion_reached(double t_n, double t_t, double sigma_cr, double tau_cr, double mu) {
+COHESIVE_LAW_HD bool criterion_reached(double t_n, double t_t, double sigma_cr, double tau_cr, double mu) {
   return effective_traction(t_n, t_t, tau_cr / sigma_cr, mu) >= sigma_cr;
 }
 

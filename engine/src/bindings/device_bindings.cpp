@@ -3,8 +3,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+
 #include "bindings/bindings.hpp"
 #include "cuda/body_forces.hpp"
+#include "cuda/bond_check.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
@@ -51,6 +54,36 @@ BodyForceFields cpu_fields(const Model& m) {
   return f;
 }
 
+py::dict as_dict(const BondCheckFields& f) {
+  py::dict d;
+  d["ratio"] = copy(f.ratio);
+  d["tn"] = copy(f.tn);
+  d["tt"] = copy(f.tt);
+  d["plan"] = py::array_t<int32_t>(ssize_t(f.plan.size()), f.plan.data());
+  return d;
+}
+
+// The CPU's bond check at the model's state now: the same kernel over every
+// intact point (no screening), into buffers of its own, so the model and its
+// bonds are left as they were.
+BondCheckFields cpu_bond_check(const Model& model) {
+  const FreezeBonds& B = model.bonds();
+  BondCheckFields f;
+  f.ratio.assign(size_t(B.n_points()), NAN);
+  f.tn.assign(size_t(B.n_pairs()), NAN);
+  f.tt.assign(size_t(B.n_pairs()), NAN);
+  BondCheckArrays a = B.check_arrays(model);
+  a.tn = f.tn.data();
+  a.tt = f.tt.data();
+  const double mu_b = B.params().mu;
+  const double mu = std::isnan(mu_b) ? model.contact_params().mu : mu_b;  // FreezeBonds::mu's rule
+  for (int32_t p : B.intact_points()) {
+    f.ratio[p] = bond_point_ratio(a, p, mu);
+    if (f.ratio[p] >= 1.0) f.plan.push_back(p);
+  }
+  return f;
+}
+
 }  // namespace
 
 void bind_device(py::module_& m) {
@@ -66,6 +99,14 @@ void bind_device(py::module_& m) {
         d["touching"] = model.contact().touching_pairs();
         return d;
       }, "the CPU's normal contact fields of the model's last evaluation (what DeviceContactNormal computes)");
+  m.def("bond_check_fields", [](const Model& model) { return as_dict(cpu_bond_check(model)); },
+        "the CPU's bond check at the model's state now, every intact point (what DeviceBondCheck computes)");
+  py::class_<DeviceBondCheck>(m, "DeviceBondCheck")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("run", &DeviceBondCheck::run)
+      .def("time_per_run", &DeviceBondCheck::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("fields", [](DeviceBondCheck& d) { return as_dict(d.fields()); });
   py::class_<DeviceBodyForces>(m, "DeviceBodyForces")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("upload_state", &DeviceBodyForces::upload_state)

@@ -133,7 +133,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
       st_.node_plus[k] = node_of(in_.body_plus[k]);
       st_.node_minus[k] = node_of(in_.body_minus[k]);
       // The bond frame is frozen at the split (the paper's fixed n).
-      current_normal(M, k, st_.fnx[k], st_.fny[k]);
+      bond_current_normal(check_arrays(M), k, st_.fnx[k], st_.fny[k]);
       st_.split_tn[k] = tn_[k];
       st_.split_tt[k] = tt_[k];
       double gx, gy;

@@ -200,67 +200,24 @@ size_t FreezeBonds::memory_bytes() const {
   BondInput::each(in_, add_field);
   BondState::each(st_, add_field);
   for (auto* v : {&first_pair_, &n_pairs_, &intact_points_, &open_pairs_}) add(*v);
-  for (auto* v : {&beta_, &n0x_, &n0y_, &d0x_, &d0y_, &tn_, &tt_, &fx_pair_, &fy_pair_, &w_pair_,
-                  &s_pair_, &e_pair_})
+  for (auto* v : {&beta_, &n0x_, &n0y_, &d0x_, &d0y_, &fx_pair_, &fy_pair_, &w_pair_, &s_pair_, &e_pair_})
     add(*v);
+  add(tn_);
+  add(tt_);
   add(fail_);
   return b;
 }
 
 // ---------------------------------------------------------------- eq 7 and the criterion
 
-void FreezeBonds::mean_stress(const Model& M, int32_t node, double& sxx, double& syy,
-                              double& sxy) const {
-  const int32_t* start = M.gather().start.data();
-  const int32_t* slot = M.gather().slot.data();
-  const double* sig = M.triangles().stress.data();
-  const double* A = M.triangles().area0.data();
-  double a = 0.0, xx = 0.0, yy = 0.0, xy = 0.0;
-  for (int32_t j = start[node]; j < start[node + 1]; ++j) {
-    const int32_t t = slot[j] / 3;
-    const double w = A[t];
-    a += w;
-    xx += w * sig[3 * t];
-    yy += w * sig[3 * t + 1];
-    xy += w * sig[3 * t + 2];
-  }
-  sxx = xx / a;
-  syy = yy / a;
-  sxy = xy / a;
-}
-
-void FreezeBonds::current_normal(const Model& M, int32_t k, double& nx, double& ny) const {
+BondCheckArrays FreezeBonds::check_arrays(const Model& M) const {
   const Nodes& N = M.nodes();
-  const double dx = N.x[in_.frame_q[k]] - N.x[in_.frame_p[k]];
-  const double dy = N.y[in_.frame_q[k]] - N.y[in_.frame_p[k]];
-  // rotation from the reference frame edge d0 to its current direction d
-  double c = d0x_[k] * dx + d0y_[k] * dy;
-  double s = d0x_[k] * dy - d0y_[k] * dx;
-  const double r = 1.0 / std::sqrt(c * c + s * s);  // |d0| |d|, never 0 for a valid mesh
-  c *= r;
-  s *= r;
-  nx = c * n0x_[k] - s * n0y_[k];
-  ny = s * n0x_[k] + c * n0y_[k];
-}
-
-double FreezeBonds::point_ratio(const Model& M, int32_t p, double mu) {
-  double sxx, syy, sxy;
-  mean_stress(M, in_.node[p], sxx, syy, sxy);
-  double worst = -std::numeric_limits<double>::infinity();
-  bool reached = false;
-  for (int32_t k = first_pair_[p]; k < first_pair_[p] + n_pairs_[p]; ++k) {
-    double nx, ny;
-    current_normal(M, k, nx, ny);
-    // eq 7: t = sigma n; normal and tangential (t = (-n_y, n_x)) parts
-    const double tx = sxx * nx + sxy * ny, ty = sxy * nx + syy * ny;
-    const double t_n = tx * nx + ty * ny, t_t = -tx * ny + ty * nx;
-    tn_[k] = t_n;
-    tt_[k] = t_t;
-    reached = reached || cl::criterion_reached(t_n, t_t, in_.sigma_cr[p], in_.tau_cr[p], mu);
-    worst = std::max(worst, cl::effective_traction(t_n, t_t, beta_[p], mu) / in_.sigma_cr[p]);
-  }
-  // The split decision is eq 5 itself; the ratio only steers the screening.
-  return reached ? std::max(worst, 1.0) : std::min(worst, std::nextafter(1.0, 0.0));
+  const Triangles& T = M.triangles();
+  return {N.x.data(),         N.y.data(),         M.gather().start.data(), M.gather().slot.data(),
+          T.stress.data(),    T.area0.data(),     in_.node.data(),         first_pair_.data(),
+          n_pairs_.data(),    in_.sigma_cr.data(), in_.tau_cr.data(),      beta_.data(),
+          in_.frame_p.data(), in_.frame_q.data(), d0x_.data(),             d0y_.data(),
+          n0x_.data(),        n0y_.data(),        tn_.data(),              tt_.data()};
 }
 
 SplitPlan FreezeBonds::check(const Model& M) {
@@ -271,6 +228,7 @@ SplitPlan FreezeBonds::check(const Model& M) {
   const double frac = params_.screen_fraction;
   const double mu = this->mu(M);
   const int32_t n = int32_t(intact_points_.size());
+  const BondCheckArrays a = check_arrays(M);
   int64_t evaluated = 0;
   #pragma omp parallel for schedule(static) num_threads(team_size(M, n)) reduction(+ : evaluated)
   for (int32_t j = 0; j < n; ++j) {
@@ -281,7 +239,7 @@ SplitPlan FreezeBonds::check(const Model& M) {
     }
     ++evaluated;
     const bool was_near = st_.near[p];
-    const double r = point_ratio(M, p, mu);
+    const double r = bond_point_ratio(a, p, mu);
     st_.near[p] = r >= frac;
     fail_[p] = r >= 1.0 ? (was_near || k == 1 ? 1 : 2) : 0;
   }

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bonds/bond_check_kernel.hpp"
 #include "bonds/bond_fields.hpp"
 #include "cohesive_law/softening.hpp"
 
@@ -79,6 +80,11 @@ class FreezeBonds {
   int32_t n_split() const;
   int32_t n_failed() const;
   const BondInput& input() const { return in_; }
+  // The check's arrays (bonds/bond_check_kernel.hpp: eq 7's stress, the
+  // pairs' normals, eqs 5-6); the tractions go to last_tn()/last_tt().
+  BondCheckArrays check_arrays(const Model& M) const;
+  // Bond points not yet split, ascending.
+  const std::vector<int32_t>& intact_points() const { return intact_points_; }
   // Original node of every node appended by splitting (in order of appending).
   const std::vector<int32_t>& parents() const { return st_.parent; }
   // Traction (t_n, t_t) of each pair at its last check [Pa].
@@ -99,13 +105,6 @@ class FreezeBonds {
   static int team_size(const Model& M, int64_t items);
   double mu(const Model& M) const;
   void refresh_lists();
-  // Area-weighted elastic Cauchy stress around a node (eq 7).
-  void mean_stress(const Model& M, int32_t node, double& sxx, double& syy, double& sxy) const;
-  // Current normal of an intact pair: the reference normal turned by the
-  // rotation of its frame edge.
-  void current_normal(const Model& M, int32_t k, double& nx, double& ny) const;
-  // Largest t_e / sigma_cr over the pairs of point p (and the traction of each pair).
-  double point_ratio(const Model& M, int32_t p, double mu);
   // bond_split.cpp
   void split_points(Model& M, const std::vector<int32_t>& points);
   // Eq 8 force on the + node of pair k from this step's forces (x, y): from
@@ -122,7 +121,7 @@ class FreezeBonds {
   std::vector<double> n0x_, n0y_, d0x_, d0y_;  // per pair: unit normal, frame edge (reference)
   // scratch of the current step
   std::vector<int8_t> fail_;                   // per point: 0, 1 failing, 2 failing found late
-  std::vector<double> tn_, tt_;                // per pair: traction of the last check
+  mutable std::vector<double> tn_, tt_;        // per pair: traction of the last check
   std::vector<int32_t> intact_points_, open_pairs_;
   std::vector<double> fx_pair_, fy_pair_, w_pair_, s_pair_, e_pair_;  // per open pair
 };

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cuda/body_forces.hpp"
+#include "cuda/bond_check.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 
@@ -34,6 +35,13 @@ DeviceNodeUpdate::~DeviceNodeUpdate() = default;
 void DeviceNodeUpdate::run() { no_gpu(); }
 double DeviceNodeUpdate::time_per_run(int) { no_gpu(); }
 NodeUpdateFields DeviceNodeUpdate::fields() { no_gpu(); }
+
+struct DeviceBondCheck::Impl {};
+DeviceBondCheck::DeviceBondCheck(const Model&) { no_gpu(); }
+DeviceBondCheck::~DeviceBondCheck() = default;
+void DeviceBondCheck::run() { no_gpu(); }
+double DeviceBondCheck::time_per_run(int) { no_gpu(); }
+BondCheckFields DeviceBondCheck::fields() { no_gpu(); }
 
 struct DeviceContactNormal::Impl {};
 DeviceContactNormal::DeviceContactNormal(const Model&) { no_gpu(); }

@@ -215,6 +215,7 @@ class Model {
 
   // --- freeze bonds (freeze_bonds.hpp; splitting edits the topology) ---
   FreezeBonds& bonds() { return bonds_; }
+  const FreezeBonds& bonds() const { return bonds_; }
 
  private:
   // Whether a force evaluation moves history on (bond splits, cohesive

@@ -1,0 +1,127 @@
+// The bond check on the GPU (cuda/bond_check.hpp): bond_point_ratio per
+// intact point, then the plan (ascending points at the criterion) on the host.
+#include "cuda/bond_check.hpp"
+
+#include <cmath>
+
+#include "bonds/bond_check_kernel.hpp"
+#include "cuda/device_array.cuh"
+#include "model/model.hpp"
+
+namespace engine {
+
+namespace {
+
+constexpr int kBlock = 128;
+
+__global__ void check_kernel(BondCheckArrays a, const int32_t* points, int32_t n, double mu, double* ratio) {
+  const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j < n) ratio[points[j]] = bond_point_ratio(a, points[j], mu);
+}
+
+template <class T>
+void upload(DeviceArray<T>& d, const T* h, size_t n) {
+  d.upload(h, n);
+}
+
+}  // namespace
+
+struct DeviceBondCheck::Impl {
+  int32_t n_points = 0, n_pairs = 0, n_intact = 0;
+  double mu = 0.0;
+  DeviceArray<double> x, y, stress, area0, sigma_cr, tau_cr, beta, d0x, d0y, n0x, n0y, tn, tt, ratio;
+  DeviceArray<int32_t> start, slot, point_node, first_pair, n_pairs_of, frame_p, frame_q, intact;
+  cudaStream_t stream = nullptr;
+
+  void launch() {
+    const BondCheckArrays a{x.data(),        y.data(),      start.data(),    slot.data(),     stress.data(),
+                            area0.data(),    point_node.data(), first_pair.data(), n_pairs_of.data(),
+                            sigma_cr.data(), tau_cr.data(), beta.data(),     frame_p.data(),  frame_q.data(),
+                            d0x.data(),      d0y.data(),    n0x.data(),      n0y.data(),      tn.data(),
+                            tt.data()};
+    if (n_intact)
+      check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(a, intact.data(), n_intact, mu,
+                                                                            ratio.data());
+    cuda_check(cudaGetLastError(), "kernel launch");
+  }
+};
+
+DeviceBondCheck::DeviceBondCheck(const Model& m) : impl_(new Impl) {
+  Impl& d = *impl_;
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
+    cudaGetLastError();
+    throw std::runtime_error("GPU: no CUDA device is visible");
+  }
+  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  const FreezeBonds& B = m.bonds();
+  const BondCheckArrays h = B.check_arrays(m);
+  const Nodes& N = m.nodes();
+  const Triangles& T = m.triangles();
+  d.n_points = B.n_points();
+  d.n_pairs = B.n_pairs();
+  d.n_intact = int32_t(B.intact_points().size());
+  const double mu_b = B.params().mu;
+  d.mu = std::isnan(mu_b) ? m.contact_params().mu : mu_b;  // FreezeBonds::mu's rule
+  const size_t nn = size_t(N.size()), nt = size_t(T.size()), np = size_t(d.n_points), nk = size_t(d.n_pairs);
+  upload(d.x, h.x, nn);
+  upload(d.y, h.y, nn);
+  upload(d.start, h.gather_start, nn + 1);
+  upload(d.slot, h.gather_slot, size_t(m.gather().start[nn]));
+  upload(d.stress, h.stress, 3 * nt);
+  upload(d.area0, h.area0, nt);
+  upload(d.point_node, h.point_node, np);
+  upload(d.first_pair, h.first_pair, np);
+  upload(d.n_pairs_of, h.n_pairs, np);
+  upload(d.sigma_cr, h.sigma_cr, np);
+  upload(d.tau_cr, h.tau_cr, np);
+  upload(d.beta, h.beta, np);
+  upload(d.frame_p, h.frame_p, nk);
+  upload(d.frame_q, h.frame_q, nk);
+  upload(d.d0x, h.d0x, nk);
+  upload(d.d0y, h.d0y, nk);
+  upload(d.n0x, h.n0x, nk);
+  upload(d.n0y, h.n0y, nk);
+  d.tn.upload(std::vector<double>(nk, NAN));
+  d.tt.upload(std::vector<double>(nk, NAN));
+  d.ratio.upload(std::vector<double>(np, NAN));
+  d.intact.upload(B.intact_points());
+}
+
+DeviceBondCheck::~DeviceBondCheck() {
+  if (impl_->stream) cudaStreamDestroy(impl_->stream);
+}
+
+void DeviceBondCheck::run() { impl_->launch(); }
+
+double DeviceBondCheck::time_per_run(int repeats) {
+  Impl& d = *impl_;
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  for (int k = 0; k < 3; ++k) d.launch();
+  cudaEvent_t a, b;
+  cuda_check(cudaEventCreate(&a), "event");
+  cuda_check(cudaEventCreate(&b), "event");
+  cuda_check(cudaEventRecord(a, d.stream), "event");
+  for (int k = 0; k < repeats; ++k) d.launch();
+  cuda_check(cudaEventRecord(b, d.stream), "event");
+  cuda_check(cudaEventSynchronize(b), "event");
+  float ms = 0.0f;
+  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
+  cudaEventDestroy(a);
+  cudaEventDestroy(b);
+  return 1e-3 * double(ms) / repeats;
+}
+
+BondCheckFields DeviceBondCheck::fields() {
+  Impl& d = *impl_;
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU bond check");
+  BondCheckFields f;
+  f.ratio = d.ratio.download();
+  f.tn = d.tn.download();
+  f.tt = d.tt.download();
+  for (int32_t p = 0; p < d.n_points; ++p)
+    if (f.ratio[p] >= 1.0) f.plan.push_back(p);
+  return f;
+}
+
+}  // namespace engine
