@@ -39,6 +39,10 @@ void BodyTriangleLists::build(const Triangles& tris, const std::vector<int32_t>&
   };
   rows(nullptr, tris.size(), start, tri);
   rows(surface.data(), int32_t(surface.size()), surface_start, surface_tri);
+  largest_first.resize(size_t(n_bodies));
+  for (int32_t b = 0; b < n_bodies; ++b) largest_first[b] = b;
+  std::stable_sort(largest_first.begin(), largest_first.end(),
+                   [&](int32_t a, int32_t b) { return start[a + 1] - start[a] > start[b + 1] - start[b]; });
 }
 
 void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
@@ -56,9 +60,10 @@ void body_drag_constants(const Nodes& nodes, const Triangles& tris, const Extern
                          lists.start.data(), lists.tri.data(), lists.surface_start.data(),
                          lists.surface_tri.data(), 0.5 * p.rho_w * p.C_d};
   double* c_b = body_drag.data();
-  // dynamic: the layer's bodies are far larger than a block
-  #pragma omp parallel for schedule(dynamic, 8) num_threads(threads) if (threads > 1)
-  for (int32_t b = 0; b < nb; ++b) c_b[b] = quadratic_drag_constant(a, b);
+  const int32_t* order = lists.largest_first.data();
+  // dynamic, largest bodies first: the layer's bodies are far larger than a block
+  #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
+  for (int32_t k = 0; k < nb; ++k) c_b[order[k]] = quadratic_drag_constant(a, order[k]);
 }
 
 }  // namespace engine

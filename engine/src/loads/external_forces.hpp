@@ -64,6 +64,11 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
 struct BodyTriangleLists {
   std::vector<int32_t> start, tri;                  // n_bodies + 1, n_tri
   std::vector<int32_t> surface_start, surface_tri;  // n_bodies + 1, the surface triangles
+  // The bodies by descending triangle count (ties by id): threads take the
+  // large bodies first, so the paper mesh's two layer halves (~8,800
+  // triangles each, against ~200 of a block) no longer come last and hold
+  // the other threads back (a body's sum stays one thread's, in its order).
+  std::vector<int32_t> largest_first;
   void build(const Triangles& tris, const std::vector<int32_t>& surface, int32_t n_bodies);
 };
 
