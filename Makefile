@@ -10,7 +10,7 @@ STAMP   := $(BUILD)/.built
 # results then differ in their bits from every other machine's (docs/reproducibility.md)
 NATIVE  ?= OFF
 
-.PHONY: setup deps build install test bench demo figures clean
+.PHONY: setup deps build install test bench demo figures gpu-check clean
 
 setup: deps build
 
@@ -54,5 +54,12 @@ FIGDIR  ?= figures
 figures: build
 	$(PY) -m icerubble.cli figures $(RESULTS) -o $(FIGDIR)
 
+# The GPU backend against the CPU on a machine with a CUDA GPU and toolkit
+# (docs/gpu.md); MESH: scene meshes to check and time on, e.g.
+# runs/scenes/paper_ridge1_pilemu0.3_mesh.h5 (none: the built-in scenes only).
+MESH ?=
+gpu-check:
+	PY=$(PY) tools/gpu_check.sh $(MESH)
+
 clean:
-	rm -rf $(BUILD) icerubble/_*.so
+	rm -rf $(BUILD) build-gpu icerubble/_*.so
