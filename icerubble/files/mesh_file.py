@@ -67,6 +67,8 @@ def write_mesh(path, m, source="", pile_origin=None):
             # the central part of a wider pile: which pile block each body is
             f.attrs["pile_domain_width"] = m["pile_domain_width"]
             write_dataset(f, "pile_block", m["pile_block"], "-")
+            # the block nodes on the faces the crop cut: held in x by the scene
+            write_dataset(f, "node_sets/cut_sides", m["cut_sides"], "-")
         rb = m["resolved_blocks"]
         write_dataset(f, "resolved_blocks/vertices", np.vstack(rb), "m")
         write_dataset(f, "resolved_blocks/offsets",
@@ -96,6 +98,9 @@ def read_mesh(path):
                    bond_edge_bodies=get("bond_edge_bodies", (None, 2), "i"),
                    layer_top=get("node_sets/layer_top", (None,), "i"),
                    indenter_top=get("node_sets/indenter_top", (None,), "i"))
+        # a cropped mesh's cut faces (none in a mesh of a whole pile)
+        out["cut_sides"] = (get("node_sets/cut_sides", (None,), "i") if "node_sets/cut_sides" in f
+                            else np.zeros(0, np.int32))
         n_tri = len(out["triangles"])
         out["body"] = get("body", (n_tri,), "i")
         n_body = int(out["body"].max()) + 1 if n_tri else 0
@@ -104,6 +109,7 @@ def read_mesh(path):
                              ("bond_edges", out["bond_edges"], len(out["nodes"])),
                              ("node_sets/layer_top", out["layer_top"], len(out["nodes"])),
                              ("node_sets/indenter_top", out["indenter_top"], len(out["nodes"])),
+                             ("node_sets/cut_sides", out["cut_sides"], len(out["nodes"])),
                              ("body", out["body"], n_body),
                              ("bond_edge_bodies", out["bond_edge_bodies"], n_body)):
             if ids.size and (ids.min() < 0 or ids.max() >= n):

@@ -54,6 +54,11 @@ def _surface(occ, poly):
     return occ.addPlaneSurface([occ.addCurveLoop(lines)])
 
 
+# how far from x = +-W/2 a block node still lies on a face the crop cut [m]:
+# the clip puts them there exactly, gmsh to round-off
+CUT_TOL = 1e-6
+
+
 def crop_blocks(corners, domain_width, min_width):
     """The pile's blocks cut to |x| <= domain_width/2 (the central part of a wider
     pile), as phase 1's side walls cut them; a piece thinner than ``min_width``
@@ -212,12 +217,22 @@ def build_mesh(pile_data, element_size=0.1, gap_tol=0.01, min_bond_length=0.05, 
     layer_top = layer_top[np.abs(nodes[layer_top, 1] - y_t) < tol]
     ind_top = np.unique(tris[body == nb + 1])
     ind_top = ind_top[np.abs(nodes[ind_top, 1] - y_t) < tol]
+    # The faces the crop cut (|x| = W/2): the rest of the pile held them there,
+    # so the scene holds them in x (cut_sides). Left free, the deep scene's
+    # keel spread out of its cut sides and floated up, splitting bonds across
+    # the section before the indenter had moved 1 mm (docs/study_paper_depth.md).
+    cut_sides = np.zeros(0, np.int32)
+    if W < W_pile:
+        block_nodes = np.unique(tris[body_kind[body] == KIND_BLOCK])
+        on_cut = np.abs(np.abs(nodes[block_nodes, 0]) - 0.5 * W) < CUT_TOL
+        cut_sides = block_nodes[on_cut].astype(np.int32)
     blocks_final = [p.copy() for p in polys]
     bounds = _pile.keel_bounds(blocks_final, y_b, x0, x1)
     eta = porosity_of_mesh(nodes, tris, body_kind[body] == KIND_BLOCK, bounds)
     return dict(nodes=nodes, triangles=tris.astype(np.int32), body=body, body_kind=body_kind,
                 bond_edges=bond_edges_, bond_edge_bodies=bond_bodies,
                 layer_top=layer_top.astype(np.int32), indenter_top=ind_top.astype(np.int32),
+                cut_sides=cut_sides,
                 keel_bounds=bounds, porosity=eta,
                 quality=dict(quality(nodes, tris), feature=feature),
                 contacts=contact_table(contacts, nodes, bond_edges_, bond_bodies, nb),

@@ -442,7 +442,7 @@ class PunchThrough:
         else:
             m.set(sleeping=False)
         m.clear_boundary_conditions()
-        m.fix("layer_top")
+        self.scene.hold_boundaries(m)
         if self.phase == "load":
             t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
             m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))

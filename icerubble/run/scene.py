@@ -61,10 +61,12 @@ class Scene:
             sigma_cr=params["sigma_cr"], tau_cr=params["tau_cr"], G=params["G"],
             bottom_fraction=params["strength_bottom_fraction"],
             exclude_pairs=self._cut_pairs())
-        self.model = engine.Model(nodes, tri, body, materials=self.material,
-                                node_sets={"layer_top": mesh["layer_top"],
-                                           "indenter_top": mesh["indenter_top"],
-                                           "indenter": self.indenter_nodes})
+        sets = {"layer_top": mesh["layer_top"], "indenter_top": mesh["indenter_top"],
+                "indenter": self.indenter_nodes}
+        cut = np.asarray(mesh.get("cut_sides", np.zeros(0, np.int32)))
+        if cut.size:
+            sets["cut_sides"] = cut
+        self.model = engine.Model(nodes, tri, body, materials=self.material, node_sets=sets)
         self._configure(self.model)
         # bonds hold while the scene settles; the driver switches failure on
         self.model.set_bond_points(self.bond_points, direction=params["force_direction"],
@@ -84,6 +86,14 @@ class Scene:
         m.restore_checkpoint(cp)
         self.model = m
         return m
+
+    def hold_boundaries(self, m):
+        """The scene's held nodes: the consolidated layer's top, and the faces
+        a cropped scene's crop cut, held in x as the rest of the pile held them
+        (a roller: they slide up and down)."""
+        m.fix("layer_top")
+        if "cut_sides" in m.node_sets:
+            m.fix("cut_sides", x=True, y=False)
 
     def _cut_pairs(self):
         """Indenter and consolidated layer are cut apart, never frozen together."""

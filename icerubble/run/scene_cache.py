@@ -126,12 +126,12 @@ def _scene_lock(path):
 
 def _mesh_current(mesh_path):
     """False for a cached mesh numbered before mesh_order (the same mesh, several
-    times slower to step): it is made again from its pile."""
+    times slower to step), or a cropped one that does not yet mark its cut faces
+    (node_sets/cut_sides, which the scene holds): it is made again from its pile."""
     with h5py.File(mesh_path, "r") as f:
         order = f.attrs.get("node_order", "")
-    if order == mesh_order.ORDER:
-        return True
-    return False
+        cropped_unmarked = "pile_domain_width" in f.attrs and "node_sets/cut_sides" not in f
+    return order == mesh_order.ORDER and not cropped_unmarked
 
 
 def _check_friction(pile_path, name, mu):
@@ -172,7 +172,8 @@ def _make_pile(name, sc, ridge, mu, pile_path, threads, ship, base):
 def _make_mesh(name, sc, ridge, pile_path, mesh_path, ship):
     """The scene's mesh of the pile unless a current one exists."""
     if os.path.exists(mesh_path) and not _mesh_current(mesh_path):
-        print(f"[scene] {mesh_path} predates the locality numbering of its nodes: meshing it again", flush=True)
+        print(f"[scene] {mesh_path} predates the locality numbering of its nodes or the marking of its cut "
+              "faces: meshing it again", flush=True)
     if not os.path.exists(mesh_path) or not _mesh_current(mesh_path):
         t0 = time.perf_counter()
         m = mesh_scene(sc, pile_path, mesh_path)

@@ -215,6 +215,17 @@ def test_a_narrower_domain_meshes_the_central_part_of_the_pile():
     assert {k for k in bond_lengths(m) if k[0] < 2 and k[1] < 2} == {(0, 1)}
     assert bond_lengths(m)[(0, 1)] == pytest.approx(1.0, rel=1e-9)
     assert len(full["pile_block"]) == 4 and "pile_domain_width" in full
+    # the faces the crop cut are marked for the scene to hold; a whole pile has none
+    cut = m["cut_sides"]
+    assert len(cut) > 0 and full["cut_sides"].size == 0
+    np.testing.assert_allclose(m["nodes"][cut, 0], -2.5, atol=1e-9)
+    faces = np.isin(m["triangles"], cut).any(axis=1)
+    blocks_at_cut = {int(b) for b in np.unique(m["body"][faces]) if m["body_kind"][b] == mesh_file.KIND_BLOCK}
+    assert blocks_at_cut == {0, 1}   # A and B, the pieces the crop cut (their top corner is the layer's too)
+    # every block node at x = -2.5 is in the set
+    on_face = np.unique(m["triangles"][m["body"] < 2])
+    on_face = on_face[np.abs(m["nodes"][on_face, 0] + 2.5) < 1e-9]
+    np.testing.assert_array_equal(np.sort(cut), on_face)
     with pytest.raises(ValueError, match="domain_width"):
         meshing.build_mesh(pile_dict([A]), element_size=0.1, domain_width=9.0)
 
