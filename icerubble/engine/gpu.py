@@ -51,35 +51,59 @@ def why_unavailable():
     return ""
 
 
-class BodyForces:
-    """The body-force stage of `model` (an engine.Model) on the GPU."""
+class _Stage:
+    """One stage of the step on the GPU, made from `model` (an engine.Model):
+    DEVICE names its class in the compiled module."""
+    DEVICE = None
 
     def __init__(self, model):
         reason = why_unavailable()
         if reason:
             raise RuntimeError(f"the GPU backend cannot run: {reason}")
         self._model = model
-        self._d = _engine.DeviceBodyForces(model._m)
-
-    def upload_state(self):
-        """Copy the model's positions and velocities now."""
-        self._d.upload_state(self._model._m)
+        self._d = getattr(_engine, self.DEVICE)(model._m)
 
     def run(self):
         self._d.run()
 
     def seconds_per_run(self, repeats=1000):
-        """Mean GPU time of one evaluation [s] (CUDA graph, device events)."""
+        """Mean GPU time of one run [s] (device events, after three warm-ups)."""
         return self._d.time_per_run(int(repeats))
+
+    def fields(self):
+        return self._d.fields()
+
+
+def differences(cpu, gpu, keys):
+    """{key: (entries whose bits differ, largest difference relative to the
+    CPU field's largest entry)}; (-1, inf) where the shapes differ."""
+    out = {}
+    for k in keys:
+        a = np.atleast_1d(np.ascontiguousarray(cpu[k], float))
+        b = np.atleast_1d(np.ascontiguousarray(gpu[k], float))
+        if a.shape != b.shape:
+            out[k] = (-1, np.inf)
+            continue
+        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
+        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
+                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    return out
+
+
+class BodyForces(_Stage):
+    """The body-force stage of `model` (an engine.Model) on the GPU; its
+    seconds_per_run replays the stage's launches as one CUDA graph."""
+    DEVICE = "DeviceBodyForces"
+
+    def upload_state(self):
+        """Copy the model's positions and velocities now."""
+        self._d.upload_state(self._model._m)
 
     def stage_seconds(self, repeats=200):
         """Mean GPU time of each stage [s], launched one by one: quadratic
         drag, triangles (elements, water, energy partials), node gather,
         energy sum."""
         return dict(zip(STAGES, self._d.stage_times(int(repeats))))
-
-    def fields(self):
-        return self._d.fields()
 
 
 def cpu_fields(model):
@@ -97,15 +121,7 @@ def compare(model):
     stage = BodyForces(model)
     stage.run()
     gpu = stage.fields()
-    out = {}
-    for k in FIELDS + ("elastic_energy",):
-        a, b = np.atleast_1d(np.asarray(cpu[k], float)), np.atleast_1d(np.asarray(gpu[k], float))
-        if a.shape != b.shape:
-            out[k] = (-1, np.inf)
-            continue
-        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
-        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
-                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    out = differences(cpu, gpu, FIELDS + ("elastic_energy",))
     out["ok"] = (all(out[k][0] == 0 for k in EXACT_FIELDS)
                  and all(out[k][1] <= ROUND_OFF for k in SUMMED_FIELDS + ("elastic_energy",)))
     return out
@@ -116,22 +132,11 @@ UPDATE_TERMS = ("kinetic2_new", "kinetic2_old", "viscous", "local_damping", "con
                 "gravity", "buoyancy", "drag", "boundary", "elastic_new", "elastic_old")
 
 
-class NodeUpdate:
+class NodeUpdate(_Stage):
     """The central-difference update of `model` (an engine.Model) on the GPU,
-    from the node state and the forces of the model's last evaluation."""
-
-    def __init__(self, model):
-        reason = why_unavailable()
-        if reason:
-            raise RuntimeError(f"the GPU backend cannot run: {reason}")
-        self._d = _engine.DeviceNodeUpdate(model._m)
-
-    def run(self):
-        self._d.run()
-
-    def seconds_per_run(self, repeats=1000):
-        """Mean GPU time of one update [s] (device events; repeated in place)."""
-        return self._d.time_per_run(int(repeats))
+    from the node state and the forces of the model's last evaluation (timed
+    runs repeat the update in place)."""
+    DEVICE = "DeviceNodeUpdate"
 
     def fields(self):
         f = self._d.fields()
@@ -167,12 +172,7 @@ def compare_update(model):
         return None
     xy, v = model.positions, model.velocities
     cpu = dict(x=xy[:, 0], y=xy[:, 1], vx=v[:, 0], vy=v[:, 1])
-    out = {}
-    for k in ("x", "y", "vx", "vy"):
-        a, b = np.ascontiguousarray(cpu[k], float), np.asarray(gpu[k], float)
-        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
-        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
-                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    out = differences(cpu, gpu, ("x", "y", "vx", "vy"))
     e = model.energies()
     ledger = ledger_of_one_step(gpu["sums"], model.dt)
     scale = max(max(abs(e[k]) for k in ledger), 1e-300)
@@ -181,29 +181,14 @@ def compare_update(model):
     return out
 
 
-class ContactNormal:
+class ContactNormal(_Stage):
     """The normal contact pass of `model` (an engine.Model) on the GPU: the
     pair kernel over the candidate list of the model's last contact pass."""
-
-    def __init__(self, model):
-        reason = why_unavailable()
-        if reason:
-            raise RuntimeError(f"the GPU backend cannot run: {reason}")
-        self._d = _engine.DeviceContactNormal(model._m)
+    DEVICE = "DeviceContactNormal"
 
     @property
     def candidates(self):
         return self._d.candidates
-
-    def run(self):
-        self._d.run()
-
-    def seconds_per_run(self, repeats=1000):
-        """Mean GPU time of one pass [s] (device events)."""
-        return self._d.time_per_run(int(repeats))
-
-    def fields(self):
-        return self._d.fields()
 
 
 def compare_contact(model):
@@ -217,12 +202,7 @@ def compare_contact(model):
     stage = ContactNormal(model)
     stage.run()
     gpu = stage.fields()
-    out = {}
-    for k in ("f_con_x", "f_con_y"):
-        a, b = np.asarray(cpu[k], float), np.asarray(gpu[k], float)
-        scale = max(float(np.abs(a).max(initial=0.0)), 1e-300)
-        out[k] = (int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64))),
-                  float(np.abs(a - b).max(initial=0.0)) / scale)
+    out = differences(cpu, gpu, ("f_con_x", "f_con_y"))
     out["touching"] = (int(cpu["touching"]), int(gpu["touching"]))
     out["energy_rel"] = abs(gpu["energy"] - cpu["energy"]) / max(abs(cpu["energy"]), 1e-300)
     out["ok"] = (out["f_con_x"][0] == 0 and out["f_con_y"][0] == 0 and out["touching"][0] == out["touching"][1]
@@ -230,25 +210,10 @@ def compare_contact(model):
     return out
 
 
-class BondCheck:
+class BondCheck(_Stage):
     """The bond check (eqs 5-7) of `model` (an engine.Model) on the GPU, every
     intact bond point at the model's state (stresses of its last evaluation)."""
-
-    def __init__(self, model):
-        reason = why_unavailable()
-        if reason:
-            raise RuntimeError(f"the GPU backend cannot run: {reason}")
-        self._d = _engine.DeviceBondCheck(model._m)
-
-    def run(self):
-        self._d.run()
-
-    def seconds_per_run(self, repeats=1000):
-        """Mean GPU time of one check [s] (device events)."""
-        return self._d.time_per_run(int(repeats))
-
-    def fields(self):
-        return self._d.fields()
+    DEVICE = "DeviceBondCheck"
 
 
 def compare_bond_check(model):
@@ -261,10 +226,8 @@ def compare_bond_check(model):
     stage = BondCheck(model)
     stage.run()
     gpu = stage.fields()
-    out = {}
-    for k in ("ratio", "tn", "tt"):
-        a, b = np.asarray(cpu[k], float), np.asarray(gpu[k], float)
-        out[k] = int(np.count_nonzero(a.view(np.uint64) != b.view(np.uint64)))  # NaN where not checked: same bits
+    # NaN where a point is not checked (split): the same bits on both
+    out = {k: n for k, (n, _) in differences(cpu, gpu, ("ratio", "tn", "tt")).items()}
     out["plan"] = (len(cpu["plan"]), len(gpu["plan"]))
     out["same_plan"] = bool(np.array_equal(cpu["plan"], gpu["plan"]))
     out["ok"] = out["same_plan"] and out["ratio"] == out["tn"] == out["tt"] == 0

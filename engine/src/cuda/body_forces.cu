@@ -4,6 +4,7 @@
 #include "cuda/body_forces.hpp"
 
 #include "cuda/device_array.cuh"
+#include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "element/cst_kernel.hpp"
 #include "loads/drag_kernel.hpp"
@@ -173,8 +174,7 @@ struct DeviceBodyForces::Impl {
 
 DeviceBodyForces::DeviceBodyForces(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
-  if (cuda_device_name().empty()) throw std::runtime_error("GPU: no CUDA device is visible");
-  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  d.stream = new_stream();
   const Nodes& N = m.nodes();
   const Triangles& T = m.triangles();
   d.n_nodes = N.size();
@@ -240,7 +240,7 @@ void DeviceBodyForces::run() { impl_->launch(); }
 
 double DeviceBodyForces::time_per_run(int repeats) {
   Impl& d = *impl_;
-  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");  // before the capture
   if (!d.graph) {
     cudaGraph_t g;
     cuda_check(cudaStreamBeginCapture(d.stream, cudaStreamCaptureModeThreadLocal), "graph capture");
@@ -249,19 +249,8 @@ double DeviceBodyForces::time_per_run(int repeats) {
     cuda_check(cudaGraphInstantiate(&d.graph, g, 0), "graph instantiate");
     cudaGraphDestroy(g);
   }
-  for (int k = 0; k < 3; ++k) cuda_check(cudaGraphLaunch(d.graph, d.stream), "graph launch");  // warm-up
-  cudaEvent_t a, b;
-  cuda_check(cudaEventCreate(&a), "event");
-  cuda_check(cudaEventCreate(&b), "event");
-  cuda_check(cudaEventRecord(a, d.stream), "event");
-  for (int k = 0; k < repeats; ++k) cuda_check(cudaGraphLaunch(d.graph, d.stream), "graph launch");
-  cuda_check(cudaEventRecord(b, d.stream), "event");
-  cuda_check(cudaEventSynchronize(b), "event");
-  float ms = 0.0f;
-  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
-  cudaEventDestroy(a);
-  cudaEventDestroy(b);
-  return 1e-3 * double(ms) / repeats;
+  return mean_launch_seconds(d.stream, repeats,
+                             [&] { cuda_check(cudaGraphLaunch(d.graph, d.stream), "graph launch"); });
 }
 
 std::vector<double> DeviceBodyForces::stage_times(int repeats) {

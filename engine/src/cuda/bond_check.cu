@@ -6,6 +6,7 @@
 
 #include "bonds/bond_check_kernel.hpp"
 #include "cuda/device_array.cuh"
+#include "cuda/stream.cuh"
 #include "model/model.hpp"
 
 namespace engine {
@@ -48,12 +49,7 @@ struct DeviceBondCheck::Impl {
 
 DeviceBondCheck::DeviceBondCheck(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
-  int count = 0;
-  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
-    cudaGetLastError();
-    throw std::runtime_error("GPU: no CUDA device is visible");
-  }
-  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  d.stream = new_stream();
   const FreezeBonds& B = m.bonds();
   const BondCheckArrays h = B.check_arrays(m);
   const Nodes& N = m.nodes();
@@ -96,20 +92,7 @@ void DeviceBondCheck::run() { impl_->launch(); }
 
 double DeviceBondCheck::time_per_run(int repeats) {
   Impl& d = *impl_;
-  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
-  for (int k = 0; k < 3; ++k) d.launch();
-  cudaEvent_t a, b;
-  cuda_check(cudaEventCreate(&a), "event");
-  cuda_check(cudaEventCreate(&b), "event");
-  cuda_check(cudaEventRecord(a, d.stream), "event");
-  for (int k = 0; k < repeats; ++k) d.launch();
-  cuda_check(cudaEventRecord(b, d.stream), "event");
-  cuda_check(cudaEventSynchronize(b), "event");
-  float ms = 0.0f;
-  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
-  cudaEventDestroy(a);
-  cudaEventDestroy(b);
-  return 1e-3 * double(ms) / repeats;
+  return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
 }
 
 BondCheckFields DeviceBondCheck::fields() {

@@ -10,6 +10,7 @@
 
 #include "contact/potential_contact_kernel.hpp"
 #include "cuda/device_array.cuh"
+#include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "model/model.hpp"
 
@@ -103,12 +104,7 @@ struct DeviceContactNormal::Impl {
 
 DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
-  int count = 0;
-  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
-    cudaGetLastError();
-    throw std::runtime_error("GPU: no CUDA device is visible");
-  }
-  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  d.stream = new_stream();
   const Nodes& N = m.nodes();
   const std::vector<int32_t>& T = m.triangles().node;
   const std::vector<CandidatePair>& cand = m.contact().candidates();
@@ -164,20 +160,7 @@ int64_t DeviceContactNormal::candidates() const { return impl_->n_pairs; }
 
 double DeviceContactNormal::time_per_run(int repeats) {
   Impl& d = *impl_;
-  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
-  for (int k = 0; k < 3; ++k) d.launch();
-  cudaEvent_t a, b;
-  cuda_check(cudaEventCreate(&a), "event");
-  cuda_check(cudaEventCreate(&b), "event");
-  cuda_check(cudaEventRecord(a, d.stream), "event");
-  for (int k = 0; k < repeats; ++k) d.launch();
-  cuda_check(cudaEventRecord(b, d.stream), "event");
-  cuda_check(cudaEventSynchronize(b), "event");
-  float ms = 0.0f;
-  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
-  cudaEventDestroy(a);
-  cudaEventDestroy(b);
-  return 1e-3 * double(ms) / repeats;
+  return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
 }
 
 ContactNormalFields DeviceContactNormal::fields() {

@@ -4,6 +4,7 @@
 #include "cuda/node_update.hpp"
 
 #include "cuda/device_array.cuh"
+#include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "model/model.hpp"
 #include "model/update_kernel.hpp"
@@ -68,12 +69,7 @@ struct DeviceNodeUpdate::Impl {
 
 DeviceNodeUpdate::DeviceNodeUpdate(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
-  int count = 0;
-  if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
-    cudaGetLastError();
-    throw std::runtime_error("GPU: no CUDA device is visible");
-  }
-  cuda_check(cudaStreamCreateWithFlags(&d.stream, cudaStreamNonBlocking), "cudaStreamCreate");
+  d.stream = new_stream();
   const Nodes& N = m.nodes();
   d.n = N.size();
   d.dt = m.dt();
@@ -116,20 +112,7 @@ void DeviceNodeUpdate::run() { impl_->launch(); }
 
 double DeviceNodeUpdate::time_per_run(int repeats) {
   Impl& d = *impl_;
-  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
-  for (int k = 0; k < 3; ++k) d.launch();
-  cudaEvent_t a, b;
-  cuda_check(cudaEventCreate(&a), "event");
-  cuda_check(cudaEventCreate(&b), "event");
-  cuda_check(cudaEventRecord(a, d.stream), "event");
-  for (int k = 0; k < repeats; ++k) d.launch();
-  cuda_check(cudaEventRecord(b, d.stream), "event");
-  cuda_check(cudaEventSynchronize(b), "event");
-  float ms = 0.0f;
-  cuda_check(cudaEventElapsedTime(&ms, a, b), "event");
-  cudaEventDestroy(a);
-  cudaEventDestroy(b);
-  return 1e-3 * double(ms) / repeats;
+  return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
 }
 
 NodeUpdateFields DeviceNodeUpdate::fields() {
