@@ -75,8 +75,7 @@ BondCheckFields cpu_bond_check(const Model& model) {
   BondCheckArrays a = B.check_arrays(model);
   a.tn = f.tn.data();
   a.tt = f.tt.data();
-  const double mu_b = B.params().mu;
-  const double mu = std::isnan(mu_b) ? model.contact_params().mu : mu_b;  // FreezeBonds::mu's rule
+  const double mu = B.mu(model);
   for (int32_t p : B.intact_points()) {
     f.ratio[p] = bond_point_ratio(a, p, mu);
     if (f.ratio[p] >= 1.0) f.plan.push_back(p);

@@ -83,6 +83,9 @@ class FreezeBonds {
   // The check's arrays (bonds/bond_check_kernel.hpp: eq 7's stress, the
   // pairs' normals, eqs 5-6); the tractions go to last_tn()/last_tt().
   BondCheckArrays check_arrays(const Model& M) const;
+  // The friction coefficient of eq 6's compressive branch: params().mu, or the
+  // contact mu where that is NaN.
+  double mu(const Model& M) const;
   // Bond points not yet split, ascending.
   const std::vector<int32_t>& intact_points() const { return intact_points_; }
   // Original node of every node appended by splitting (in order of appending).
@@ -103,7 +106,6 @@ class FreezeBonds {
  private:
   void apply_crack_closure(Model& M);
   static int team_size(const Model& M, int64_t items);
-  double mu(const Model& M) const;
   void refresh_lists();
   // bond_split.cpp
   void split_points(Model& M, const std::vector<int32_t>& points);

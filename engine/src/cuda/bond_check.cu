@@ -57,8 +57,7 @@ DeviceBondCheck::DeviceBondCheck(const Model& m) : impl_(new Impl) {
   d.n_points = B.n_points();
   d.n_pairs = B.n_pairs();
   d.n_intact = int32_t(B.intact_points().size());
-  const double mu_b = B.params().mu;
-  d.mu = std::isnan(mu_b) ? m.contact_params().mu : mu_b;  // FreezeBonds::mu's rule
+  d.mu = B.mu(m);
   const size_t nn = size_t(N.size()), nt = size_t(T.size()), np = size_t(d.n_points), nk = size_t(d.n_pairs);
   upload(d.x, h.x, nn);
   upload(d.y, h.y, nn);
