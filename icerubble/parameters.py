@@ -55,6 +55,7 @@ class Parameter:
     identity: bool = True     # part of the run identity (run_identity.identity)
     settle: bool = True       # read by the settle (False: rest_states.SETTLE_FREE)
     engine: bool = False      # a key of the engine wrapper's Model.set
+    bond: bool = False        # a bond strength: read by the settle only with settle_bonds='checked'
 
     def __post_init__(self):
         if self.group not in GROUPS:
@@ -94,15 +95,16 @@ SWITCH = dict(NOT_TABLE, kind="flag", engine=True)
 
 REGISTRY = {
     # freeze bonds (values on top of the keel; they fall linearly to
-    # strength_bottom_fraction of these at the keel bottom); bonds hold while
-    # the scene settles (none is checked): the settle reads none of these
-    "tau_cr": Parameter(50e3, "Pa", **POS, group="load", settle=False, doc="bond shear strength at the keel top"),
-    "sigma_cr": Parameter(10e3, "Pa", **POS, group="load", settle=False,
+    # strength_bottom_fraction of these at the keel bottom); by default bonds
+    # hold while the scene settles (none is checked) and the settle reads none
+    # of these; with settle_bonds='checked' it reads them all (settle_free)
+    "tau_cr": Parameter(50e3, "Pa", **POS, group="load", settle=False, bond=True, doc="bond shear strength at the keel top"),
+    "sigma_cr": Parameter(10e3, "Pa", **POS, group="load", settle=False, bond=True,
                           doc="bond tensile strength at the keel top"),
-    "G": Parameter(15.0, "J/m^2", **POS, group="load", settle=False, doc="bond fracture energy at the keel top"),
-    "strength_bottom_fraction": Parameter(0.1, "-", lo=0.0, hi=1.0, lo_open=True, group="load", settle=False,
+    "G": Parameter(15.0, "J/m^2", **POS, group="load", settle=False, bond=True, doc="bond fracture energy at the keel top"),
+    "strength_bottom_fraction": Parameter(0.1, "-", lo=0.0, hi=1.0, lo_open=True, group="load", settle=False, bond=True,
                                           doc="bond strength and G at the keel bottom, as a fraction of the top value"),
-    "force_direction": Parameter("paper", "-", choices=("paper", "work_conjugate"), group="load", settle=False,
+    "force_direction": Parameter("paper", "-", choices=("paper", "work_conjugate"), group="load", settle=False, bond=True,
                                  doc="cohesive force direction: eq 11 as printed, or Ortiz-Pandolfi work-conjugate"),
     # contact and blocks
     "mu": Parameter(0.3, "-", **NONNEG, engine=True, doc="Coulomb friction coefficient (ice-ice)"),
@@ -183,6 +185,15 @@ REGISTRY = {
                                    doc="... over a window of this many steps"),
     # --- the settle (RunOptions; not in the run identity: every study's
     # defaults, but a rest state is shared only under the same ones)
+    # how the bonds take the settle: part of the run identity and read by the
+    # settle, so a table column (issue 26: the deep scene's rest state with
+    # every bond held had 27-36 points past eq 5, which let go at the first
+    # check and spread a cascade of splits across the keel)
+    "settle_bonds": Parameter("held", "-", choices=("held", "checked"), group="settle",
+                              doc="freeze bonds while settling: 'held' (none is checked; the rest state is "
+                                  "shared by runs that differ in bond strength) or 'checked' (eq 5 is "
+                                  "checked from the first step, so the loading starts from a balance "
+                                  "the bonds can carry; points that split then belong to the initial state)"),
     "settle_max_time": Parameter(5.0, "s", **POS, group="settle", **NOT_TABLE,
                                  doc="the settle stops, saying so, if not at rest after this simulated time"),
     "settle_min_time": Parameter(0.05, "s", **NONNEG, group="settle", **NOT_TABLE,
@@ -209,7 +220,17 @@ ENGINE = _select(engine=True)
 # Run parameters the settle never reads (rest_states.py).
 SETTLE_FREE = tuple(k for k, p in TABLE_1.items() if not p.settle)
 # The settle's own options (RunOptions), part of the settle's key.
-SETTLE_OPTIONS = tuple(_select(group="settle"))
+SETTLE_OPTIONS = tuple(_select(group="settle", table=False))
+# The bond strengths, read by a settle with settle_bonds='checked'.
+BOND_STRENGTH = tuple(_select(bond=True))
+
+
+def settle_free(params):
+    """The run parameters the settle of `params` never reads: SETTLE_FREE, less
+    the bond strengths where the bonds are checked while settling."""
+    if params.get("settle_bonds", REGISTRY["settle_bonds"].default) == "checked":
+        return tuple(k for k in SETTLE_FREE if k not in BOND_STRENGTH)
+    return SETTLE_FREE
 
 
 # The physical constants other modules need without a parameter dict (phase 1,

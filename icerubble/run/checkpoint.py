@@ -15,12 +15,12 @@ import numpy as np
 from ..code_identity import refuse_other_code
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
 from ..files.recorder import ENERGY_TERMS, snapshot_travels
-from .rest_states import SETTLE_FREE
+from ..parameters import settle_free
 from .run_identity import PHYSICS_VERSION
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
 DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
-                 "settle_max_speed", "settle_max_block_move", "load_steps", "load_element_steps")
+                 "settle_max_speed", "settle_max_block_move", "settle_splits", "load_steps", "load_element_steps")
 
 
 def checkpoint_path(out_path):
@@ -120,22 +120,22 @@ def check(f):
 # What a run started from another run's rest state (restore(..., from_rest=True))
 # may choose itself: the loading's step and how far it goes, and, as a run
 # from a shared rest state (shared=True), what the settle never reads
-# (rest_states.SETTLE_FREE: bond strengths, the indenter's ramp), which are
-# then this run's own.
+# (parameters.settle_free: bond strengths where bonds were held while
+# settling, the indenter's ramp), which are then this run's own.
 LOADING_NUMERICS = ("dt", "target_travel")
 
 
 def restore(run, path, from_rest=False, shared=False):
     """Continue the run saved in `path`. from_rest: start this run's loading
     from the rest state of another run of the same scene and parameters that
-    may differ in LOADING_NUMERICS and SETTLE_FREE only (a checkpoint written as loading
+    may differ in LOADING_NUMERICS and what its settle never read (parameters.settle_free) only (a checkpoint written as loading
     starts, e.g. by a settle with other numerics): this run's masses and step
     replace the saved ones (bench/paper_peak.py compares loading numerics from
     one rest state). The rest state's positions, velocities, bond states,
     friction stick forces and settle record are kept: they are the rest.
     shared: start this run's loading from a shared rest state
     (rest_states.py), made by a settle with this run's numerics and threads:
-    restored as saved, with this run's SETTLE_FREE parameters."""
+    restored as saved, with this run's parameters its settle never read."""
     with open_complete(path, CHECKPOINT_FORMAT) as f:
         check(f)
         d = f["driver"]
@@ -148,7 +148,7 @@ def restore(run, path, from_rest=False, shared=False):
         saved = json.loads(d.attrs["params"])
         diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
         if from_rest or shared:
-            free = SETTLE_FREE + (LOADING_NUMERICS if from_rest else ())
+            free = settle_free(run.params) + (LOADING_NUMERICS if from_rest else ())
             diff = [k for k in diff if k not in free]
             phase = _text(d.attrs["phase"])
             if phase != "load" or int(d.attrs.get("load_steps", -1)) != 0:
@@ -170,7 +170,8 @@ def restore(run, path, from_rest=False, shared=False):
             run.recorder.meta.update(rest_state_from=_text(d.attrs["rest_state_shared_from"]), rest_state_shared=1,
                                      rest_state_code_version=_text(d.attrs.get("rest_state_code_version", "")))
         engine_state = read_tree(f["engine"])
-        if from_rest or shared:
+        if (from_rest or shared) and run.params["settle_bonds"] == "held":
+            # checked while settling: the strengths are the rest state's (in its key)
             _own_bonds(run, engine_state, path)
         run.model = run.scene.restore(engine_state)
         run._configure_numerics(run.model)

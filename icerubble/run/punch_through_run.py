@@ -235,25 +235,12 @@ class PunchThrough:
         mesh_arrays = dict(nodes=self.mesh["nodes"], triangles=self.mesh["triangles"],
                            body=self.mesh["body"], body_kind=self.scene.body_kind)
         self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
-        # node -> body, for the block moves while settling
-        # the engine's rule (sleeping): a node shared by bonded bodies belongs
-        # to the body of its lowest-numbered triangle
-        tri = np.asarray(m.triangles)
-        first = np.full(m.n_nodes, len(tri), np.int64)
-        np.minimum.at(first, tri.ravel(), np.repeat(np.arange(len(tri)), 3))
-        self._node_body = np.where(first < len(tri), np.append(np.asarray(m.body), -1)[first], -1)
-        # sqrt(area) of each body: the moment arm of the settle's balance check
-        area = np.bincount(np.asarray(m.body), weights=np.asarray(m.area0), minlength=len(self.scene.body_kind))
-        self._body_size = np.sqrt(area)
-        own = self._node_body >= 0
-        self._body_weight = np.bincount(self._node_body[own], minlength=len(self.scene.body_kind),
-                                        weights=np.asarray(m.mass_phys)[own] * self.params["g"])
-        self._body_held = np.zeros(len(self.scene.body_kind), bool)
-        self._body_held[self._node_body[m.node_sets["layer_top"]]] = True
+        self._node_bodies(m)
         self.phase = "settle"
         self.settle_time = math.nan         # simulated time the settle took [s]
         self.settle_max_speed = math.nan    # max node speed when at rest [m/s]
         self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
+        self.settle_splits = 0              # bond points split while settling (settle_bonds='checked')
         self.t_load = None          # model time when loading started
         self.y_top0 = None          # indenter top at rest
         self._stop_signal = None    # set by SIGTERM / SIGUSR1 / SIGINT while running
@@ -447,6 +434,26 @@ class PunchThrough:
             t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
             m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
 
+    def _node_bodies(self, m):
+        """node -> body, body weights, sizes and which bodies are held, for the
+        settle's balance check and the block moves; again after bond points
+        split (a split adds nodes).
+
+        The engine's rule (sleeping): a node shared by bonded bodies belongs
+        to the body of its lowest-numbered triangle."""
+        tri = np.asarray(m.triangles)
+        first = np.full(m.n_nodes, len(tri), np.int64)
+        np.minimum.at(first, tri.ravel(), np.repeat(np.arange(len(tri)), 3))
+        self._node_body = np.where(first < len(tri), np.append(np.asarray(m.body), -1)[first], -1)
+        # sqrt(area) of each body: the moment arm of the settle's balance check
+        area = np.bincount(np.asarray(m.body), weights=np.asarray(m.area0), minlength=len(self.scene.body_kind))
+        self._body_size = np.sqrt(area)
+        own = self._node_body >= 0
+        self._body_weight = np.bincount(self._node_body[own], minlength=len(self.scene.body_kind),
+                                        weights=np.asarray(m.mass_phys)[own] * self.params["g"])
+        self._body_held = np.zeros(len(self.scene.body_kind), bool)
+        self._body_held[self._node_body[m.node_sets["layer_top"]]] = True
+
     def _momenta(self):
         """Each body's momentum and angular momentum about its centre of
         weight, with that centre: ((P (B, 2), L (B,)), centre (B, 2))."""
@@ -553,6 +560,11 @@ class PunchThrough:
             self._settle_step(True)
         dt = m.dt
         self.apply_boundary_conditions()
+        # settle_bonds: 'held' keeps every bond (the scene's default, check off);
+        # 'checked' lets a point past eq 5 split now, so the loading starts
+        # from a balance the bonds can carry
+        checked = self.params["settle_bonds"] == "checked"
+        m.set_bond_params(check_failure=checked)
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
         if self.t_settle is None or not math.isfinite(self.t_settle):
             self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
@@ -560,15 +572,21 @@ class PunchThrough:
         prog = Progress("settle", m.step_count, every_s=o.progress_every_s,
                         eta=lambda t, rate: settle_eta_text(t, o.settle_max_time, dt, rate))
         while True:
+            if m.n_nodes != len(self._node_body):   # points split (settle_bonds='checked'), or a resumed settle
+                self._node_bodies(m)
             before, t0 = self._momenta(), m.time
             m.step(chunk)
+            split = m.n_nodes != len(self._node_body)
             vmax, imbalance, body = self._out_of_balance(before, m.time - t0)
             t_rel = m.time - t_start
             prog.update(m.step_count, t_rel, lambda: f"max speed {vmax:.2g} m/s (at rest < {o.settle_velocity:g})"
-                        f"  out of balance {imbalance:.2g} (< {o.settle_accel:g})")
+                        f"  out of balance {imbalance:.2g} (< {o.settle_accel:g})"
+                        + (f"  {self._bond_text()}" if checked else ""))
             # at rest = slow AND in balance: a low speed alone is also what the
-            # first steps after switching gravity on look like
-            if t_rel >= o.settle_min_time and vmax < o.settle_velocity and imbalance < o.settle_accel:
+            # first steps after switching gravity on look like; a chunk in which
+            # points split is not at rest (and its momenta were summed over the
+            # nodes before the split)
+            if t_rel >= o.settle_min_time and vmax < o.settle_velocity and imbalance < o.settle_accel and not split:
                 break
             if t_rel >= o.settle_max_time:
                 hint = ""
@@ -585,6 +603,7 @@ class PunchThrough:
         self.settle_time = m.time - t_start
         self.settle_max_speed = vmax
         self.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
+        self.settle_splits = int(m.bonds.counts["split"])
         if o.settle_mass_scaling_dt is not None:
             self._settle_step(False)
             dt = m.dt
@@ -611,8 +630,9 @@ class PunchThrough:
         self.recorder.set_reference(m.positions)
         self.recorder.force(0.0, 0.0, self.F_at_rest)
         print(f"[settle] at rest after {self.settle_time:.3f} s simulated (max node speed "
-              f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm); "
-              f"indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
+              f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm"
+              + (f", {self.settle_splits} bond points split" if checked else "")
+              + f"); indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
 
     def _settle_step(self, on):
         """The settle's larger step and back. On: the inertial masses of
@@ -694,7 +714,9 @@ class PunchThrough:
         for kind in ("split", "fail"):
             t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.t_load
             y = np.full_like(t, np.nan)
-            ok = np.isfinite(t)
+            # t < 0: during the settle (settle_bonds='checked'), part of the
+            # initial state, at no travel: y_I stays NaN, t says when
+            ok = np.isfinite(t) & (t >= 0.0)
             if len(fr) >= 2:
                 y[ok] = np.interp(t[ok], fr[:, 0], fr[:, 1])
             out[f"t_{kind}"], out[f"y_I_{kind}"] = t, y
@@ -735,6 +757,7 @@ class PunchThrough:
         self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
                                   settle_max_speed=self.settle_max_speed,
                                   settle_max_block_move=self.settle_max_block_move,
+                                  settle_splits=int(self.settle_splits),
                                   load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
                                   load_element_steps=int(self.load_element_steps),
                                   sleep=json.dumps(self.options.sleep))

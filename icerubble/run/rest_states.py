@@ -38,9 +38,11 @@ SETTLE_OPTIONS = P.SETTLE_OPTIONS
 
 def settle_identity(params, mesh, options, threads, model="fem-dem"):
     """Everything that makes a rest state: the run identity without the
-    SETTLE_FREE parameters, the settle's options, the thread count and the
+    parameters its settle never reads (SETTLE_FREE, less the bond strengths
+    where settle_bonds='checked'), the settle's options, the thread count and the
     code (its source_hash)."""
-    ident = RI.identity({k: v for k, v in params.items() if k not in SETTLE_FREE}, mesh, options)
+    free = P.settle_free(params)   # the bond strengths are read where settle_bonds='checked'
+    ident = RI.identity({k: v for k, v in params.items() if k not in free}, mesh, options)
     ident["settle_options"] = {k: RI._plain(getattr(options, k)) for k in SETTLE_OPTIONS}
     ident["threads"] = int(threads)
     # only the code that settled continues its rest state (code_identity.py):
