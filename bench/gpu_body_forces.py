@@ -110,6 +110,18 @@ def main(argv=None):
         print(f"  bond check ({out['gpu']['bond_points_intact']} intact points, all of them) {bond_us:.1f} us; "
               f"against {a.threads[-1]} threads' bonds part {rows[-1]['bonds_ms']:.3f} ms (screened, and the "
               f"cohesive forces)")
+        # last, as it splits the points at the criterion: the cohesive forces of
+        # the pairs they open, against the CPU's bonds part over the same steps
+        m.set_bond_params(check_failure=True)
+        m.step(1)
+        cpu_coh = dict(threads=a.threads[-1], **per_step(m, 20))
+        m._m.evaluate_before_cohesive()
+        coh = gpu.CohesiveForces(m)
+        out["gpu"].update(cohesive_us=1e6 * coh.seconds_per_run(a.repeats), cohesive_pairs=int(coh._d.open_pairs),
+                          cohesive_points_split=int(m.bonds.counts["split"]), cohesive_cpu=cpu_coh)
+        m.evaluate()
+        print(f"  cohesive forces ({coh._d.open_pairs} opened pairs) {out['gpu']['cohesive_us']:.1f} us; against "
+              f"{a.threads[-1]} threads' bonds part {cpu_coh['bonds_ms']:.3f} ms (check and cohesive forces)")
         for r in rows:
             print(f"  against {r['threads']:2d} threads' elements part {r['elements_ms']:.3f} ms: "
                   f"{r['elements_ms'] * 1e-3 / s:.0f}x")

@@ -227,6 +227,12 @@ def gpu_body_forces(d):
                       f"ratios, tractions and split plan the CPU's) takes {g['bond_check_us']:.1f} µs, against "
                       f"{d['cpu'][-1]['bonds_ms'] * 1e3:.0f} µs for the bonds part (screened checks and the "
                       f"cohesive forces) at {d['cpu'][-1]['threads']} threads."]
+        if "cohesive_us" in g:
+            c = g["cohesive_cpu"]
+            lines += ["", f"GPU: the cohesive forces of {g['cohesive_pairs']:,} opened pairs (eqs 8-12, after "
+                      f"{g['cohesive_points_split']:,} points split; per pair and per node the CPU's bits) take "
+                      f"{g['cohesive_us']:.1f} µs, against {c['bonds_ms'] * 1e3:.0f} µs for the bonds part at "
+                      f"{c['threads']} threads in those steps."]
     return lines
 
 

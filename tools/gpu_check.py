@@ -19,6 +19,10 @@ Checks, each printed with its outcome:
      round-off;
   6. the bond check (eqs 5-7) of every intact point on a bonded square and
      each mesh: ratios and tractions the CPU's bits, the same split plan.
+  7. the cohesive forces (eqs 8-12) of the opened pairs of a pulled bar, for
+     both force directions, just split (rigid phase), softening and failing,
+     and of each mesh 20 steps after its points at the criterion split: per
+     pair and per node the CPU's bits, the energy sums to round-off.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -31,7 +35,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
-from tests.engine.gpu_scenes import bonded_square, floating_blocks, pressed_blocks  # noqa: E402
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_bar, pressed_blocks  # noqa: E402
 
 
 
@@ -71,6 +75,15 @@ def report_bonds(name, cmp):
     return cmp["ok"]
 
 
+def report_cohesive(name, cmp):
+    differ = {k: cmp[k][0] for k in gpu.COHESIVE_EXACT if cmp[k][0]}
+    detail = "forces, openings and failures the CPU's bits" if not differ else f"entries differing: {differ}"
+    sums = max(cmp[k][1] for k in gpu.COHESIVE_SUMMED)
+    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, cohesive forces ({cmp['pairs']} opened pairs): {detail}; "
+          f"energy sums {sums:.1e} relative", flush=True)
+    return cmp["ok"]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", nargs="*", default=[], help="scene mesh files (runs/scenes/*_mesh.h5)")
@@ -91,6 +104,10 @@ def main(argv=None):
         ok &= report_update(f"three floating blocks, {drag_model} drag", gpu.compare_update(m))
     ok &= report_contact("pressed blocks", gpu.compare_contact(pressed_blocks(rng)))
     ok &= report_bonds("bonded square", gpu.compare_bond_check(bonded_square(rng)))
+    for direction in ("paper", "work_conjugate"):
+        for k, m in enumerate(opened_bar(direction=direction)):
+            state = ("just split (rigid phase)", "softening", "pulled fast", "failing")[k]
+            ok &= report_cohesive(f"pulled bar, {direction} direction, {state}", gpu.compare_cohesive(m))
     m = floating_blocks(rng, "quadratic")
     stage = gpu.BodyForces(m)
     stage.run()
@@ -114,6 +131,10 @@ def main(argv=None):
             ok &= report_contact(os.path.basename(path), gpu.compare_contact(m))
             ok &= report_bonds(os.path.basename(path), gpu.compare_bond_check(m))
             ok &= report_update(os.path.basename(path), gpu.compare_update(m))
+            m.set_bond_params(check_failure=True)   # the points at the criterion split and open
+            m.step(20)
+            ok &= report_cohesive(f"{os.path.basename(path)} 20 steps after its points split",
+                                  gpu.compare_cohesive(m))
     print("GPU check passed" if ok else "GPU check FAILED")
     return 0 if ok else 1
 

@@ -232,3 +232,36 @@ def compare_bond_check(model):
     out["same_plan"] = bool(np.array_equal(cpu["plan"], gpu["plan"]))
     out["ok"] = out["same_plan"] and out["ratio"] == out["tn"] == out["tt"] == 0
     return out
+
+
+class CohesiveForces(_Stage):
+    """The cohesive forces (eqs 8-12) of `model`'s opened pairs on the GPU,
+    at the model's state (its forces of the last evaluation); the pairs'
+    history is not advanced."""
+    DEVICE = "DeviceCohesiveForces"
+
+
+# per opened pair and per node, with the CPU's arithmetic in the CPU's order
+COHESIVE_EXACT = ("f_coh_x", "f_coh_y", "fpx", "fpy", "delta_m", "failed", "mode")
+# summed over the pairs in a fixed tree on the GPU, one by one on the CPU
+COHESIVE_SUMMED = ("work", "stored", "dissipation")
+
+
+def compare_cohesive(model):
+    """Evaluate `model`'s forces up to the cohesive pass on the CPU, then step
+    its opened pairs' cohesive law on the CPU and on the GPU with the same
+    kernel from the same state.
+    Returns {field: (entries whose bits differ, largest relative difference)}
+    for COHESIVE_EXACT and COHESIVE_SUMMED, 'pairs' (opened pairs) and 'ok'
+    (the exact fields the CPU's bits, the sums within ROUND_OFF)."""
+    model._m.evaluate_before_cohesive()   # the forces as the cohesive pass reads them
+    cpu = _engine.cohesive_fields(model._m)
+    stage = CohesiveForces(model)
+    stage.run()
+    gpu = stage.fields()
+    model.evaluate()   # every stage's forces again
+    out = differences(cpu, gpu, COHESIVE_EXACT + COHESIVE_SUMMED)
+    out["pairs"] = len(cpu["fpx"])
+    out["ok"] = (all(out[k][0] == 0 for k in COHESIVE_EXACT)
+                 and all(out[k][1] <= ROUND_OFF for k in COHESIVE_SUMMED))
+    return out

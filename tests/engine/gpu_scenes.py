@@ -52,3 +52,28 @@ def bonded_square(rng):
     m.set(dt_fraction=0.8)
     m.set_positions(nodes + rng.uniform(-2e-6, 2e-6, nodes.shape))
     return m
+
+
+def opened_bar(after=(1e-5, 2e-3, 0.02), direction="paper"):
+    """The two-block bar pulled apart (tests/engine/freeze_bonds_scenes.py):
+    yields the model once its bond points have split and opened, at each
+    simulated time in `after` (s after the split: in the rigid phase just
+    after it, then softening while pulled fast), and last at the first state
+    from which the cohesive law fails a pair (its failure branch). direction:
+    eq 11 as printed ('paper') or 'work_conjugate'."""
+    from icerubble import _engine
+    from tests.engine.freeze_bonds_scenes import pull_bar
+    m, _, _, _ = pull_bar(direction=direction)
+    while m.bonds.counts["split"] == 0:
+        m.step(1)
+    t_split = m.time
+    for t in after:
+        m.step(max(0, int(round((t_split + t - m.time) / m.dt))))
+        yield m
+    while m.bonds.counts["failed"] == 0:
+        m.evaluate()
+        if np.any(_engine.cohesive_fields(m._m)["failed"]):
+            yield m
+            return
+        m.step(1)
+    raise AssertionError("the bar's pairs failed between two checks")

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import bonded_square, floating_blocks, pressed_blocks
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_bar, pressed_blocks
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -70,3 +70,13 @@ def test_the_gpu_bond_check_gives_the_cpus_plan(seed):
     cmp = gpu.compare_bond_check(bonded_square(np.random.default_rng(seed)))
     assert cmp["plan"][0] > 0 and cmp["same_plan"]
     assert (cmp["ratio"], cmp["tn"], cmp["tt"]) == (0, 0, 0)
+
+
+@needs_gpu
+@pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
+def test_the_gpu_cohesive_forces_are_the_cpus(direction):
+    """Rigid phase, softening and failure of the bar's opened pairs: per pair
+    and per node the CPU's bits, the energy sums to round-off."""
+    for m in opened_bar(direction=direction):
+        cmp = gpu.compare_cohesive(m)
+        assert cmp["pairs"] > 0 and cmp["ok"], cmp

@@ -4,13 +4,7 @@
 
 #include <cmath>
 
-// Compiled for the GPU too where nvcc includes it (the engine's bond check,
-// docs/gpu.md); plain inline functions otherwise.
-#if defined(__CUDACC__)
-#define COHESIVE_LAW_HD __host__ __device__ inline
-#else
-#define COHESIVE_LAW_HD inline
-#endif
+#include "cohesive_law/host_device.hpp"
 
 namespace cohesive_law {
 

@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "cohesive_law/host_device.hpp"
+
 namespace cohesive_law {
 
 // How the scalar |f_c| of eq 10 is turned into force components.
@@ -32,24 +34,24 @@ enum class ForceDirection : int { paper = 0, work_conjugate = 1 };
 // Failure mode codes, as stored in result files (docs/results_format.md, /bonds/mode).
 enum class FailureMode : std::int8_t { none = 0, tensile = 1, shear = 2 };
 
-inline double macaulay(double x) { return x > 0.0 ? x : 0.0; }
+COHESIVE_LAW_HD double macaulay(double x) { return x > 0.0 ? x : 0.0; }
 
 // Eq 9. A closed crack (delta_n < 0) contributes no normal opening: its faces touch
 // through the ordinary contact, which is independent of the cohesive law.
-inline double effective_opening(double delta_n, double delta_t, double beta) {
+COHESIVE_LAW_HD double effective_opening(double delta_n, double delta_t, double beta) {
   const double dn = macaulay(delta_n);
-  return std::sqrt(beta * beta * delta_t * delta_t + dn * dn);
+  return sqrt(beta * beta * delta_t * delta_t + dn * dn);
 }
 
 // Eq 8: |f_c^0| = |-(m-/m) f+ + (m+/m) f-| with f+- the internal force vectors of the
 // elements on each side at the split (components x, y). Keeps both new nodes'
 // accelerations equal to the old node's at the instant of splitting.
-inline double initial_force_magnitude(double m_plus, double m_minus, double f_plus_x,
+COHESIVE_LAW_HD double initial_force_magnitude(double m_plus, double m_minus, double f_plus_x,
                                       double f_plus_y, double f_minus_x, double f_minus_y) {
   const double m = m_plus + m_minus;
   const double gx = (-m_minus * f_plus_x + m_plus * f_minus_x) / m;
   const double gy = (-m_minus * f_plus_y + m_plus * f_minus_y) / m;
-  return std::hypot(gx, gy);
+  return hypot(gx, gy);
 }
 
 // The scalar that multiplies the direction of eq 11, from the eq-8 force vector
@@ -58,17 +60,17 @@ inline double initial_force_magnitude(double m_plus, double m_minus, double f_pl
 // length is not |f_c|; the matching scalar is the effective force
 // sqrt(f_n^2 + f_t^2/beta^2), so the first cohesive force equals the split force in
 // pure tension and pure shear (at tau_cr l, not beta tau_cr l).
-inline double initial_effective_force(double f_n, double f_t, double beta, ForceDirection dir) {
-  if (dir == ForceDirection::paper) return std::hypot(f_n, f_t);
-  return std::sqrt(f_n * f_n + f_t * f_t / (beta * beta));
+COHESIVE_LAW_HD double initial_effective_force(double f_n, double f_t, double beta, ForceDirection dir) {
+  if (dir == ForceDirection::paper) return hypot(f_n, f_t);
+  return sqrt(f_n * f_n + f_t * f_t / (beta * beta));
 }
 
 // Eq 12: delta_f = 2 G l / |f_c^0|, so that the area under eq 10 is G l.
-inline double critical_opening(double G, double l, double f0) { return 2.0 * G * l / f0; }
+COHESIVE_LAW_HD double critical_opening(double G, double l, double f0) { return 2.0 * G * l / f0; }
 
 // Eq 10 for delta_m already updated (delta_m >= delta_e): on the softening line while
 // loading, on the secant to the origin while un-/reloading below delta_m.
-inline double softening_force(double delta_e, double delta_m, double delta_f, double f0) {
+COHESIVE_LAW_HD double softening_force(double delta_e, double delta_m, double delta_f, double f0) {
   if (delta_m >= delta_f) return 0.0;
   if (delta_e >= delta_m) return f0 * (1.0 - delta_e / delta_f);
   return f0 * (1.0 - delta_m / delta_f) * delta_e / delta_m;
@@ -76,7 +78,7 @@ inline double softening_force(double delta_e, double delta_m, double delta_f, do
 
 // Eq 11 (paper) or its work-conjugate form. Zero at delta_e = 0 (closed crack, no
 // direction defined; the contact of the faces takes over).
-inline void force_components(double F, double delta_n, double delta_t, double delta_e,
+COHESIVE_LAW_HD void force_components(double F, double delta_n, double delta_t, double delta_e,
                              double beta, ForceDirection dir, double& f_n, double& f_t) {
   if (delta_e <= 0.0 || F == 0.0) {
     f_n = 0.0;
@@ -89,8 +91,8 @@ inline void force_components(double F, double delta_n, double delta_t, double de
 }
 
 // Full failure classification (docs/model.md §3.3): tensile if delta_n >= |delta_t|.
-inline FailureMode failure_mode(double delta_n, double delta_t) {
-  return delta_n >= std::fabs(delta_t) ? FailureMode::tensile : FailureMode::shear;
+COHESIVE_LAW_HD FailureMode failure_mode(double delta_n, double delta_t) {
+  return delta_n >= fabs(delta_t) ? FailureMode::tensile : FailureMode::shear;
 }
 
 // Energy dissipated by the law (in the effective measure, the quantity eq 12 sets to
@@ -98,7 +100,7 @@ inline FailureMode failure_mode(double delta_n, double delta_t) {
 // softening line and the secants, 1/2 f0 (delta_m_new - delta_m_old). Exact, not a
 // quadrature. For the work-conjugate direction it is also the mechanical dissipation;
 // for the paper's direction the mechanical work differs (see work_increment).
-inline double dissipation_increment(double f0, double delta_f, double delta_m_old,
+COHESIVE_LAW_HD double dissipation_increment(double f0, double delta_f, double delta_m_old,
                                     double delta_m_new) {
   const double a = delta_m_old < delta_f ? delta_m_old : delta_f;
   const double b = delta_m_new < delta_f ? delta_m_new : delta_f;
@@ -109,7 +111,7 @@ inline double dissipation_increment(double f0, double delta_f, double delta_m_ol
 // 1/2 (f_old + f_new) . (delta_new - delta_old). This is what an energy balance of the
 // engine must count (it is the work of the forces the nodes actually feel); it is exact
 // for steps on which the force is linear in the opening components.
-inline double work_increment(double f_n_old, double f_t_old, double f_n_new, double f_t_new,
+COHESIVE_LAW_HD double work_increment(double f_n_old, double f_t_old, double f_n_new, double f_t_new,
                              double d_delta_n, double d_delta_t) {
   return 0.5 * ((f_n_old + f_n_new) * d_delta_n + (f_t_old + f_t_new) * d_delta_t);
 }
@@ -121,7 +123,7 @@ inline double work_increment(double f_n_old, double f_t_old, double f_n_new, dou
 // 1/2 k_s delta_e^2 (work-conjugate). So cumulative work_increment - stored_energy is the
 // mechanical dissipation of a bond point for either direction. Zero before any opening
 // and after full failure.
-inline double stored_energy(double delta_n, double delta_t, double beta, double f0,
+COHESIVE_LAW_HD double stored_energy(double delta_n, double delta_t, double beta, double f0,
                             double delta_f, double delta_m, ForceDirection dir) {
   if (delta_m <= 0.0 || delta_m >= delta_f) return 0.0;
   const double ks = f0 * (1.0 - delta_m / delta_f) / delta_m;
@@ -142,7 +144,7 @@ struct StepOutcome {
 // step. Updates delta_m in place (it is the only history variable). Straight-line
 // steps: delta_e is convex along a straight segment, so its maximum over the step is at
 // an end point and max(delta_m, delta_e_new) is the exact new delta_m.
-inline StepOutcome step_opened_bond(double delta_n, double delta_t, double beta, double f0,
+COHESIVE_LAW_HD StepOutcome step_opened_bond(double delta_n, double delta_t, double beta, double f0,
                                     double delta_f, double& delta_m, ForceDirection dir) {
   StepOutcome out;
   if (delta_m >= delta_f) return out;  // broken: irreversible, no force
@@ -162,7 +164,7 @@ inline StepOutcome step_opened_bond(double delta_n, double delta_t, double beta,
 
 // Opening components in bond axes from the nodal separation x+ - x- and the normal n
 // (unit, pointing from the - side to the + side).
-inline void opening_components(double dx, double dy, double n_x, double n_y, double& delta_n,
+COHESIVE_LAW_HD void opening_components(double dx, double dy, double n_x, double n_y, double& delta_n,
                                double& delta_t) {
   delta_n = dx * n_x + dy * n_y;
   delta_t = -dx * n_y + dy * n_x;
@@ -170,7 +172,7 @@ inline void opening_components(double dx, double dy, double n_x, double n_y, dou
 
 // Nodal forces from the law's (f_n, f_t): f_plus = -f, f_minus = +f (momentum conserved,
 // the pair resists the opening).
-inline void nodal_forces(double f_n, double f_t, double n_x, double n_y, double& f_plus_x,
+COHESIVE_LAW_HD void nodal_forces(double f_n, double f_t, double n_x, double n_y, double& f_plus_x,
                          double& f_plus_y, double& f_minus_x, double& f_minus_y) {
   const double fx = f_n * n_x - f_t * n_y;
   const double fy = f_n * n_y + f_t * n_x;

@@ -8,6 +8,7 @@
 #include "bindings/bindings.hpp"
 #include "cuda/body_forces.hpp"
 #include "cuda/bond_check.hpp"
+#include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
@@ -83,6 +84,49 @@ BondCheckFields cpu_bond_check(const Model& model) {
   return f;
 }
 
+py::dict as_dict(const CohesiveForceFields& f) {
+  py::dict d;
+  d["f_coh_x"] = copy(f.f_coh_x);
+  d["f_coh_y"] = copy(f.f_coh_y);
+  d["fpx"] = copy(f.fpx);
+  d["fpy"] = copy(f.fpy);
+  d["delta_m"] = copy(f.delta_m);
+  d["failed"] = py::array_t<int8_t>(ssize_t(f.failed.size()), f.failed.data());
+  d["mode"] = py::array_t<int8_t>(ssize_t(f.mode.size()), f.mode.data());
+  d["work"] = f.work;
+  d["stored"] = f.stored;
+  d["dissipation"] = f.dissipation;
+  return d;
+}
+
+// The CPU's cohesive forces at the model's state now: the same kernel over
+// the opened pairs, scattered in pair order as FreezeBonds::apply does, into
+// buffers of its own (the pairs' history is left as it was).
+CohesiveForceFields cpu_cohesive_forces(const Model& model) {
+  const FreezeBonds& B = model.bonds();
+  const CohesivePairArrays a = B.pair_arrays(model);
+  const size_t nn = size_t(model.nodes().size());
+  CohesiveForceFields f;
+  f.f_coh_x.assign(nn, 0.0);
+  f.f_coh_y.assign(nn, 0.0);
+  for (int32_t k : B.open_pairs()) {
+    const CohesivePairStep r = cohesive_pair_step(a, k, B.params().direction, model.dt());
+    f.fpx.push_back(r.fpx);
+    f.fpy.push_back(r.fpy);
+    f.delta_m.push_back(r.delta_m);
+    f.failed.push_back(int8_t(r.failed));
+    f.mode.push_back(r.mode);
+    f.f_coh_x[size_t(a.node_plus[k])] += r.fpx;
+    f.f_coh_y[size_t(a.node_plus[k])] += r.fpy;
+    f.f_coh_x[size_t(a.node_minus[k])] -= r.fpx;
+    f.f_coh_y[size_t(a.node_minus[k])] -= r.fpy;
+    f.work += r.work;
+    f.stored += r.stored;
+    f.dissipation += r.dissipation;
+  }
+  return f;
+}
+
 }  // namespace
 
 void bind_device(py::module_& m) {
@@ -100,6 +144,16 @@ void bind_device(py::module_& m) {
       }, "the CPU's normal contact fields of the model's last evaluation (what DeviceContactNormal computes)");
   m.def("bond_check_fields", [](const Model& model) { return as_dict(cpu_bond_check(model)); },
         "the CPU's bond check at the model's state now, every intact point (what DeviceBondCheck computes)");
+  m.def("cohesive_fields", [](const Model& model) { return as_dict(cpu_cohesive_forces(model)); },
+        "the CPU's cohesive forces at the model's state now, every opened pair (what DeviceCohesiveForces "
+        "computes)");
+  py::class_<DeviceCohesiveForces>(m, "DeviceCohesiveForces")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("run", &DeviceCohesiveForces::run)
+      .def("time_per_run", &DeviceCohesiveForces::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("open_pairs", &DeviceCohesiveForces::open_pairs)
+      .def("fields", [](DeviceCohesiveForces& d) { return as_dict(d.fields()); });
   py::class_<DeviceBondCheck>(m, "DeviceBondCheck")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceBondCheck::run)

@@ -275,6 +275,7 @@ void bind_model(py::module_& m) {
       })
       .def("step", &Model::step, py::arg("n"), py::call_guard<py::gil_scoped_release>())
       .def("evaluate", &Model::evaluate, py::call_guard<py::gil_scoped_release>())
+      .def("evaluate_before_cohesive", &Model::evaluate_before_cohesive, py::call_guard<py::gil_scoped_release>())
       .def("reset_energy", &Model::reset_energy)
       .def("restore_clock", &Model::restore_clock, py::arg("time"), py::arg("step_count"))
       .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })

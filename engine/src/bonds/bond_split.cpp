@@ -19,41 +19,14 @@ namespace engine {
 
 namespace cl = cohesive_law;
 
-void FreezeBonds::split_force(const Model& M, int32_t k, bool elastic, double& gx,
-                              double& gy) const {
-  // Eq 8 as a vector: with g on the + node and -g on the - node both move with
-  // the acceleration (F+ + F-)/(m+ + m-) of the unsplit node.
-  //   elastic: F = the elastic element forces (the paper's internal forces "for
-  //            the stress state t_e = sigma_cr"): gives f0.
-  //   else:    the force that keeps the pair together: F = every force of the
-  //            step but friction and the cohesive pairs (gravity, drag and the
-  //            contact share are proportional to mass and nearly drop out),
-  //            plus m_r (v- - v+)/dt, which also stops a relative velocity the
-  //            pair already has (stick of a rigid-plastic link; 0 at the split,
-  //            where both nodes share the velocity).
+void FreezeBonds::split_force(const Model& M, int32_t k, double& gx, double& gy) const {
+  // Eq 8 with the elastic element forces: the paper's internal forces "for
+  // the stress state t_e = sigma_cr". (The force that holds an opened pair in
+  // its rigid phase is bonds/cohesive_pair_kernel.hpp's bond_holding_force.)
   const Nodes& N = M.nodes();
   const int32_t a = st_.node_plus[k], b = st_.node_minus[k];
-  const double mp = N.mass[a], mm = N.mass[b];
-  double Fpx, Fpy, Fmx, Fmy;
-  if (elastic) {
-    Fpx = N.f_int_x[a] - N.f_visc_x[a];
-    Fpy = N.f_int_y[a] - N.f_visc_y[a];
-    Fmx = N.f_int_x[b] - N.f_visc_x[b];
-    Fmy = N.f_int_y[b] - N.f_visc_y[b];
-  } else {
-    Fpx = N.f_x[a] + N.f_con_x[a];
-    Fpy = N.f_y[a] + N.f_con_y[a];
-    Fmx = N.f_x[b] + N.f_con_x[b];
-    Fmy = N.f_y[b] + N.f_con_y[b];
-  }
-  const double m = mp + mm;
-  gx = (-mm * Fpx + mp * Fmx) / m;
-  gy = (-mm * Fpy + mp * Fmy) / m;
-  if (!elastic) {
-    const double s = mp * mm / (m * M.dt());
-    gx += s * (N.vx[b] - N.vx[a]);
-    gy += s * (N.vy[b] - N.vy[a]);
-  }
+  eq8_force(N.mass[a], N.mass[b], N.f_int_x[a] - N.f_visc_x[a], N.f_int_y[a] - N.f_visc_y[a],
+            N.f_int_x[b] - N.f_visc_x[b], N.f_int_y[b] - N.f_visc_y[b], gx, gy);
 }
 
 void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
@@ -137,7 +110,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
       st_.split_tn[k] = tn_[k];
       st_.split_tt[k] = tt_[k];
       double gx, gy;
-      split_force(M, k, true, gx, gy);
+      split_force(M, k, gx, gy);
       const double gn = gx * st_.fnx[k] + gy * st_.fny[k], gt = -gx * st_.fny[k] + gy * st_.fnx[k];
       const double beta = beta_[p];
       st_.f0[k] = cl::initial_effective_force(gn, gt, beta, params_.direction);

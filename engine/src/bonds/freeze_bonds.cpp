@@ -21,22 +21,7 @@ namespace {
 // team costs more than it saves.
 constexpr int32_t kMinParallelItems = 1024;
 
-// Rigid phase of an opened pair. Eq 11 has no usable direction while the
-// opening is round-off (just split, both nodes at one place), and at a small
-// opening delta_e its direction turns with a stiffness |f_c| c/delta_e
-// (c = beta for 'paper', beta^2 for 'work_conjugate') that the explicit step
-// cannot integrate once it exceeds m_r/dt² (m_r: reduced mass of the two
-// nodes): the pair would chatter. So until delta_m has once exceeded
-//   delta_r = max(kRigidOpening delta_f, 4 |f0| max(1, c) dt²/m_r)
-// the pair acts as a constraint: it holds the nodes together with the
-// eq-8 force of the step when that force's effective value is within the
-// law's |f_c| = f0 (1 - delta_m/delta_f), and otherwise pulls with |f_c| along
-// it (so the crack opens in the direction the elements drive it). Past
-// delta_r eq 11 takes over with a direction that is stable to integrate (the
-// factor 4 keeps k dt²/m_r <= 1/4, so with an element mode at 0.9 of its
-// limit, (w dt)² <= 3.24, the sum stays below 4).
-// delta_m, |f_c| and the dissipation follow eq 10 throughout.
-constexpr double kRigidOpening = 1e-6;
+// kRigidOpening, the rigid phase of an opened pair: bonds/cohesive_pair_kernel.hpp.
 
 }  // namespace
 
@@ -262,6 +247,15 @@ void FreezeBonds::split(Model& M, const SplitPlan& plan) {
 
 // ---------------------------------------------------------------- eqs 9-11
 
+CohesivePairArrays FreezeBonds::pair_arrays(const Model& M) const {
+  const Nodes& N = M.nodes();
+  return {N.x.data(),       N.y.data(),       N.vx.data(),         N.vy.data(),          N.mass.data(),
+          N.f_x.data(),     N.f_y.data(),     N.f_con_x.data(),    N.f_con_y.data(),     in_.pair_point.data(),
+          st_.node_plus.data(), st_.node_minus.data(), st_.fnx.data(), st_.fny.data(),    st_.f0.data(),
+          st_.delta_f.data(), st_.delta_m.data(), st_.f_n_prev.data(), st_.f_t_prev.data(), st_.d_n_prev.data(),
+          st_.d_t_prev.data(), beta_.data()};
+}
+
 void FreezeBonds::apply(Model& M, bool commit) {
   const int32_t n = int32_t(open_pairs_.size());
   fx_pair_.assign(n, 0.0);
@@ -270,71 +264,35 @@ void FreezeBonds::apply(Model& M, bool commit) {
   s_pair_.assign(n, 0.0);
   e_pair_.assign(n, 0.0);
   const Nodes& N = static_cast<const Model&>(M).nodes();
+  const CohesivePairArrays a = pair_arrays(M);
   const cl::ForceDirection dir = params_.direction;
   const double time = M.time();
-  const double dt2 = M.dt() * M.dt();
+  const double dt = M.dt();
   bool any_failed = false;
   #pragma omp parallel for schedule(static) num_threads(team_size(M, n)) reduction(|| : any_failed)
   for (int32_t j = 0; j < n; ++j) {
     const int32_t k = open_pairs_[j];
-    const int32_t p = in_.pair_point[k];
-    const double beta = beta_[p];
-    const int32_t ip = st_.node_plus[k], im = st_.node_minus[k];
-    const double nx = st_.fnx[k], ny = st_.fny[k];
-    double delta_n, delta_t;
-    cl::opening_components(N.x[ip] - N.x[im], N.y[ip] - N.y[im], nx, ny, delta_n, delta_t);
-    double dm = st_.delta_m[k];
-    double fn = 0.0, ft = 0.0;  // the law's force, along the opening (bond axes)
-    bool failed = false;
-    cl::FailureMode mode = cl::FailureMode::none;
-    // dm < delta_r without a division: dm m+ m- < 4 f0 max(1, c) dt² (m+ + m-)
-    const double mp = N.mass[ip], mm = N.mass[im];
-    const double c = dir == cl::ForceDirection::paper ? beta : beta * beta;
-    const bool rigid = dm < kRigidOpening * st_.delta_f[k] ||
-                       dm * mp * mm < 4.0 * st_.f0[k] * std::max(1.0, c) * dt2 * (mp + mm);
-    if (rigid) {
-      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
-      failed = s.failed_now;
-      mode = s.mode;
-      if (!failed) {
-        double gx, gy;
-        split_force(M, k, false, gx, gy);
-        const double gn = gx * nx + gy * ny, gt = -gx * ny + gy * nx;
-        const double F = st_.f0[k] * (1.0 - dm / st_.delta_f[k]);
-        const double geff = cl::initial_effective_force(gn, gt, beta, dir);
-        const double scale = geff > F ? F / geff : 1.0;
-        fn = -scale * gn;
-        ft = -scale * gt;
-      }
-    } else {
-      const cl::StepOutcome s = cl::step_opened_bond(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
-      failed = s.failed_now;
-      mode = s.mode;
-      fn = s.f_n;
-      ft = s.f_t;
-    }
-    double fpx, fpy, fmx, fmy;
-    cl::nodal_forces(fn, ft, nx, ny, fpx, fpy, fmx, fmy);
-    fx_pair_[j] = fpx;
-    fy_pair_[j] = fpy;
-    w_pair_[j] = cl::work_increment(st_.f_n_prev[k], st_.f_t_prev[k], fn, ft, delta_n - st_.d_n_prev[k],
-                                    delta_t - st_.d_t_prev[k]);
-    s_pair_[j] = cl::stored_energy(delta_n, delta_t, beta, st_.f0[k], st_.delta_f[k], dm, dir);
-    e_pair_[j] = cl::dissipation_increment(st_.f0[k], st_.delta_f[k], st_.delta_m[k], dm);
+    const CohesivePairStep r = cohesive_pair_step(a, k, dir, dt);
+    fx_pair_[j] = r.fpx;
+    fy_pair_[j] = r.fpy;
+    w_pair_[j] = r.work;
+    s_pair_[j] = r.stored;
+    e_pair_[j] = r.dissipation;
     if (commit) {
-      st_.delta_m[k] = dm;
-      st_.f_n_prev[k] = fn;
-      st_.f_t_prev[k] = ft;
-      st_.d_n_prev[k] = delta_n;
-      st_.d_t_prev[k] = delta_t;
-      if (failed) {
+      st_.delta_m[k] = r.delta_m;
+      st_.f_n_prev[k] = r.f_n;
+      st_.f_t_prev[k] = r.f_t;
+      st_.d_n_prev[k] = r.delta_n;
+      st_.d_t_prev[k] = r.delta_t;
+      if (r.failed) {
+        const int32_t ip = st_.node_plus[k], im = st_.node_minus[k];
         st_.pair_state[k] = PairState::failed;
         st_.t_fail[k] = time;
         st_.x_fail[k] = 0.5 * (N.x[ip] + N.x[im]);
         st_.y_fail[k] = 0.5 * (N.y[ip] + N.y[im]);
-        st_.dn_fail[k] = delta_n;
-        st_.dt_fail[k] = delta_t;
-        st_.mode[k] = mode;
+        st_.dn_fail[k] = r.delta_n;
+        st_.dt_fail[k] = r.delta_t;
+        st_.mode[k] = cl::FailureMode(r.mode);
         any_failed = true;
       }
     }

@@ -22,6 +22,7 @@
 
 #include "bonds/bond_check_kernel.hpp"
 #include "bonds/bond_fields.hpp"
+#include "bonds/cohesive_pair_kernel.hpp"
 #include "cohesive_law/softening.hpp"
 
 namespace engine {
@@ -83,6 +84,11 @@ class FreezeBonds {
   // The check's arrays (bonds/bond_check_kernel.hpp: eq 7's stress, the
   // pairs' normals, eqs 5-6); the tractions go to last_tn()/last_tt().
   BondCheckArrays check_arrays(const Model& M) const;
+  // The cohesive force kernel's arrays (bonds/cohesive_pair_kernel.hpp): the
+  // nodes' state and this step's forces, the pairs' history.
+  CohesivePairArrays pair_arrays(const Model& M) const;
+  // Pairs opened and not yet fully failed, ascending: what apply() steps.
+  const std::vector<int32_t>& open_pairs() const { return open_pairs_; }
   // The friction coefficient of eq 6's compressive branch: params().mu, or the
   // contact mu where that is NaN.
   double mu(const Model& M) const;
@@ -109,9 +115,9 @@ class FreezeBonds {
   void refresh_lists();
   // bond_split.cpp
   void split_points(Model& M, const std::vector<int32_t>& points);
-  // Eq 8 force on the + node of pair k from this step's forces (x, y): from
-  // the elastic element forces (f0) or from all forces (the holding force).
-  void split_force(const Model& M, int32_t k, bool elastic, double& gx, double& gy) const;
+  // Eq 8 force on the + node of pair k from this step's elastic element
+  // forces: gives f0 at the split.
+  void split_force(const Model& M, int32_t k, double& gx, double& gy) const;
 
   BondInput in_;
   BondParams params_;

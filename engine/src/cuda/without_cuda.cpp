@@ -4,6 +4,7 @@
 
 #include "cuda/body_forces.hpp"
 #include "cuda/bond_check.hpp"
+#include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/node_update.hpp"
 
@@ -42,6 +43,14 @@ DeviceBondCheck::~DeviceBondCheck() = default;
 void DeviceBondCheck::run() { no_gpu(); }
 double DeviceBondCheck::time_per_run(int) { no_gpu(); }
 BondCheckFields DeviceBondCheck::fields() { no_gpu(); }
+
+struct DeviceCohesiveForces::Impl {};
+DeviceCohesiveForces::DeviceCohesiveForces(const Model&) { no_gpu(); }
+DeviceCohesiveForces::~DeviceCohesiveForces() = default;
+void DeviceCohesiveForces::run() { no_gpu(); }
+double DeviceCohesiveForces::time_per_run(int) { no_gpu(); }
+CohesiveForceFields DeviceCohesiveForces::fields() { no_gpu(); }
+int32_t DeviceCohesiveForces::open_pairs() const { no_gpu(); }
 
 struct DeviceContactNormal::Impl {};
 DeviceContactNormal::DeviceContactNormal(const Model&) { no_gpu(); }

@@ -127,6 +127,12 @@ void Model::evaluate() {
   compute_forces(History::leave);
 }
 
+void Model::evaluate_before_cohesive() {
+  prepare();
+  compute_body_forces();
+  compute_contact_forces();
+}
+
 // The one order of the force stages. Only a committed step may split bond
 // points or move the cohesive pairs' history on: evaluate() looks at the
 // forces of the current state and leaves it as it was.

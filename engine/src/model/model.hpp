@@ -139,6 +139,11 @@ class Model {
   void step(int64_t n);  // n time steps (checks dt and inputs first)
   // Forces (1)-(6) and boundary reactions at the current state, no update.
   void evaluate();
+  // Stages (1)-(3) only, at the current state: the node forces as the
+  // cohesive pass (5) reads them (f_x: elements, gravity, water; f_con:
+  // normal contact). The GPU's cohesive stage is compared from here
+  // (docs/gpu.md); evaluate() or the next step computes every stage again.
+  void evaluate_before_cohesive();
   StableStep stable_step();
   void reset_energy();
   // Continue the bookkeeping of a checkpointed run (after positions/velocities are set).

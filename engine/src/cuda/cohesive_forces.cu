@@ -1,0 +1,200 @@
+// The cohesive forces on the GPU (cuda/cohesive_forces.hpp): cohesive_pair_step
+// per opened pair, then per node the sum of its pairs' forces in ascending
+// pair order (the CPU's scatter order, so the same bits), and the energy
+// terms in a fixed tree.
+#include "cuda/cohesive_forces.hpp"
+
+#include <algorithm>
+
+#include "bonds/cohesive_pair_kernel.hpp"
+#include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
+#include "cuda/stream.cuh"
+#include "model/model.hpp"
+
+namespace engine {
+
+namespace {
+
+constexpr int kBlock = 128;
+constexpr int kTerms = 3;  // work, stored, dissipation
+constexpr int kSumThreads = 1024;
+
+__global__ void __launch_bounds__(kBlock)
+    pair_kernel(CohesivePairArrays a, const int32_t* open, int32_t n, cohesive_law::ForceDirection dir, double dt,
+                double* fpx, double* fpy, double* delta_m, int8_t* failed, int8_t* mode, double* partial,
+                int32_t n_blocks) {
+  __shared__ double shared[kBlock];
+  const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
+  CohesivePairStep r;
+  if (j < n) {
+    r = cohesive_pair_step(a, open[j], dir, dt);
+    fpx[j] = r.fpx;
+    fpy[j] = r.fpy;
+    delta_m[j] = r.delta_m;
+    failed[j] = r.failed;
+    mode[j] = r.mode;
+  }
+  const double terms[kTerms] = {r.work, r.stored, r.dissipation};
+  #pragma unroll
+  for (int k = 0; k < kTerms; ++k) {
+    const double s = block_sum<kBlock>(terms[k], shared);
+    if (threadIdx.x == 0) partial[size_t(k) * n_blocks + blockIdx.x] = s;
+  }
+}
+
+// A node's pairs in ascending order; entry e is pair (entry[e] >> 1) with the
+// + node's force where its low bit is 0 and the - node's (the opposite) where 1.
+__global__ void node_kernel(const int32_t* start, const int32_t* entry, const double* fpx, const double* fpy,
+                            int32_t n, double* f_x, double* f_y) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  double sx = 0.0, sy = 0.0;
+  for (int32_t e = start[i]; e < start[i + 1]; ++e) {
+    const int32_t j = entry[e] >> 1;
+    const bool minus = entry[e] & 1;
+    sx += minus ? -fpx[j] : fpx[j];
+    sy += minus ? -fpy[j] : fpy[j];
+  }
+  f_x[i] = sx;
+  f_y[i] = sy;
+}
+
+__global__ void __launch_bounds__(kSumThreads) sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
+  __shared__ double shared[kSumThreads];
+  const double* p = partial + size_t(blockIdx.x) * n_blocks;
+  double s = 0.0;
+  for (int32_t k = threadIdx.x; k < n_blocks; k += kSumThreads) s += p[k];
+  s = block_sum<kSumThreads>(s, shared);
+  if (threadIdx.x == 0) sums[blockIdx.x] = s;
+}
+
+}  // namespace
+
+struct DeviceCohesiveForces::Impl {
+  int32_t n_nodes = 0, n_open = 0;
+  double dt = 0.0;
+  cohesive_law::ForceDirection dir = cohesive_law::ForceDirection::paper;
+  DeviceArray<double> x, y, vx, vy, mass, f_x, f_y, f_con_x, f_con_y, fnx, fny, f0, delta_f, delta_m_in, f_n_prev,
+      f_t_prev, d_n_prev, d_t_prev, beta, fpx, fpy, delta_m, f_coh_x, f_coh_y, partial, sums;
+  DeviceArray<int32_t> pair_point, node_plus, node_minus, open, start, entry;
+  DeviceArray<int8_t> failed, mode;
+  cudaStream_t stream = nullptr;
+
+  int n_blocks() const { return n_open ? (n_open + kBlock - 1) / kBlock : 1; }
+
+  void launch() {
+    const CohesivePairArrays a{x.data(),        y.data(),        vx.data(),       vy.data(),
+                               mass.data(),     f_x.data(),      f_y.data(),      f_con_x.data(),
+                               f_con_y.data(),  pair_point.data(), node_plus.data(), node_minus.data(),
+                               fnx.data(),      fny.data(),      f0.data(),       delta_f.data(),
+                               delta_m_in.data(), f_n_prev.data(), f_t_prev.data(), d_n_prev.data(),
+                               d_t_prev.data(), beta.data()};
+    pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
+                                                  delta_m.data(), failed.data(), mode.data(), partial.data(),
+                                                  n_blocks());
+    node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
+                                                                       fpy.data(), n_nodes, f_coh_x.data(),
+                                                                       f_coh_y.data());
+    sums_kernel<<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+    cuda_check(cudaGetLastError(), "kernel launch");
+  }
+};
+
+DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
+  Impl& d = *impl_;
+  d.stream = new_stream();
+  const FreezeBonds& B = m.bonds();
+  const CohesivePairArrays h = B.pair_arrays(m);
+  const Nodes& N = m.nodes();
+  const std::vector<int32_t>& open = B.open_pairs();
+  d.n_nodes = N.size();
+  d.n_open = int32_t(open.size());
+  d.dt = m.dt();
+  d.dir = B.params().direction;
+  const size_t nn = size_t(d.n_nodes), nk = size_t(B.n_pairs()), np = size_t(B.n_points());
+  d.x.upload(h.x, nn);
+  d.y.upload(h.y, nn);
+  d.vx.upload(h.vx, nn);
+  d.vy.upload(h.vy, nn);
+  d.mass.upload(h.mass, nn);
+  d.f_x.upload(h.f_x, nn);
+  d.f_y.upload(h.f_y, nn);
+  d.f_con_x.upload(h.f_con_x, nn);
+  d.f_con_y.upload(h.f_con_y, nn);
+  d.pair_point.upload(h.pair_point, nk);
+  d.node_plus.upload(h.node_plus, nk);
+  d.node_minus.upload(h.node_minus, nk);
+  d.fnx.upload(h.fnx, nk);
+  d.fny.upload(h.fny, nk);
+  d.f0.upload(h.f0, nk);
+  d.delta_f.upload(h.delta_f, nk);
+  d.delta_m_in.upload(h.delta_m, nk);
+  d.f_n_prev.upload(h.f_n_prev, nk);
+  d.f_t_prev.upload(h.f_t_prev, nk);
+  d.d_n_prev.upload(h.d_n_prev, nk);
+  d.d_t_prev.upload(h.d_t_prev, nk);
+  d.beta.upload(h.beta, np);
+  d.open.upload(open);
+  // each node's pairs in ascending pair order (a counting sort over the open list)
+  std::vector<int32_t> start(nn + 1, 0), entry(2 * open.size());
+  for (int32_t k : open) {
+    ++start[size_t(h.node_plus[k]) + 1];
+    ++start[size_t(h.node_minus[k]) + 1];
+  }
+  for (size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
+  std::vector<int32_t> fill(start.begin(), start.end() - 1);
+  for (int32_t j = 0; j < d.n_open; ++j) {
+    entry[size_t(fill[size_t(h.node_plus[open[j]])]++)] = 2 * j;
+    entry[size_t(fill[size_t(h.node_minus[open[j]])]++)] = 2 * j + 1;
+  }
+  d.start.upload(start);
+  d.entry.upload(entry);
+  const size_t no = std::max<size_t>(1, open.size());
+  d.fpx.resize(no);
+  d.fpy.resize(no);
+  d.delta_m.resize(no);
+  d.failed.resize(no);
+  d.mode.resize(no);
+  d.f_coh_x.resize(nn);
+  d.f_coh_y.resize(nn);
+  d.partial.resize(size_t(kTerms) * d.n_blocks());
+  d.sums.resize(kTerms);
+}
+
+DeviceCohesiveForces::~DeviceCohesiveForces() {
+  if (impl_->stream) cudaStreamDestroy(impl_->stream);
+}
+
+void DeviceCohesiveForces::run() { impl_->launch(); }
+
+int32_t DeviceCohesiveForces::open_pairs() const { return impl_->n_open; }
+
+double DeviceCohesiveForces::time_per_run(int repeats) {
+  Impl& d = *impl_;
+  return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
+}
+
+CohesiveForceFields DeviceCohesiveForces::fields() {
+  Impl& d = *impl_;
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU cohesive forces");
+  CohesiveForceFields f;
+  f.f_coh_x = d.f_coh_x.download();
+  f.f_coh_y = d.f_coh_y.download();
+  const size_t n = size_t(d.n_open);
+  f.fpx = d.fpx.download();
+  f.fpy = d.fpy.download();
+  f.delta_m = d.delta_m.download();
+  f.failed = d.failed.download();
+  f.mode = d.mode.download();
+  for (auto* v : {&f.fpx, &f.fpy, &f.delta_m}) v->resize(n);
+  f.failed.resize(n);
+  f.mode.resize(n);
+  const std::vector<double> s = d.sums.download();
+  f.work = s[0];
+  f.stored = s[1];
+  f.dissipation = s[2];
+  return f;
+}
+
+}  // namespace engine
