@@ -54,26 +54,29 @@ def bonded_square(rng):
     return m
 
 
-def opened_bar(after=(1e-5, 2e-3, 0.02), direction="paper"):
-    """The two-block bar pulled apart (tests/engine/freeze_bonds_scenes.py):
-    yields the model once its bond points have split and opened, at each
-    simulated time in `after` (s after the split: in the rigid phase just
-    after it, then softening while pulled fast), and last at the first state
-    from which the cohesive law fails a pair (its failure branch). direction:
-    eq 11 as printed ('paper') or 'work_conjugate'."""
+def opened_square(rng, direction="paper"):
+    """The bonded square (bonded_square) stepped with its bond check on: the
+    points its nudge put past eq 5 split and open. Yields the model just
+    after the first split (rigid phase), with opened pairs softening 50 and
+    150 steps later, and, for a square with a tiny fracture energy, at the
+    first state from which the cohesive law fails a pair (its failure
+    branch). direction: eq 11 as printed ('paper') or 'work_conjugate'."""
     from icerubble import _engine
-    from tests.engine.freeze_bonds_scenes import pull_bar
-    m, _, _, _ = pull_bar(direction=direction)
-    while m.bonds.counts["split"] == 0:
-        m.step(1)
-    t_split = m.time
-    for t in after:
-        m.step(max(0, int(round((t_split + t - m.time) / m.dt))))
-        yield m
-    while m.bonds.counts["failed"] == 0:
-        m.evaluate()
-        if np.any(_engine.cohesive_fields(m._m)["failed"]):
-            yield m
-            return
-        m.step(1)
-    raise AssertionError("the bar's pairs failed between two checks")
+    from tests.engine.freeze_bonds_scenes import diagonal_square
+    seed = int(rng.integers(1 << 30))
+    for G in (1.0, 1e-4):
+        m, _, nodes = diagonal_square(sigma_cr=6e4, tau_cr=1.2e5, G=G, direction=direction)
+        m.set(dt_fraction=0.8)
+        m.set_positions(nodes + np.random.default_rng(seed).uniform(-2e-6, 2e-6, nodes.shape))
+        if G == 1.0:
+            for n in (1, 50, 100):
+                m.step(n)
+                yield m
+            continue
+        for _ in range(1000):
+            m.step(1)
+            m._m.evaluate_before_cohesive()
+            if np.any(_engine.cohesive_fields(m._m)["failed"]):
+                yield m
+                return
+        raise AssertionError("no opened pair of the square failed within 1000 steps")

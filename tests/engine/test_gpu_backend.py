@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_bar, pressed_blocks
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_square, pressed_blocks
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -75,8 +75,8 @@ def test_the_gpu_bond_check_gives_the_cpus_plan(seed):
 @needs_gpu
 @pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
 def test_the_gpu_cohesive_forces_are_the_cpus(direction):
-    """Rigid phase, softening and failure of the bar's opened pairs: per pair
-    and per node the CPU's bits, the energy sums to round-off."""
-    for m in opened_bar(direction=direction):
+    """Rigid phase, softening and failure of the square's opened pairs: per
+    pair and per node the CPU's bits, the energy sums to round-off."""
+    for m in opened_square(np.random.default_rng(3), direction=direction):
         cmp = gpu.compare_cohesive(m)
         assert cmp["pairs"] > 0 and cmp["ok"], cmp

@@ -61,7 +61,10 @@ COHESIVE_LAW_HD double initial_force_magnitude(double m_plus, double m_minus, do
 // sqrt(f_n^2 + f_t^2/beta^2), so the first cohesive force equals the split force in
 // pure tension and pure shear (at tau_cr l, not beta tau_cr l).
 COHESIVE_LAW_HD double initial_effective_force(double f_n, double f_t, double beta, ForceDirection dir) {
-  if (dir == ForceDirection::paper) return hypot(f_n, f_t);
+  // sqrt of the sum, not hypot: CUDA's hypot and the C library's differ in the
+  // last bits, products and sqrt are IEEE on both (no fused multiply-add), so
+  // the GPU's rigid-phase force is the CPU's bit for bit (docs/gpu.md)
+  if (dir == ForceDirection::paper) return sqrt(f_n * f_n + f_t * f_t);
   return sqrt(f_n * f_n + f_t * f_t / (beta * beta));
 }
 
