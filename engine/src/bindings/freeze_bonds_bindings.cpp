@@ -113,7 +113,7 @@ void bind_freeze_bonds(py::module_& m) {
             if (i != arrays.size())
               throw std::invalid_argument("set_bonds: " + std::to_string(arrays.size()) +
                                           " arrays given, " + std::to_string(i) + " expected");
-            M.bonds().set(M, in, for_restore);
+            M.set_bonds(in, for_restore);
           },
           py::kw_only(), py::arg("for_restore") = false,
           "set_bonds(node, sigma_cr, tau_cr, G, pair_point, body_minus, body_plus, nx, ny, "
@@ -128,12 +128,12 @@ void bind_freeze_bonds(py::module_& m) {
              p.check_failure = check_failure;
              p.screen_interval = screen_interval;
              p.screen_fraction = screen_fraction;
-             M.bonds().set_params(p);
+             M.set_bond_params(p);
            },
            py::arg("mu"), py::arg("direction"), py::arg("check_failure"),
            py::arg("screen_interval"), py::arg("screen_fraction"))
       .def("bond_params",
-           [](Model& M) {
+           [](const Model& M) {
              const BondParams& p = M.bonds().params();
              py::dict d;
              d["mu"] = std::isnan(p.mu) ? py::object(py::none()) : py::object(py::float_(p.mu));
@@ -143,17 +143,17 @@ void bind_freeze_bonds(py::module_& m) {
              d["screen_fraction"] = p.screen_fraction;
              return d;
            })
-      .def("bond_input", [](Model& M) { return to_dict(M.bonds().input()); })
+      .def("bond_input", [](const Model& M) { return to_dict(M.bonds().input()); })
       // Arrays of codes: point_state PointState, pair_state PairState, mode FailureMode.
-      .def("bond_state", [](Model& M) { return to_dict(M.bonds().state()); })
+      .def("bond_state", [](const Model& M) { return to_dict(M.bonds().state()); })
       .def("restore_bond_state",
-           [](Model& M, const py::dict& d) { M.bonds().restore(M, from_dict<BondState>(d, "bond state")); })
-      .def("bond_parents", [](Model& M) { return arr(M.bonds().parents()); })
+           [](Model& M, const py::dict& d) { M.restore_bonds(from_dict<BondState>(d, "bond state")); })
+      .def("bond_parents", [](const Model& M) { return arr(M.bonds().parents()); })
       .def("bond_tractions",
-           [](Model& M) { return py::make_tuple(arr(M.bonds().last_tn()), arr(M.bonds().last_tt())); })
+           [](const Model& M) { return py::make_tuple(arr(M.bonds().last_tn()), arr(M.bonds().last_tt())); })
       .def("bond_counts",
-           [](Model& M) {
-             FreezeBonds& B = M.bonds();
+           [](const Model& M) {
+             const FreezeBonds& B = M.bonds();
              py::dict d;
              d["points"] = B.n_points();
              d["pairs"] = B.n_pairs();
@@ -163,8 +163,8 @@ void bind_freeze_bonds(py::module_& m) {
              d["checks"] = B.checks();
              return d;
            })
-      .def("bond_energy", [](Model& M) {
-        FreezeBonds& B = M.bonds();
+      .def("bond_energy", [](const Model& M) {
+        const FreezeBonds& B = M.bonds();
         py::dict d;
         d["work"] = B.work();
         d["stored"] = B.stored();

@@ -26,18 +26,23 @@ py::array_t<T> as_array(const std::vector<T>& v) {
   return py::array_t<T>(ssize_t(v.size()), v.data());
 }
 
-// A numpy view on an engine array; keeps the model alive. Valid until the
-// array is reallocated (node splitting appends nodes).
+// A read-only numpy view on an engine array; keeps the model alive. Valid
+// until the array is reallocated (node splitting appends nodes). The state
+// changes only through the model's methods (set_positions, ...), never by
+// writing into a view.
 template <class T>
-py::array view(std::vector<T>& v, py::object owner, ssize_t cols = 1) {
+py::array view(const std::vector<T>& v, py::object owner, ssize_t cols = 1) {
   const ssize_t rows = ssize_t(v.size()) / cols;
-  if (cols == 1) return py::array_t<T>({rows}, {ssize_t(sizeof(T))}, v.data(), owner);
-  return py::array_t<T>({rows, cols}, {ssize_t(sizeof(T)) * cols, ssize_t(sizeof(T))}, v.data(), owner);
+  py::array a = cols == 1
+                    ? py::array_t<T>({rows}, {ssize_t(sizeof(T))}, v.data(), owner)
+                    : py::array_t<T>({rows, cols}, {ssize_t(sizeof(T)) * cols, ssize_t(sizeof(T))}, v.data(), owner);
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
 }
 
 py::array node_view(py::object self, const std::string& name) {
-  Nodes& N = self.cast<Model&>().nodes();
-  std::vector<double>* arrays[] = {&N.x, &N.y, &N.x0, &N.y0, &N.vx, &N.vy, &N.mass, &N.mass_phys,
+  const Nodes& N = self.cast<const Model&>().nodes();
+  const std::vector<double>* arrays[] = {&N.x, &N.y, &N.x0, &N.y0, &N.vx, &N.vy, &N.mass, &N.mass_phys,
                                    &N.f_int_x, &N.f_int_y, &N.f_visc_x, &N.f_visc_y,
                                    &N.f_con_x, &N.f_con_y, &N.f_coh_x, &N.f_coh_y,
                                    &N.f_buoy_y, &N.drag_k, &N.f_x, &N.f_y, &N.r_x, &N.r_y};
@@ -50,8 +55,7 @@ py::array node_view(py::object self, const std::string& name) {
 }
 
 py::array triangle_view(py::object self, const std::string& name) {
-  Model& M = self.cast<Model&>();
-  Triangles& T = M.triangles();
+  const Triangles& T = self.cast<const Model&>().triangles();
   if (name == "triangles") return view(T.node, self, 3);
   if (name == "body") return view(T.body, self);
   if (name == "stress") return view(T.stress, self, 3);
@@ -114,7 +118,7 @@ py::dict stable_dict(const StableStep& s, const Model& m) {
   d["added_mass"] = s.added_mass;
   d["added_mass_fraction"] = s.added_mass_fraction;
   d["scaled_nodes"] = s.scaled_nodes;
-  d["message"] = s.describe(const_cast<Model&>(m).triangles().body);
+  d["message"] = s.describe(m.triangles().body);
   return d;
 }
 
@@ -281,13 +285,13 @@ void bind_model(py::module_& m) {
       .def("stable_step", [](Model& M) { return stable_dict(M.stable_step(), M); })
       .def("energy", [](const Model& M) { return energy_dict(M.energy()); })
       .def("contact_warm_start",
-           [](Model& M) {
+           [](const Model& M) {
              return py::make_tuple(M.contact().warm_start_keys(), M.contact().warm_start_forces());
            })
       .def("set_contact_warm_start",
            [](Model& M, const std::vector<uint64_t>& k, const std::vector<double>& f) {
              if (k.size() != f.size()) throw std::invalid_argument("warm start: keys and forces differ in length");
-             M.contact().set_warm_start(k, f);
+             M.set_contact_warm_start(k, f);
            })
       .def("restore_energy",
            [](Model& M, const py::dict& d) {
@@ -339,8 +343,8 @@ void bind_model(py::module_& m) {
       .def_property_readonly("contact_list_builds", &Model::contact_list_builds)
       .def("rebuild_topology", &Model::rebuild_topology)
       .def("prepare", &Model::prepare_topology)
-      .def_property_readonly("n_nodes", [](Model& M) { return M.nodes().size(); })
-      .def_property_readonly("n_triangles", [](Model& M) { return M.triangles().size(); })
+      .def_property_readonly("n_nodes", [](const Model& M) { return M.nodes().size(); })
+      .def_property_readonly("n_triangles", [](const Model& M) { return M.triangles().size(); })
       .def_property_readonly("n_bodies", &Model::n_bodies)
       .def_property_readonly("time", &Model::time)
       .def_property_readonly("step_count", &Model::step_count)

@@ -183,10 +183,10 @@ class Model {
   // Some triangle of `body` has a corner at `node`.
   bool node_touches_body(int32_t node, int32_t body) const;
 
-  // --- read access ---
-  Nodes& nodes() { return nodes_; }
+  // --- read access (the state changes only through the methods above and
+  // the step's own stages; FreezeBonds, the topology stage's collaborator,
+  // writes its forces and splits through the private accessors below) ---
   const Nodes& nodes() const { return nodes_; }
-  Triangles& triangles() { return tris_; }
   const Triangles& triangles() const { return tris_; }
   // Node -> triangle corners, in the fixed order of every per-node sum.
   const NodeGather& gather() const { return gather_; }
@@ -204,8 +204,11 @@ class Model {
   const BodyTriangleLists& body_triangles() const { return body_tris_; }
   bool any_damping() const { return any_damping_; }
   double local_damping() const { return local_damping_; }
-  ContactSolver& contact() { return contact_; }
   const ContactSolver& contact() const { return contact_; }
+  // A checkpoint's friction history (the stick forces the next step starts from).
+  void set_contact_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
+    contact_.set_warm_start(keys, forces);
+  }
   int32_t n_bodies() const { return int32_t(materials_.size()); }
   double time() const { return time_; }
   int64_t step_count() const { return step_count_; }
@@ -219,10 +222,20 @@ class Model {
   size_t memory_bytes() const;
 
   // --- freeze bonds (freeze_bonds.hpp; splitting edits the topology) ---
-  FreezeBonds& bonds() { return bonds_; }
   const FreezeBonds& bonds() const { return bonds_; }
+  // The bond points (validated against the mesh first; only while none has
+  // split, or for_restore), their parameters, and a checkpoint's state.
+  void set_bonds(const BondInput& in, bool for_restore) { bonds_.set(*this, in, for_restore); }
+  void set_bond_params(const BondParams& p) { bonds_.set_params(p); }
+  void restore_bonds(const BondState& s) { bonds_.restore(*this, s); }
 
  private:
+  friend class FreezeBonds;  // its cohesive forces and splits write the nodes
+  Nodes& nodes() { return nodes_; }
+  Triangles& triangles() { return tris_; }
+  ContactSolver& contact() { return contact_; }
+  FreezeBonds& bonds() { return bonds_; }
+
   // Whether a force evaluation moves history on (bond splits, cohesive
   // pairs' damage and events) or only looks at the current state.
   enum class History { commit, leave };
