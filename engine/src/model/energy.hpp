@@ -8,6 +8,8 @@
 // All values in J per m width.
 #pragma once
 
+#include "model/step_sums.hpp"
+
 namespace engine {
 
 struct EnergyLedger {
@@ -42,6 +44,10 @@ struct EnergyLedger {
   double residual() const { return stored() + dissipated() - initial - supplied(); }
   // Size of the terms, the yardstick for the residual.
   double scale() const;
+  // Book one step's node sums (the update's midpoint-rule powers, kinetic
+  // sums and elastic powers) over its dt; contact_now: the contact module's
+  // potential energy now (a diagnostic, contact_solver).
+  void book_step(const StepSums& s, double dt, double contact_now);
 };
 
 }  // namespace engine

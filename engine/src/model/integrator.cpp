@@ -187,24 +187,13 @@ void Model::update_positions() {
     double sleep_changes = 0.0;
     #pragma omp for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      if (sleeping && N.sleep[i]) {
-        // held in place (v = 0: no work, no kinetic energy). Its first frozen
-        // update keeps its force as the reference; after that it wakes when
-        // pushed harder than the sleep force beyond it, and moves on in this
-        // very step (its body wakes after the update)
-        if (N.sleep[i] == 1) {
-          N.f_ref_x[i] = N.f_x[i];
-          N.f_ref_y[i] = N.f_y[i];
-          N.sleep[i] = 2;
-          sleep_changes += 1.0;
-          continue;
+      if (sleeping && N.sleep[i]) {  // sleeping.hpp
+        bool wake_body;
+        if (stays_asleep(sp, N, i, N.mass_phys[i] * g_sleep, sleep_changes, wake_body)) continue;
+        if (wake_body) {
+          #pragma omp atomic write
+          body_wake[node_body[i]] = uint8_t(1);
         }
-        if (!wakes(sp, N.f_x[i] - N.f_ref_x[i], N.f_y[i] - N.f_ref_y[i], N.mass_phys[i] * g_sleep)) continue;
-        N.sleep[i] = 0;
-        N.quiet[i] = 0;
-        sleep_changes += 1.0;
-        #pragma omp atomic write
-        body_wake[node_body[i]] = uint8_t(1);
       }
       const NodeWork w = update_node(u, i);
       if (sleeping && !N.constrained[i]) count_quiet(sp, N.vx[i], N.vy[i], N.quiet[i]);
@@ -243,26 +232,8 @@ void Model::update_positions() {
     s += partial_[t].s;
     partial_[t].s = StepSums{};
   }
-  EnergyLedger& E = energy_;
-  if (!E.started) {
-    // Bookkeeping starts at x^{-1/2} = x^0 - dt v^{-1/2}/2, where the
-    // midpoint-rule work starts: move U^0 there to first order.
-    E.initial = 0.5 * s.kinetic2_old + E.elastic + 0.5 * dt * s.elastic_old;
-    E.started = true;
-  }
-  E.kinetic = 0.5 * s.kinetic2_new;
-  E.damping -= dt * (s.viscous + s.local_damping);
+  energy_.book_step(s, dt, contact_work_step_);  // energy.cpp
   if (s.sleep_changes > 0.0) awake_current_ = false;
-  E.contact -= dt * s.contact;
-  E.friction -= dt * s.friction;
-  E.cohesive -= dt * s.cohesive;
-  E.work_gravity += dt * s.gravity;
-  E.work_buoyancy += dt * s.buoyancy;
-  E.drag -= dt * s.drag;
-  E.work_boundary += dt * s.boundary;
-  // The works cover the motion up to x^{n+1/2}; so must the elastic energy.
-  E.elastic_midstep = E.elastic - 0.5 * dt * s.elastic_new;
-  E.contact_solver = contact_work_step_;  // the contact module's current potential energy
   time_ += dt;
   ++step_count_;
 }

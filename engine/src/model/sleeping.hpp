@@ -41,6 +41,8 @@
 #include <limits>
 #include <vector>
 
+#include "common/mesh_arrays.hpp"
+
 namespace engine {
 
 struct SleepParams {
@@ -65,6 +67,30 @@ inline void count_quiet(const SleepParams& p, double vx, double vy, int32_t& qui
 inline bool wakes(const SleepParams& p, double dfx, double dfy, double weight) {
   const double fmax = p.force * weight;
   return dfx * dfx + dfy * dfy > fmax * fmax;
+}
+
+// An asleep node before its update (sleep state 1: just fallen asleep, 2:
+// held): true while it stays held (v = 0: no work, no kinetic energy). Its
+// first held update keeps its force as the reference; after that it wakes
+// when pushed harder than the sleep force beyond it (weight: its m_phys g)
+// and moves on in this very step, and its whole body wakes after the update
+// (wake_body). changes counts the nodes whose state changed.
+inline bool stays_asleep(const SleepParams& p, Nodes& N, int32_t i, double weight, double& changes,
+                         bool& wake_body) {
+  wake_body = false;
+  if (N.sleep[i] == 1) {
+    N.f_ref_x[i] = N.f_x[i];
+    N.f_ref_y[i] = N.f_y[i];
+    N.sleep[i] = 2;
+    changes += 1.0;
+    return true;
+  }
+  if (!wakes(p, N.f_x[i] - N.f_ref_x[i], N.f_y[i] - N.f_ref_y[i], weight)) return true;
+  N.sleep[i] = 0;
+  N.quiet[i] = 0;
+  changes += 1.0;
+  wake_body = true;
+  return false;
 }
 
 // The open window of the body balance check: where it started, and each
