@@ -28,7 +28,7 @@ COLUMNS = [
     "alpha_mean_1_20mm_deg", "alpha_sd_1_20mm_deg", "alpha_n_1_20mm",
     "A_p_20mm_m2", "A_p_mean_1_20mm_m2", "F_b_Ap_20mm_kN_per_m",
     "tau1_kPa", "tau2_kPa", "tau3_kPa", "tau1_record_max_kPa",
-    "n_split", "n_failed", "failed_fraction", "n_t", "n_s", "nt_ns", "n_t_init", "n_s_init", "nt_ns_init",
+    "n_split", "n_failed", "n_split_settle", "failed_fraction", "n_t", "n_s", "nt_ns", "n_t_init", "n_s_init", "nt_ns_init",
     "n_snapshots", "missing",
 ]
 
@@ -84,6 +84,8 @@ def summarize(run, plug_force=shear_strength.CYLINDRICAL_PLUG_FORCE,
         "A_p_20mm_m2": Ap20, "A_p_mean_1_20mm_m2": Ap_mean, "F_b_Ap_20mm_kN_per_m": Fb / 1e3,
         "tau1_kPa": t1 / 1e3, "tau2_kPa": t2 / 1e3, "tau3_kPa": t3 / 1e3, "tau1_record_max_kPa": t1_max / 1e3,
         "n_split": n_split, "n_failed": n_failed,
+        # split while settling (settle_bonds='checked'): the initial state, in none of the counts above
+        "n_split_settle": int(run.attrs.get("settle_splits", 0)),
         "failed_fraction": shear_strength.failed_fraction(b["y_I_split"], b["y_I_fail"]),
         "n_t": n_t, "n_s": n_s, "nt_ns": ratio, "n_t_init": n_t0, "n_s_init": n_s0, "nt_ns_init": ratio0,
         "n_snapshots": len(run.snapshots), "missing": "; ".join(sorted(run.missing)),

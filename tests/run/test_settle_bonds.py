@@ -60,6 +60,11 @@ def test_points_past_eq5_split_while_settling_and_belong_to_the_initial_state(me
     assert np.count_nonzero(before) == n_settle and np.isnan(y[before]).all()
     after = np.isfinite(t) & ~before
     assert np.isfinite(y[after]).all() and (y[after] >= 0.0).all()
+    # the summary counts them apart from the punch-through's splits
+    from icerubble.files.results import load
+    from postproc.summary import summarize
+    row = summarize(load(tmp_path / "weak.h5"))
+    assert row["n_split_settle"] == n_settle and row["n_split"] == np.count_nonzero(after)
 
 
 def test_checking_bonds_that_hold_changes_nothing(mesh_path, tmp_path):
