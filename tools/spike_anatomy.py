@@ -225,7 +225,7 @@ def cmd_run(a):
 
     def force(t, y_I, F, F_instant=None):
         force0(t, y_I, F, F_instant)
-        if run.phase != "load" or y_I <= 0.0:
+        if run.state.phase != "load" or y_I <= 0.0:
             return
         probe.sample(t, y_I, F, F_instant if F_instant is not None else F, contacts=a.contacts)
         if y_I * 1e3 >= state["next_mm"]:
@@ -273,14 +273,14 @@ def cmd_window(a):
         b = run.scene.indenter_net_buoyancy()
         F = (w - w_prev) / (y - y_prev) - 0.5 * (b + b_prev) if y - y_prev > 1e-12 else math.nan
         w_prev, y_prev, b_prev = w, y, b
-        probe.sample(m.time - run.t_load, y, F, run.scene.indenter_force(), contacts=a.contacts)
+        probe.sample(m.time - run.state.t_load, y, F, run.scene.indenter_force(), contacts=a.contacts)
     ev = m.bonds.events()
     new_split = np.isfinite(ev["t_split"]) & ~np.isfinite(ev0["t_split"])
     new_fail = np.isfinite(ev["t_fail"]) & ~np.isfinite(ev0["t_fail"])
-    extra = dict(dt=m.dt, dt0=dt0, penalty=probe.penalty, t_load=run.t_load,
-                 split_id=np.flatnonzero(new_split), split_t=ev["t_split"][new_split] - run.t_load,
+    extra = dict(dt=m.dt, dt0=dt0, penalty=probe.penalty, t_load=run.state.t_load,
+                 split_id=np.flatnonzero(new_split), split_t=ev["t_split"][new_split] - run.state.t_load,
                  split_x=ev["x_split"][new_split], split_y=ev["y_split"][new_split],
-                 fail_id=np.flatnonzero(new_fail), fail_t=ev["t_fail"][new_fail] - run.t_load,
+                 fail_id=np.flatnonzero(new_fail), fail_t=ev["t_fail"][new_fail] - run.state.t_load,
                  fail_x=ev["x_fail"][new_fail], fail_y=ev["y_fail"][new_fail], fail_mode=ev["mode"][new_fail],
                  stable=json.dumps({k: (v if isinstance(v, str) else float(v) if np.isscalar(v) else None)
                                     for k, v in m.stable_time_step().items()}))

@@ -19,8 +19,6 @@ from ..parameters import settle_free
 from .run_identity import PHYSICS_VERSION
 
 CHECKPOINT_FORMAT = "icerubble-checkpoint"
-DRIVER_FIELDS = ("phase", "t_settle", "t_load", "y_top0", "F_at_rest", "settle_time",
-                 "settle_max_speed", "settle_max_block_move", "settle_splits", "load_steps", "load_element_steps")
 
 
 def checkpoint_path(out_path):
@@ -36,10 +34,8 @@ def save(run, path, driver_attrs=None, shared=False):
         d = f.create_group("driver")
         for k, v in (driver_attrs or {}).items():
             d.attrs[k] = v
-        for k in DRIVER_FIELDS:
-            v = getattr(run, k)
-            d.attrs[k] = np.nan if v is None else v
-        d.attrs["vtu_entries"] = json.dumps(run.vtu_entries)
+        for k, v in run.state.to_attrs().items():
+            d.attrs[k] = v
         if run.recorder.meta.get("rest_state_shared"):   # the result names it after a resume too
             d.attrs["rest_state_shared_from"] = run.recorder.meta["rest_state_from"]
             d.attrs["rest_state_code_version"] = run.recorder.meta["rest_state_code_version"]
@@ -157,14 +153,7 @@ def restore(run, path, from_rest=False, shared=False):
         if diff:
             raise ValueError(f"checkpoint {path} was written with other parameters ({', '.join(diff)}); "
                              "remove it or run with the same parameters")
-        for k in DRIVER_FIELDS:
-            if k not in d.attrs:   # checkpoints written before the settle record
-                continue
-            v = d.attrs[k]
-            if isinstance(v, bytes):
-                v = v.decode()
-            setattr(run, k, v.item() if hasattr(v, "item") else v)
-        run.vtu_entries = [tuple(e) for e in json.loads(d.attrs["vtu_entries"])]
+        run.state.restore(d.attrs)   # checkpoints written before a field existed keep its default
         if "rest_state_shared_from" in d.attrs and not (from_rest or shared):
             run.rest_state = _text(d.attrs["rest_state_shared_from"])
             run.recorder.meta.update(rest_state_from=_text(d.attrs["rest_state_shared_from"]), rest_state_shared=1,

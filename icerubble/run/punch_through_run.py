@@ -37,6 +37,7 @@ from .. import parameters as P
 from .presets import SCENES
 from .progress import Progress, loading_eta_text, settle_eta_text
 from ..files.recorder import RunRecorder
+from .run_state import RunState
 from .split_traction import point_split_traction
 from .scene import Scene
 from ..files.vtu import write_pvd, write_vtu
@@ -236,19 +237,8 @@ class PunchThrough:
                            body=self.mesh["body"], body_kind=self.scene.body_kind)
         self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
         self._node_bodies(m)
-        self.phase = "settle"
-        self.settle_time = math.nan         # simulated time the settle took [s]
-        self.settle_max_speed = math.nan    # max node speed when at rest [m/s]
-        self.settle_max_block_move = math.nan  # largest block (node centroid) move while settling [m]
-        self.settle_splits = 0              # bond points split while settling (settle_bonds='checked')
-        self.t_load = None          # model time when loading started
-        self.y_top0 = None          # indenter top at rest
+        self.state = RunState()     # the run's progress: what a checkpoint saves of the driver
         self._stop_signal = None    # set by SIGTERM / SIGUSR1 / SIGINT while running
-        self.F_at_rest = math.nan
-        self.t_settle = None        # model time when settling started
-        self.load_steps = 0         # steps of the load phase ...
-        self.load_element_steps = 0  # ... and the triangles they computed (sleeping far field)
-        self.vtu_entries = []
         self.rest_state = None      # run_from_rest: the rest state this run loaded from (its settle was that run's)
         self.model = m
         self.shared_rest = None     # (path, settle identity) of the shared rest state, rest_dir given
@@ -272,7 +262,7 @@ class PunchThrough:
 
     # ------------------------------------------------------------------
     def travel(self):
-        return self.y_top0 - self.scene.indenter_top_y()
+        return self.state.y_top0 - self.scene.indenter_top_y()
 
     def run(self, resume=False):
         # a signal only sets a flag: the run stops at the end of its chunk of
@@ -284,12 +274,12 @@ class PunchThrough:
         if resume and os.path.exists(self.ckpt_path):
             ckpt.restore(self, self.ckpt_path)
             print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
-                  f"phase {self.phase}", flush=True)
+                  f"phase {self.state.phase}", flush=True)
         elif self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
             self._load_shared_rest()
         self._last_ckpt = time.perf_counter()
         t0 = time.perf_counter()
-        if self.phase == "settle":
+        if self.state.phase == "settle":
             self.settle()
             if self.shared_rest is not None:   # for the runs that differ only in what the settle never read
                 self._share_rest()
@@ -361,7 +351,7 @@ class PunchThrough:
             if os.path.exists(self.ckpt_path):
                 ckpt.restore(self, self.ckpt_path)
             self._last_ckpt = time.perf_counter()
-            if self.phase == "settle":
+            if self.state.phase == "settle":
                 self.settle()
         ckpt.save(self, rest_path)
         if os.path.exists(self.ckpt_path):
@@ -378,11 +368,11 @@ class PunchThrough:
         with catching_stop_signals(self):
             if os.path.exists(self.ckpt_path):
                 ckpt.restore(self, self.ckpt_path)
-                if self.phase != "load":
+                if self.state.phase != "load":
                     raise ValueError(f"{self.ckpt_path} is a checkpoint of a settle, not of a load from a "
                                      "rest state: remove it, or resume it with run()")
                 print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
-                      f"phase {self.phase}", flush=True)
+                      f"phase {self.state.phase}", flush=True)
             else:
                 ckpt.restore(self, rest_path, from_rest=True)
             with h5py.File(rest_path, "r") as f:
@@ -407,8 +397,8 @@ class PunchThrough:
             m = self.model
             raise RunInterrupted(
                 f"stopped by {signal.Signals(self._stop_signal).name} at step {m.step_count} (phase "
-                f"{self.phase}, t = {m.time:.4f} s"
-                + (f", y_I = {1e3 * self.travel():.3f} mm" if self.y_top0 is not None else "") + "); "
+                f"{self.state.phase}, t = {m.time:.4f} s"
+                + (f", y_I = {1e3 * self.travel():.3f} mm" if self.state.y_top0 is not None else "") + "); "
                 f"checkpoint {self.ckpt_path}: run it again to resume")
         stop = self.options.stop_after_steps
         if stop is not None and self.model.step_count >= stop:
@@ -419,7 +409,7 @@ class PunchThrough:
         """Layer top held; in the load phase the indenter top is driven. Drag
         is off while settling (see settle)."""
         m = self.model
-        loading = self.phase == "load"
+        loading = self.state.phase == "load"
         m.set(drag=loading, local_damping=0.0 if loading else SETTLE_LOCAL_DAMPING)
         # the far field sleeps while loading only: settling must see every node come to rest
         z = self.options.sleep
@@ -430,8 +420,8 @@ class PunchThrough:
             m.set(sleeping=False)
         m.clear_boundary_conditions()
         self.scene.hold_boundaries(m)
-        if self.phase == "load":
-            t, s = smooth_ramp_table(self.t_load, self.params["v_final"], self.params["ramp_time"])
+        if self.state.phase == "load":
+            t, s = smooth_ramp_table(self.state.t_load, self.params["v_final"], self.params["ramp_time"])
             m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
 
     def _node_bodies(self, m):
@@ -566,9 +556,9 @@ class PunchThrough:
         checked = self.params["settle_bonds"] == "checked"
         m.set_bond_params(check_failure=checked)
         chunk = max(1, int(round(SETTLE_CHECK_INTERVAL / dt)))
-        if self.t_settle is None or not math.isfinite(self.t_settle):
-            self.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
-        t_start = self.t_settle
+        if self.state.t_settle is None or not math.isfinite(self.state.t_settle):
+            self.state.t_settle = m.time   # kept in checkpoints: a resumed settle counts from here too
+        t_start = self.state.t_settle
         prog = Progress("settle", m.step_count, every_s=o.progress_every_s,
                         eta=lambda t, rate: settle_eta_text(t, o.settle_max_time, dt, rate))
         while True:
@@ -600,10 +590,10 @@ class PunchThrough:
                     f"{self._body_kind_name(body)}; settle_accel={o.settle_accel}); "
                     f"{self._fastest_block_text()}{hint}")
             self._maybe_checkpoint()
-        self.settle_time = m.time - t_start
-        self.settle_max_speed = vmax
-        self.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
-        self.settle_splits = int(m.bonds.counts["split"])
+        self.state.settle_time = m.time - t_start
+        self.state.settle_max_speed = vmax
+        self.state.settle_max_block_move = float(self.block_moves()[1].max(initial=0.0))
+        self.state.settle_splits = int(m.bonds.counts["split"])
         if o.settle_mass_scaling_dt is not None:
             self._settle_step(False)
             dt = m.dt
@@ -620,19 +610,19 @@ class PunchThrough:
         for _ in range(10):
             m.step(max(1, n_hold // 20))
             forces.append(self.scene.indenter_force())
-        self.F_at_rest = float(np.mean(forces))
-        self.y_top0 = self.scene.indenter_top_y()
-        self.t_load = m.time
-        self.phase = "load"
+        self.state.F_at_rest = float(np.mean(forces))
+        self.state.y_top0 = self.scene.indenter_top_y()
+        self.state.t_load = m.time
+        self.state.phase = "load"
         self.apply_boundary_conditions()
         m.set_bond_params(check_failure=True)
         m.reset_energy()
         self.recorder.set_reference(m.positions)
-        self.recorder.force(0.0, 0.0, self.F_at_rest)
-        print(f"[settle] at rest after {self.settle_time:.3f} s simulated (max node speed "
-              f"{self.settle_max_speed:.2g} m/s, largest block move {self.settle_max_block_move * 1e3:.1f} mm"
-              + (f", {self.settle_splits} bond points split" if checked else "")
-              + f"); indenter force at rest {self.F_at_rest:.1f} N/m", flush=True)
+        self.recorder.force(0.0, 0.0, self.state.F_at_rest)
+        print(f"[settle] at rest after {self.state.settle_time:.3f} s simulated (max node speed "
+              f"{self.state.settle_max_speed:.2g} m/s, largest block move {self.state.settle_max_block_move * 1e3:.1f} mm"
+              + (f", {self.state.settle_splits} bond points split" if checked else "")
+              + f"); indenter force at rest {self.state.F_at_rest:.1f} N/m", flush=True)
 
     def _settle_step(self, on):
         """The settle's larger step and back. On: the inertial masses of
@@ -670,10 +660,10 @@ class PunchThrough:
         while True:
             e0 = m.timings()["element_steps"]
             m.step(chunk)
-            self.load_steps += chunk
-            self.load_element_steps += m.timings()["element_steps"] - e0
+            self.state.load_steps += chunk
+            self.state.load_element_steps += m.timings()["element_steps"] - e0
             y_I = self.travel()
-            t_rel = m.time - self.t_load
+            t_rel = m.time - self.state.t_load
             F_now = self.scene.indenter_force()
             w = m.energies()["work_boundary"]
             b_now = self.scene.indenter_net_buoyancy()   # linear in travel: mean of the ends
@@ -691,8 +681,8 @@ class PunchThrough:
             if y_I >= p["target_travel"]:
                 break
             self._maybe_checkpoint()
-        prog.update(m.step_count, m.time - self.t_load, self._load_text(y_I, F), force=True)
-        self.recorder.energy(m.time - self.t_load, m.energies())
+        prog.update(m.step_count, m.time - self.state.t_load, self._load_text(y_I, F), force=True)
+        self.recorder.energy(m.time - self.state.t_load, m.energies())
 
     def _load_text(self, y_I, F):
         return f"y_I {y_I * 1e3:8.3f} mm  F {F / 1e3:9.3f} kN/m  {self._bond_text()}"
@@ -700,7 +690,7 @@ class PunchThrough:
     def _bond_text(self):
         c = self.model.bonds.counts
         text = f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
-        if self.phase == "load" and self.options.sleep is not None:
+        if self.state.phase == "load" and self.options.sleep is not None:
             z = self.model.sleep_counts()
             text += f"  triangles awake {100.0 * z['awake_triangles'] / z['triangles']:.0f} %"
         return text
@@ -712,7 +702,7 @@ class PunchThrough:
         fr = np.array(self.recorder.force_rows, dtype=float).reshape(-1, 4)
         out = {}
         for kind in ("split", "fail"):
-            t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.t_load
+            t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.state.t_load
             y = np.full_like(t, np.nan)
             # t < 0: during the settle (settle_bonds='checked'), part of the
             # initial state, at no travel: y_I stays NaN, t says when
@@ -736,7 +726,7 @@ class PunchThrough:
             base = os.path.basename(self.out_path)[:-3]
             d = self.out_path[:-3] + "_fields"
             os.makedirs(d, exist_ok=True)
-            name = f"{base}_{len(self.vtu_entries):04d}.vtu"
+            name = f"{base}_{len(self.state.vtu_entries):04d}.vtu"
             u = m.positions - m.reference_positions
             s = m.stress
             write_vtu(os.path.join(d, name), m.positions, m.triangles,
@@ -744,7 +734,7 @@ class PunchThrough:
                       cell_data={"body": m.body, "body_kind": self.scene.body_kind[m.body].astype(np.int8),
                                  "u_since_loading": self.recorder.snapshots[-1][2],
                                  "stress": np.asarray(s)})
-            self.vtu_entries.append((y_I, name))
+            self.state.vtu_entries.append((y_I, name))
             # the collection is written once the result is (write()): a
             # killed run leaves .vtu pieces but no .pvd that looks complete
 
@@ -754,12 +744,12 @@ class PunchThrough:
             st = self.model.stable_time_step()
             self.recorder.meta.update(added_mass_fraction_end=st["added_mass_fraction"],
                                       scaled_nodes_end=st["scaled_nodes"])
-        self.recorder.meta.update(F_at_rest=self.F_at_rest, settle_time=self.settle_time,
-                                  settle_max_speed=self.settle_max_speed,
-                                  settle_max_block_move=self.settle_max_block_move,
-                                  settle_splits=int(self.settle_splits),
-                                  load_steps=int(self.load_steps), n_triangles=int(self.model.n_triangles),
-                                  load_element_steps=int(self.load_element_steps),
+        self.recorder.meta.update(F_at_rest=self.state.F_at_rest, settle_time=self.state.settle_time,
+                                  settle_max_speed=self.state.settle_max_speed,
+                                  settle_max_block_move=self.state.settle_max_block_move,
+                                  settle_splits=int(self.state.settle_splits),
+                                  load_steps=int(self.state.load_steps), n_triangles=int(self.model.n_triangles),
+                                  load_element_steps=int(self.state.load_element_steps),
                                   sleep=json.dumps(self.options.sleep))
         # a run loaded from another run's rest state (run_from_rest) did not
         # settle at its own settle step; one from a shared rest state did (it is in the key)
@@ -768,6 +758,6 @@ class PunchThrough:
             self.recorder.meta.update(settle_mass_scaling_dt=self.options.settle_mass_scaling_dt)
         self.recorder.bond_events(self.bond_events())
         self.recorder.write(self.out_path)
-        if self.options.vtu and self.vtu_entries:
+        if self.options.vtu and self.state.vtu_entries:
             base = os.path.basename(self.out_path)[:-3]
-            write_pvd(os.path.join(self.out_path[:-3] + "_fields", base + ".pvd"), self.vtu_entries)
+            write_pvd(os.path.join(self.out_path[:-3] + "_fields", base + ".pvd"), self.state.vtu_entries)

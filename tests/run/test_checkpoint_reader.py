@@ -25,7 +25,7 @@ def saved(tmp_path_factory):
     run = PunchThrough(mesh, d / "run.h5", params=PARAMS, options=options(stop_after_steps=30000))
     with pytest.raises(KeyboardInterrupt):
         run.run()
-    assert run.phase == "load"
+    assert run.state.phase == "load"
     return mesh, d / "run.checkpoint.h5"
 
 

@@ -50,7 +50,7 @@ def test_at_rest_before_loading(finished):
     must be a small fraction (2 %) of the keel buoyancy it would otherwise
     carry (~1.4 kN/m here)."""
     run, _ = finished
-    assert abs(run.F_at_rest) < 0.02 * net_buoyancy_under_indenter(run)
+    assert abs(run.state.F_at_rest) < 0.02 * net_buoyancy_under_indenter(run)
 
 
 def test_force_record_starts_at_zero_and_rises(finished):
@@ -140,7 +140,7 @@ def test_resumed_run_gives_the_same_record(mesh_path, tmp_path, finished):
     again = PunchThrough(mesh_path, out, params=PARAMS,
                          options=RunOptions(threads=1, progress_every_s=1e9, vtu=True))
     again.run(resume=True)
-    assert pvd.read_text().count("<DataSet") == len(again.vtu_entries) == len(run0.vtu_entries)
+    assert pvd.read_text().count("<DataSet") == len(again.state.vtu_entries) == len(run0.state.vtu_entries)
     with h5py.File(out0) as a, h5py.File(out) as b:
         # bit for bit: same thread count, the checkpoint holds the whole state
         # (split mesh, bonds, energy ledger, friction warm start)
@@ -167,7 +167,7 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
 
         def _maybe_checkpoint(self, force=False):
             # as the scheduler would, mid-run: half way, after bond points have split
-            if self.phase == "load" and not self.sent and self.travel() > 0.5 * PARAMS["target_travel"]:
+            if self.state.phase == "load" and not self.sent and self.travel() > 0.5 * PARAMS["target_travel"]:
                 self.sent = True
                 os.kill(os.getpid(), signum)
             super()._maybe_checkpoint(force)
@@ -241,7 +241,7 @@ def test_mass_scaling_raises_the_step_and_keeps_the_balance(mesh_path, tmp_path)
     assert run.meta["added_mass_fraction"] == st["added_mass_fraction"] > 0
     assert run.meta["scaled_nodes"] == st["scaled_nodes"] > 0
     run.run()
-    assert abs(run.F_at_rest) < 0.02 * net_buoyancy_under_indenter(run)
+    assert abs(run.state.F_at_rest) < 0.02 * net_buoyancy_under_indenter(run)
     e = run.model.energies()
     assert abs(e["residual"]) < 1e-3 * e["scale"]
     with open_complete(tmp_path / "b.h5") as f:
@@ -257,7 +257,7 @@ def test_run_interrupted_while_settling_resumes(mesh_path, tmp_path, finished):
                        options=RunOptions(threads=1, progress_every_s=1e9, vtu=False, stop_after_steps=1))
     with pytest.raises(KeyboardInterrupt):
         run.run()
-    assert run.phase == "settle" and not out.exists()
+    assert run.state.phase == "settle" and not out.exists()
     again = PunchThrough(mesh_path, out, params=PARAMS,
                          options=RunOptions(threads=1, progress_every_s=1e9, vtu=False))
     again.run(resume=True)
@@ -305,7 +305,7 @@ def test_a_settle_at_a_larger_step_rests_in_the_same_balance_and_loads_at_the_lo
     step = fast.model.step
 
     def counting(n):
-        seen.append((fast.phase, fast.model.dt, n))
+        seen.append((fast.state.phase, fast.model.dt, n))
         step(n)
     fast.model.step = counting
     fast.run()
@@ -316,7 +316,7 @@ def test_a_settle_at_a_larger_step_rests_in_the_same_balance_and_loads_at_the_lo
     # the loading's masses exactly: the settle's were dropped
     np.testing.assert_array_equal(fast.model.mass, base.model.mass)
     # at rest in balance: holding the indenter takes ~nothing, in both
-    assert abs(fast.F_at_rest) < 0.02 * net_buoyancy_under_indenter(fast)
+    assert abs(fast.state.F_at_rest) < 0.02 * net_buoyancy_under_indenter(fast)
     e = fast.model.energies()
     assert abs(e["residual"]) < 1e-3 * e["scale"]
     # the bonded rows have one rest state: the same cohesive peak
@@ -339,7 +339,7 @@ def test_a_run_stopped_while_settling_at_the_larger_step_resumes_into_the_same_r
     run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(stop_after_steps=50, **opts))
     with pytest.raises(KeyboardInterrupt):
         run.run()
-    assert run.phase == "settle"
+    assert run.state.phase == "settle"
     PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts)).run(resume=True)
     with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
@@ -364,7 +364,7 @@ def test_a_mass_scaled_run_with_a_contact_reach_resumes_into_the_same_run(mesh_p
                        options=RunOptions(stop_after_steps=stop, **opts))
     with pytest.raises(KeyboardInterrupt):
         run.run()
-    assert run.phase == phase_stop
+    assert run.state.phase == phase_stop
     again = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts))
     again.run(resume=True)
     np.testing.assert_array_equal(again.model.mass, whole.model.mass)
@@ -385,17 +385,17 @@ def test_a_run_with_the_sleeping_far_field_resumes_into_the_same_run(mesh_path, 
 
     def watching(n):
         step(n)
-        if whole.phase == "load" and whole.model.sleep_counts()["asleep_nodes"] > 0:
+        if whole.state.phase == "load" and whole.model.sleep_counts()["asleep_nodes"] > 0:
             asleep_at.append(whole.model.step_count)
     whole.model.step = watching
     whole.run()
-    assert whole.load_element_steps < whole.load_steps * whole.model.n_triangles   # some slept
+    assert whole.state.load_element_steps < whole.state.load_steps * whole.model.n_triangles   # some slept
     assert asleep_at
     run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
                        options=RunOptions(stop_after_steps=asleep_at[len(asleep_at) // 2], **opts))
     with pytest.raises(KeyboardInterrupt):
         run.run()
-    assert run.phase == "load" and run.model.sleep_counts()["asleep_nodes"] > 0
+    assert run.state.phase == "load" and run.model.sleep_counts()["asleep_nodes"] > 0
     again = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**opts))
     again.run(resume=True)
     with h5py.File(tmp_path / "a.h5") as a, h5py.File(tmp_path / "b.h5") as b:
@@ -483,7 +483,7 @@ def test_a_run_loads_from_another_runs_rest_state_with_its_own_masses_and_step(m
         y, F = f["force/y_I"][:], f["force/F"][:]
         assert f.attrs["rest_state_from"] == os.path.abspath(rest)
         assert f.attrs["rest_state_dt"] == settler.params["dt"]
-        assert F[0] == settler.F_at_rest and y[-1] >= PARAMS["target_travel"]
+        assert F[0] == settler.state.F_at_rest and y[-1] >= PARAMS["target_travel"]
         assert F.max() > 10 * abs(F[0])
     # another friction coefficient: not this run's rest state
     other = PunchThrough(mesh_path, tmp_path / "c.h5", params=dict(PARAMS, mu=0.5), options=RunOptions(**base))
@@ -517,7 +517,7 @@ def test_a_load_from_a_rest_state_interrupted_resumes_into_the_same_run(mesh_pat
                        options=RunOptions(stop_after_steps=whole.model.step_count - 2000, **base))
     with pytest.raises(KeyboardInterrupt):
         run.run_from_rest(rest)
-    assert run.phase == "load" and run.model.bonds.counts["split"] > 0
+    assert run.state.phase == "load" and run.model.bonds.counts["split"] > 0
     assert not (tmp_path / "b.h5").exists() and os.path.exists(run.ckpt_path)
     stopped_at = run.model.step_count
     capsys.readouterr()

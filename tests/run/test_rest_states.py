@@ -125,7 +125,7 @@ def test_a_run_from_a_shared_rest_state_is_the_run_that_settles_itself(mesh_path
                      options=RunOptions(stop_after_steps=a.model.step_count // 2, **opts))
     with pytest.raises(KeyboardInterrupt):
         b.run()
-    assert "loads from the shared rest state" in capsys.readouterr().out and b.phase == "load"
+    assert "loads from the shared rest state" in capsys.readouterr().out and b.state.phase == "load"
     b = PunchThrough(mesh_path, tmp_path / "b.h5", params=weaker, options=RunOptions(**opts), rest_dir=shared)
     b.run(resume=True)
     assert "resumed from" in capsys.readouterr().out

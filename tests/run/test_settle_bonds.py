@@ -47,7 +47,7 @@ def test_points_past_eq5_split_while_settling_and_belong_to_the_initial_state(me
     params = dict(CHECKED, **WEAK, target_travel=0.0005, ramp_time=0.01)
     run = PunchThrough(mesh_path, tmp_path / "weak.h5", params=params, options=RunOptions(**OPTS))
     run.settle_only(tmp_path / "rest.checkpoint.h5")
-    assert run.settle_splits > 0
+    assert run.state.settle_splits > 0
     ratio, intact = _max_ratio(run)
     assert intact > 0 and ratio < 1.0, (ratio, intact)   # the rest is carried by the bonds that are left
     run = PunchThrough(mesh_path, tmp_path / "weak.h5", params=params, options=RunOptions(**OPTS))
@@ -77,7 +77,7 @@ def test_checking_bonds_that_hold_changes_nothing(mesh_path, tmp_path):
     for name, params in (("held", dict(PARAMS, **strong)), ("checked", dict(CHECKED, **strong))):
         run = PunchThrough(mesh_path, tmp_path / f"{name}.h5", params=params, options=RunOptions(**OPTS))
         rests.append(run.settle_only(tmp_path / f"rest_{name}.checkpoint.h5"))
-        assert run.settle_splits == 0
+        assert run.state.settle_splits == 0
     with h5py.File(rests[0]) as fa, h5py.File(rests[1]) as fb:
         a, b = _tree(fa), _tree(fb)
     assert set(a) == set(b)

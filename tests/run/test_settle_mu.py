@@ -101,10 +101,10 @@ def test_same_pile_settles_and_loads_at_every_study_mu(runs, mu):
     # settled at this run's friction, not the pile's
     assert run.model.params["mu"] == mu
     # at rest by the criterion, before the time limit
-    assert run.settle_time < o.settle_max_time
-    assert run.settle_max_speed < o.settle_velocity
+    assert run.state.settle_time < o.settle_max_time
+    assert run.state.settle_max_speed < o.settle_velocity
     # in balance: holding the indenter takes a small fraction of one block's weight
-    assert abs(run.F_at_rest) < 0.02 * lightest_block_weight(run)
+    assert abs(run.state.F_at_rest) < 0.02 * lightest_block_weight(run)
     # blocks take up the mm that meshing changed (cut-away phase-1 overlaps);
     # one that moved centimetres is loose and rose: it slid up under its net
     # buoyancy to a new rest (see above), it was not thrown about
@@ -114,8 +114,8 @@ def test_same_pile_settles_and_loads_at_every_study_mu(runs, mu):
             assert dy > 0, f"loose block {b} moved {np.hypot(dx, dy) * 1e3:.0f} mm without rising"
     with open_complete(path, "icerubble-run") as f:
         assert f["pile"].attrs["friction"] == PILE_FRICTION
-        assert f.attrs["settle_time"] == pytest.approx(run.settle_time)
-        assert f.attrs["settle_max_block_move"] == pytest.approx(run.settle_max_block_move)
+        assert f.attrs["settle_time"] == pytest.approx(run.state.settle_time)
+        assert f.attrs["settle_max_block_move"] == pytest.approx(run.state.settle_max_block_move)
         y = f["force/y_I"][:]
         t_split, t_fail = f["bonds/t_split"][:], f["bonds/t_fail"][:]
     # loading started and reached its travel
@@ -130,7 +130,7 @@ def test_higher_mu_settles_no_further(runs):
     """A wider friction cone holds at least as much: the 0.3 settle moves no
     block further than the 0.05 one does (beyond a mm of rebound)."""
     lo, hi = runs[min(STUDY_MU)][0], runs[max(STUDY_MU)][0]
-    assert hi.settle_max_block_move <= lo.settle_max_block_move + 1e-3
+    assert hi.state.settle_max_block_move <= lo.state.settle_max_block_move + 1e-3
 
 
 def test_a_cached_pile_made_at_another_friction_is_refused(tmp_path):
