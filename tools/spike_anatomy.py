@@ -109,7 +109,7 @@ class Probe:
         self.run = run
         sc = run.scene
         self.ind_body = int(sc.indenter_bodies[0])
-        self.node_body = run._node_body
+        self.node_body = run.settler.node_body
         self.penalty = run.params["penalty"]
         self.rows = []
 

@@ -1,10 +1,11 @@
 """Shared rest states: runs of one scene that differ only in what the settle
 never reads settle once.
 
-The settle (punch_through_run.PunchThrough.settle) holds every freeze bond
-(none is checked, none splits) and leaves the indenter free until it holds it
-at rest. So it reads neither the bond points' strengths and fracture energy
-nor the indenter's ramp and travel: SETTLE_FREE. The paper's study sweeps
+The settle (run/settle.py) holds every freeze bond by default (none is
+checked, none splits) and leaves the indenter free until it holds it at rest.
+So it reads neither the bond points' strengths and fracture energy nor the
+indenter's ramp and travel: SETTLE_FREE. With settle_bonds='checked' it reads
+the strengths too, and they join the key (parameters.settle_free). The paper's study sweeps
 tau_cr over five values for each ridge and mu; with a shared rest state the
 first of the five to settle writes it next to the scene's mesh and the other
 four load from it (checkpoint.restore(shared=True), with their own
