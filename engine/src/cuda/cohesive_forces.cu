@@ -60,15 +60,6 @@ __global__ void node_kernel(const int32_t* start, const int32_t* entry, const do
   f_y[i] = sy;
 }
 
-__global__ void __launch_bounds__(kSumThreads) sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
-  __shared__ double shared[kSumThreads];
-  const double* p = partial + size_t(blockIdx.x) * n_blocks;
-  double s = 0.0;
-  for (int32_t k = threadIdx.x; k < n_blocks; k += kSumThreads) s += p[k];
-  s = block_sum<kSumThreads>(s, shared);
-  if (threadIdx.x == 0) sums[blockIdx.x] = s;
-}
-
 }  // namespace
 
 struct DeviceCohesiveForces::Impl {
@@ -96,7 +87,7 @@ struct DeviceCohesiveForces::Impl {
     node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
                                                                        fpy.data(), n_nodes, f_coh_x.data(),
                                                                        f_coh_y.data());
-    sums_kernel<<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+    term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
     cuda_check(cudaGetLastError(), "kernel launch");
   }
 };

@@ -3,6 +3,8 @@
 #pragma once
 #include <cuda_runtime.h>
 
+#include <cstdint>
+
 namespace engine {
 
 // Sums in a fixed tree over a block's N lanes (N a power of two; every lane
@@ -34,6 +36,19 @@ __device__ inline double block_extreme(double v, double* shared) {
   const double e = shared[0];
   __syncthreads();
   return e;
+}
+
+// Term k's per-block partial sums, partial[k * n_blocks + b], added in a
+// fixed order by one block of N lanes per term (launch with as many blocks as
+// terms): sums[k]. The second level of the per-block trees above.
+template <int N>
+__global__ void __launch_bounds__(N) term_sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
+  __shared__ double shared[N];
+  const double* p = partial + size_t(blockIdx.x) * n_blocks;
+  double s = 0.0;
+  for (int32_t k = threadIdx.x; k < n_blocks; k += N) s += p[k];
+  s = block_sum<N>(s, shared);
+  if (threadIdx.x == 0) sums[blockIdx.x] = s;
 }
 
 }  // namespace engine

@@ -32,16 +32,6 @@ __global__ void __launch_bounds__(kBlock) update_kernel(UpdateArrays a, int32_t 
   }
 }
 
-// Term k's partials in a fixed order, one block per term.
-__global__ void __launch_bounds__(kSumThreads) sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
-  __shared__ double shared[kSumThreads];
-  const double* p = partial + size_t(blockIdx.x) * n_blocks;
-  double s = 0.0;
-  for (int32_t k = threadIdx.x; k < n_blocks; k += kSumThreads) s += p[k];
-  s = block_sum<kSumThreads>(s, shared);
-  if (threadIdx.x == 0) sums[blockIdx.x] = s;
-}
-
 }  // namespace
 
 struct DeviceNodeUpdate::Impl {
@@ -62,7 +52,7 @@ struct DeviceNodeUpdate::Impl {
                          r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
                          dt,             g,              alpha};
     update_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, n, partial.data(), n_blocks());
-    sums_kernel<<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+    term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
     cuda_check(cudaGetLastError(), "kernel launch");
   }
 };
