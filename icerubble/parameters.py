@@ -9,8 +9,10 @@ flags. Everything else derives from it:
 - the settle's key: a run differing from another only in parameters the
   settle never reads (``settle=False``: rest_states.SETTLE_FREE) loads its
   rest state (rest_states.settle_identity);
-- the keys, defaults and checks of the engine wrapper's Model.set
-  (``engine``; icerubble/engine/model.py);
+- the keys and defaults of the engine wrapper's Model.set (``engine``;
+  icerubble/engine/model.py), and the engine's own check of them: the build
+  writes these ranges into the C++ engine (tools/engine_parameter_header.py),
+  which checks the one struct it is given against them;
 - the parameter table of docs/parameters.md (``docs_table``; a test checks
   that the docs hold the registry's table).
 
@@ -69,7 +71,7 @@ class Parameter:
         if self.kind == "flag":
             return "True or False"
         if self.kind == "whole":
-            return f"a whole number >= {self.lo:g}"
+            return f"a whole number >= {self.lo:g}" + ("" if self.hi is None else f" and <= {self.hi:d}")
         left = "(" if self.lo_open or self.lo is None else "["
         right = ")" if self.hi_open or (self.hi is None and not self.inf_ok) else "]"
         lo = "-inf" if self.lo is None else repr(self.lo)
@@ -92,6 +94,8 @@ NONNEG = dict(lo=0.0)
 # switches and the geometry (the mesh's); a run sets them itself
 NOT_TABLE = dict(table=False, identity=False)
 SWITCH = dict(NOT_TABLE, kind="flag", engine=True)
+# the largest count the engine holds (a 32-bit int)
+INT32_MAX = 2**31 - 1
 
 REGISTRY = {
     # freeze bonds (values on top of the keel; they fall linearly to
@@ -162,7 +166,7 @@ REGISTRY = {
     "energy_tolerance": Parameter(0.1, "-", **POS, group="numerics", engine=True, **NOT_TABLE,
                                   doc="stop when the energy balance residual exceeds this fraction of the "
                                       "energy terms"),
-    "threads": Parameter(0, "-", lo=0, kind="whole", group="numerics", engine=True, **NOT_TABLE,
+    "threads": Parameter(0, "-", lo=0, hi=INT32_MAX, kind="whole", group="numerics", engine=True, **NOT_TABLE,
                          doc="OpenMP threads, 0 = OMP_NUM_THREADS / all cores as the process started "
                              "(openmp_threads.default_threads, whatever changed OpenMP's setting since)"),
     "gravity": Parameter(True, "-", **SWITCH, doc="gravity on/off"),
@@ -181,7 +185,7 @@ REGISTRY = {
                              doc="... and its mean resultant force and moment are below this fraction of its "
                                  "weight; an asleep node wakes when its force changes by this fraction of its "
                                  "own weight"),
-    "sleep_quiet_steps": Parameter(100, "-", lo=1, kind="whole", engine=True, **NOT_TABLE,
+    "sleep_quiet_steps": Parameter(100, "-", lo=1, hi=INT32_MAX, kind="whole", engine=True, **NOT_TABLE,
                                    doc="... over a window of this many steps"),
     # --- the settle (RunOptions; not in the run identity: every study's
     # defaults, but a rest state is shared only under the same ones)
@@ -215,7 +219,7 @@ def _select(**flags):
 TABLE_1 = _select(table=True)
 # Geometry: the scene's mesh's, recorded in the result as measured on it.
 MESH = _select(group="mesh")
-# The engine wrapper's keys (engine.Model.set), defaults and checks.
+# The engine wrapper's keys (engine.Model.set) and defaults; the engine checks their ranges.
 ENGINE = _select(engine=True)
 # Run parameters the settle never reads (rest_states.py).
 SETTLE_FREE = tuple(k for k, p in TABLE_1.items() if not p.settle)
@@ -261,7 +265,7 @@ def check_value(name, value, spec=None):
             raise ValueError(f"{name} must be True or False (got {value!r})")
         return bool(value)
     if spec.kind == "whole":
-        return require_whole(name, value, lo=int(spec.lo))
+        return require_whole(name, value, lo=int(spec.lo), hi=spec.hi)
     # True is 1 to float(): a table's `mu True` would run at mu = 1
     if isinstance(value, bool) or type(value).__name__ == "bool_":
         raise ValueError(f"parameter {name}={value!r} is a boolean, not a number; valid range "
@@ -287,12 +291,14 @@ def require_range(name, value, lo=None, hi=None, lo_open=False):
     return check_value(name, value, Parameter(None, "", lo=lo, hi=hi, lo_open=lo_open))
 
 
-def require_whole(name, value, lo=0):
-    """A whole number >= lo (a seed, a count): refuses 1.5 and True, which
-    int() would silently read as 1."""
+def require_whole(name, value, lo=0, hi=None):
+    """A whole number >= lo (and <= hi where given: a seed, a count): refuses
+    1.5 and True, which int() would silently read as 1."""
     whole = isinstance(value, numbers.Integral) or (isinstance(value, float) and value.is_integer())
     if isinstance(value, bool) or type(value).__name__ == "bool_" or not whole or value < lo:
         raise ValueError(f"{name}={value!r} must be a whole number >= {lo} ({lo}, {lo + 1}, {lo + 2}, ...)")
+    if hi is not None and value > hi:
+        raise ValueError(f"{name}={value!r} must be a whole number <= {hi:d}")
     return int(value)
 
 
@@ -379,8 +385,8 @@ Generated from the registry of `icerubble/parameters.py` (`/usr/bin/python3 -m
 icerubble.parameters > docs/parameters.md`); `tests/test_parameters.py` checks that
 this page is the registry's. Each parameter is declared there once: its default,
 unit, range, doc, group and flags, from which the study table's columns, the run
-identity, the settle's key (rest_states.py), the engine wrapper's `Model.set` and
-this table derive.
+identity, the settle's key (rest_states.py), the engine wrapper's `Model.set`, the ranges the
+C++ engine checks (written into it by the build) and this table derive.
 
 - **table column**: a column of a study table (a yade-batch line), what
   `parameters.validate` takes; the rest a run sets itself (its scene and numerics).

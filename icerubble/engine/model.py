@@ -46,13 +46,15 @@ MATERIAL_DEFAULTS = {"nu": P.REGISTRY["nu"].default, "damping": 0.0, "viscosity"
 DRAG_MODELS = P.DRAG_MODELS
 
 # Parameter name -> (default, description) for Model.set(): the registry's
-# engine parameters (icerubble/parameters.py, engine=True), which also check
-# each value. The engine starts without a time step (step() refuses to run
+# engine parameters (icerubble/parameters.py, engine=True); the engine checks
+# each value against the registry's ranges (the build writes them into it). The engine starts without a time step (step() refuses to run
 # until dt or dt_fraction is set), whatever Table 1's dt.
 START_UNSET = ("dt", "dt_fraction")
 PARAMETERS = {k: (None if k in START_UNSET else p.default,
                   f"{p.doc} [{p.unit}], {p.range_text()}") for k, p in P.ENGINE.items()}
 SLEEP_PARAMETERS = ("sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps")
+# What the engine takes as one struct (Model.set_parameters): the rest.
+STRUCT = tuple(k for k in PARAMETERS if k not in START_UNSET)
 
 
 def _ids(name, ids, n):
@@ -163,43 +165,20 @@ class Model:
         unknown = set(params) - set(PARAMETERS)
         if unknown:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)}; valid: {sorted(PARAMETERS)}")
-        p = dict(self._params)
-        for k, v in params.items():
-            p[k] = P.check_value(k, v)
         if "dt" in params and "dt_fraction" in params:
             raise ValueError("give dt or dt_fraction, not both")
-        if "dt" in params:
-            self._m.set_dt(p.pop("dt"))
-        if params.keys() & {"gravity", "g"}:
-            self._m.set_gravity(p["gravity"], p["g"])
-        if params.keys() & {"buoyancy", "drag", "rho_w", "y_w", "c_w"}:
-            self._m.set_water(p["buoyancy"], p["drag"], p["rho_w"], p["y_w"], p["c_w"])
-        if params.keys() & {"penalty", "mu"}:
-            self._m.set_contact(p["penalty"], p["mu"])
-        if params.keys() & {"drag_model", "C_d"}:
-            self._m.set_drag_model(p["drag_model"], p["C_d"])
-        if "check_stable_dt" in params:
-            self._m.set_check_stable_dt(p["check_stable_dt"])
-        if "check_energy" in params:
-            self._m.set_check_energy(p["check_energy"])
-        if "energy_tolerance" in params:
-            self._m.set_energy_tolerance(p["energy_tolerance"])
-        if "threads" in params:
-            # 0 is resolved here, not by the engine from OpenMP's live setting,
-            # which gmsh and others change for the whole process (openmp_threads.py)
-            self._m.set_threads(p["threads"] or default_threads())
-        if "local_damping" in params:
-            self._m.set_local_damping(p["local_damping"])
-        if "mass_scaling_dt" in params:
-            self._m.set_mass_scaling(p["mass_scaling_dt"])
-        if "contact_reach" in params:
-            self._m.set_contact_reach(p["contact_reach"])
-        if params.keys() & set(SLEEP_PARAMETERS):
-            self._m.set_sleeping(p["sleeping"], p["sleep_velocity"], p["sleep_force"], p["sleep_quiet_steps"])
-        # after everything that moves the stable step (masses, materials, penalty)
-        if "dt_fraction" in params:
-            self._m.set_dt_fraction(p.pop("dt_fraction"))
+        p = dict(self._params, **{k: v for k, v in params.items() if k not in START_UNSET})
+        # one struct, checked once by the engine against the registry's ranges;
+        # threads 0 is resolved here, not by the engine from OpenMP's live
+        # setting, which gmsh and others change for the whole process
+        # (openmp_threads.py)
+        self._m.set_parameters(dict({k: p[k] for k in STRUCT}, threads=p["threads"] or default_threads()))
         self._params = p
+        if "dt" in params:
+            self._m.set_dt(_number("dt", params["dt"]))
+        # after the struct: masses, materials and penalty move the stable step
+        if "dt_fraction" in params:
+            self._m.set_dt_fraction(_number("dt_fraction", params["dt_fraction"]))
         return self
 
     @property

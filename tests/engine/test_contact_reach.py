@@ -1,5 +1,5 @@
 """The contact step bound with a finite reach (contact_time_step.cpp,
-Model::set_contact_reach): an edge counts only the other bodies' boundaries it
+Model::set_parameters, contact_reach): an edge counts only the other bodies' boundaries it
 can meet, and the run re-checks the bound when nodes have moved half the reach.
 The scenes are those of test_contact_time_step.py: block A facing block B,
 which may carry a 3 mm bump (the tiny elements of a pile's junction)."""

@@ -5,6 +5,10 @@
 
 #include "bindings/bindings.hpp"
 #include "model/model.hpp"
+#include "engine_parameter_ranges.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace py = pybind11;
 
@@ -122,10 +126,123 @@ py::dict stable_dict(const StableStep& s, const Model& m) {
   return d;
 }
 
+
+// The engine's parameters across the binding: a dict with exactly these
+// keys, the registry's names (icerubble/parameters.py, engine=True, less dt
+// and dt_fraction, which set_dt and set_dt_fraction take).
+const char* const kParameterNames[] = {
+    "gravity", "g", "buoyancy", "drag", "rho_w", "y_w", "c_w", "drag_model", "C_d", "penalty", "mu",
+    "check_stable_dt", "check_energy", "energy_tolerance", "local_damping", "mass_scaling_dt",
+    "contact_reach", "threads", "sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps"};
+const char* const kDragModels[] = {"none", "linear", "quadratic"};  // DragModel's order
+
+EngineParameters engine_parameters(const py::dict& d) {
+  std::vector<std::string> unknown, missing;
+  for (auto item : d) {
+    const std::string k = py::str(item.first);
+    if (std::find_if(std::begin(kParameterNames), std::end(kParameterNames),
+                     [&](const char* n) { return k == n; }) == std::end(kParameterNames))
+      unknown.push_back(k);
+  }
+  for (const char* n : kParameterNames)
+    if (!d.contains(n)) missing.push_back(n);
+  auto list = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+  };
+  if (!unknown.empty()) bad("set_parameters: unknown parameter(s) " + list(unknown));
+  if (!missing.empty()) bad("set_parameters: missing parameter(s) " + list(missing));
+  // types here (True is 1 to a double caster: `mu True` would run at 1); ranges in validate()
+  auto flag = [&](const char* k) {
+    py::handle v = d[k];
+    if (!py::isinstance<py::bool_>(v) && std::string(py::str(py::type::handle_of(v).attr("__name__"))) != "bool_")
+      bad(std::string(k) + " must be True or False (got " + std::string(py::repr(v)) + ")");
+    return v.cast<bool>();
+  };
+  auto number = [&](const char* k) {
+    py::handle v = d[k];
+    const bool boolean = py::isinstance<py::bool_>(v) ||
+                         std::string(py::str(py::type::handle_of(v).attr("__name__"))) == "bool_";
+    if (boolean || !py::isinstance(v, py::module_::import("numbers").attr("Real")))
+      bad("parameter " + std::string(k) + "=" + std::string(py::repr(v)) + " is not a number");
+    return v.cast<double>();
+  };
+  // a count beyond the int the engine holds is refused by the registry's own range
+  auto whole = [&](const char* k, const ParameterRange& range) {
+    const double v = number(k);
+    if (!(v == std::floor(v))) bad(std::string(k) + "=" + num(v) + " must be a whole number");
+    if (!(v >= INT32_MIN && v <= INT32_MAX)) check(range, v);
+    return int32_t(v);
+  };
+  EngineParameters p;
+  p.external.gravity = flag("gravity");
+  p.external.g = number("g");
+  p.external.buoyancy = flag("buoyancy");
+  p.external.drag = flag("drag");
+  p.external.rho_w = number("rho_w");
+  p.external.y_w = number("y_w");
+  p.external.c_w = number("c_w");
+  const std::string drag_model = py::str(d["drag_model"]);
+  const auto m = std::find_if(std::begin(kDragModels), std::end(kDragModels),
+                              [&](const char* n) { return drag_model == n; });
+  if (!py::isinstance<py::str>(d["drag_model"]) || m == std::end(kDragModels))
+    bad("parameter drag_model=" + std::string(py::repr(d["drag_model"])) + " is invalid: valid values are " +
+        registry::drag_model_range);
+  p.external.drag_model = DragModel(m - std::begin(kDragModels));
+  p.external.C_d = number("C_d");
+  p.contact.penalty = number("penalty");
+  p.contact.mu = number("mu");
+  p.check_stable_dt = flag("check_stable_dt");
+  p.check_energy = flag("check_energy");
+  p.energy_tolerance = number("energy_tolerance");
+  p.local_damping = number("local_damping");
+  p.mass_scaling_dt = number("mass_scaling_dt");
+  p.contact_reach = number("contact_reach");
+  p.threads = whole("threads", registry::threads);
+  p.sleep.on = flag("sleeping");
+  p.sleep.velocity = number("sleep_velocity");
+  p.sleep.force = number("sleep_force");
+  p.sleep.quiet_steps = whole("sleep_quiet_steps", registry::sleep_quiet_steps);
+  return p;
+}
+
+py::dict parameters_dict(const EngineParameters& p) {
+  py::dict d;
+  d["gravity"] = p.external.gravity;
+  d["g"] = p.external.g;
+  d["buoyancy"] = p.external.buoyancy;
+  d["drag"] = p.external.drag;
+  d["rho_w"] = p.external.rho_w;
+  d["y_w"] = p.external.y_w;
+  d["c_w"] = p.external.c_w;
+  d["drag_model"] = kDragModels[int(p.external.drag_model)];
+  d["C_d"] = p.external.C_d;
+  d["penalty"] = p.contact.penalty;
+  d["mu"] = p.contact.mu;
+  d["check_stable_dt"] = p.check_stable_dt;
+  d["check_energy"] = p.check_energy;
+  d["energy_tolerance"] = p.energy_tolerance;
+  d["local_damping"] = p.local_damping;
+  d["mass_scaling_dt"] = p.mass_scaling_dt;
+  d["contact_reach"] = p.contact_reach;
+  d["threads"] = p.threads;
+  d["sleeping"] = p.sleep.on;
+  d["sleep_velocity"] = p.sleep.velocity;
+  d["sleep_force"] = p.sleep.force;
+  d["sleep_quiet_steps"] = p.sleep.quiet_steps;
+  return d;
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
   py::register_exception<InstabilityError>(m, "InstabilityError", PyExc_RuntimeError);
+  m.def("engine_parameter_names", []() {
+    py::list l;
+    for (const char* n : kParameterNames) l.append(n);
+    return l;
+  }, "The keys of Model.set_parameters (the registry's names).");
 
   py::class_<Model>(m, "Model")
       .def(py::init([](DArray nodes, IArray tri, IArray body) {
@@ -162,34 +279,13 @@ void bind_model(py::module_& m) {
              return d;
            },
            "Which time step is in force: dt, source ('fraction', 'explicit' or 'unset'), fraction.")
-      .def("set_gravity", &Model::set_gravity, py::arg("on"), py::arg("g"))
-      .def("set_water", &Model::set_water, py::arg("buoyancy"), py::arg("drag"), py::arg("rho_w"),
-           py::arg("y_w"), py::arg("c_w"))
-      .def("set_drag_model",
-           [](Model& M, const std::string& model, double C_d) {
-             DragModel d;
-             if (model == "none") d = DragModel::None;
-             else if (model == "linear") d = DragModel::Linear;
-             else if (model == "quadratic") d = DragModel::Quadratic;
-             else throw std::invalid_argument("drag_model = '" + model +
-                                              "' is invalid: valid values are 'linear', 'quadratic', 'none'");
-             M.set_drag_model(d, C_d);
-           },
-           py::arg("model"), py::arg("C_d"))
-      .def("set_contact", &Model::set_contact, py::arg("penalty"), py::arg("mu"))
-      .def("set_check_stable_dt", &Model::set_check_stable_dt)
-      .def("set_check_energy", &Model::set_check_energy)
-      .def("set_energy_tolerance", &Model::set_energy_tolerance)
-      .def("set_local_damping", &Model::set_local_damping)
-      .def("set_threads", &Model::set_threads)
+      .def("set_parameters", [](Model& M, const py::dict& d) { M.set_parameters(engine_parameters(d)); },
+           py::arg("parameters"),
+           "Every engine parameter at once (a dict with exactly the keys of engine_parameter_names()),\n"
+           "checked once against the ranges of icerubble/parameters.py (ValueError naming the first\n"
+           "one out of range).")
+      .def("parameters", [](const Model& M) { return parameters_dict(M.parameters()); })
       .def("thread_count", &Model::thread_count)
-      .def("set_mass_scaling", &Model::set_mass_scaling, py::arg("dt_target"))
-      .def("set_contact_reach", &Model::set_contact_reach, py::arg("reach"))
-      .def("set_sleeping", &Model::set_sleeping, py::arg("on"), py::arg("velocity"), py::arg("force"),
-           py::arg("quiet_steps"),
-           "Sleeping far field (engine/src/model/sleeping.hpp): a body whose nodes were all slower than\n"
-           "velocity [m/s] for quiet_steps updates, in balance over them to force x its weight, is held\n"
-           "and its triangles are not computed; it wakes when a node's force changes by force x its weight.")
       .def("wake_all", &Model::wake_all)
       .def("asleep_nodes", &Model::asleep_nodes)
       .def("awake_triangles", &Model::awake_triangles)

@@ -218,12 +218,7 @@ void bind_rigid(py::module_& m) {
         for (ssize_t k = 0; k < n; ++k)
           if (!(area.data()[k] > 0.0))
             bad("area[" + std::to_string(k) + "] must be > 0 m² (got " + num(area.data()[k]) + ")");
-        if (!std::isfinite(y_w)) bad("y_w (water line) must be finite (got " + num(y_w) + ")");
-        require_finite_positive("rho_w", rho_w, "kg/m³");
-        require_finite_nonnegative("g", g, "m/s²");
         if (drag_model < 0 || drag_model > 2) bad("drag_model must be 0 (none), 1 (linear) or 2 (quadratic)");
-        require_finite_nonnegative("c_w", c_w, "Pa s");
-        require_finite_nonnegative("C_d", C_d, "(-)");
         if (threads < 1) bad("threads must be >= 1 (got " + std::to_string(threads) + ")");
         ExternalParams p;
         p.y_w = y_w;
@@ -234,6 +229,7 @@ void bind_rigid(py::module_& m) {
         p.drag_model = DragModel(drag_model);
         p.c_w = c_w;
         p.C_d = C_d;
+        validate(p);  // against the registry's ranges
         RigidBlocks b{int32_t(n), o, vx.data(), vy.data(), area.data(), cx.data(), cy.data(),
                       theta.data(), ux.data(), uy.data(), omega.data()};
         DArray fx(n), fy(n), tz(n);

@@ -17,7 +17,7 @@ struct Nodes {
   // Between steps: velocity at t - dt/2 of the next step (central difference).
   std::vector<double> vx, vy;
   // Inertial mass [kg per m width]: the lumped mass, raised at the few nodes
-  // that limit the stable step when mass scaling is on (Model::set_mass_scaling).
+  // that limit the stable step when mass scaling is on (EngineParameters::mass_scaling_dt).
   // Everything dynamic uses it: the update, kinetic energy, boundary
   // reactions, the friction predictor, contact and bond-split masses, the
   // stable step.

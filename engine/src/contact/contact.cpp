@@ -11,6 +11,8 @@
 
 #include "contact/contact.hpp"
 #include "common/input_errors.hpp"
+#include "common/parameter_range.hpp"
+#include "engine_parameter_ranges.hpp"
 
 #include <algorithm>
 
@@ -27,10 +29,15 @@ double now_s() {
 
 }  // namespace
 
+void validate(const ContactParams& p) {
+  check(registry::penalty, p.penalty);
+  check(registry::mu, p.mu);
+}
+
 ContactParams validated_contact_params(double penalty, double mu) {
-  require_finite_positive("penalty", penalty, "Pa (per m width)");
-  require_finite_nonnegative("mu (friction coefficient)", mu, "");
-  return ContactParams{penalty, mu};
+  const ContactParams p{penalty, mu};
+  validate(p);
+  return p;
 }
 
 void ContactSolver::set_skin_fraction(double f) {

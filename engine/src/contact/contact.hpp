@@ -19,15 +19,17 @@
 
 namespace engine {
 
+// No defaults here: they are the registry's (icerubble/parameters.py).
 struct ContactParams {
-  double penalty = 2e11;  // s in eq 2-3 [Pa, per unit width]
-  double mu = 0.3;        // Coulomb friction coefficient [-]
+  double penalty = NAN;  // s in eq 2-3 [Pa, per unit width]
+  double mu = NAN;       // Coulomb friction coefficient [-]
 };
 
-// The one check of the contact parameters, where they enter (Model::set_contact
-// and the ContactSolver bindings); the per-step calls trust them. Throws
-// std::invalid_argument (ValueError in Python) naming the parameter and its
-// valid range.
+// The one check of the contact parameters against the registry's ranges,
+// where they enter (Model::set_parameters and the ContactSolver bindings);
+// the per-step calls trust them. Throws std::invalid_argument (ValueError in
+// Python) naming the parameter and its valid range.
+void validate(const ContactParams& p);
 ContactParams validated_contact_params(double penalty, double mu);
 
 // Views of the engine's flat node and element arrays (structure of arrays).
@@ -114,11 +116,11 @@ struct ContactStableStep {
 // node_stiffness (optional, resized to n_nodes): per node, the largest over its
 // bodies of k_i scaled to the node's whole mass (k_i x node area / that body's
 // area around it), so that node n's limit is sqrt(2 mass[n] / node_stiffness[n]);
-// 0 for an interior node. For mass scaling (Model::set_mass_scaling).
+// 0 for an interior node. For mass scaling (EngineParameters::mass_scaling_dt).
 // reach (m, > 0; infinite: the whole mesh): an edge counts only the other
 // bodies' boundary it can meet, the stretches within reach of it now (see
 // contact_time_step.cpp); valid while no node has moved farther than reach/2
-// relative to that (Model::set_contact_reach keeps it so).
+// relative to that (Model::set_parameters keeps it so).
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
                                       std::vector<double>* node_stiffness = nullptr,
                                       double reach = INFINITY);

@@ -2,9 +2,22 @@
 
 #include <algorithm>
 
+#include "common/parameter_range.hpp"
+#include "engine_parameter_ranges.hpp"
 #include "loads/drag_kernel.hpp"
 
 namespace engine {
+
+void validate(const ExternalParams& p) {
+  check(registry::g, p.g);
+  check(registry::rho_w, p.rho_w);
+  check(registry::y_w, p.y_w);
+  check(registry::c_w, p.c_w);
+  check(registry::C_d, p.C_d);
+  const int d = int(p.drag_model);
+  if (d < int(DragModel::None) || d > int(DragModel::Quadratic))
+    bad(std::string("drag_model is invalid: valid values are ") + registry::drag_model_range);
+}
 
 WaterArrays water_arrays(const Nodes& nodes, Triangles& tris, const ExternalParams& p,
                          const std::vector<double>& body_area0, const std::vector<double>& body_drag) {

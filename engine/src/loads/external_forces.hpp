@@ -18,6 +18,7 @@
 // A_body / c_b: for quadratic drag that bound is ~1e8 m/s over any block's
 // speed at the steps used here, so it does not enter the stable step).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,24 +29,26 @@ namespace engine {
 
 enum class DragModel : int { None = 0, Linear = 1, Quadratic = 2 };
 
-// Defaults of a Model built without the Python layer (icerubble.engine sets
-// every parameter itself); the only place these numbers appear in C++.
-constexpr double kStandardGravity = 9.81;  // [m/s²]
-constexpr double kSeaWaterDensity = 1010.0;  // [kg/m³], the paper's Table 1 (docs/model.md §2)
-
+// The water and gravity parameters. No defaults here: they are the
+// registry's (icerubble/parameters.py), sent whole with the engine's other
+// parameters (model/engine_parameters.hpp); a number not given is NaN.
 struct ExternalParams {
-  bool gravity = true;
-  double g = kStandardGravity;  // acts in -y
+  bool gravity = false;
+  double g = NAN;          // acts in -y [m/s²]
   bool buoyancy = false;
   bool drag = false;
-  double rho_w = kSeaWaterDensity;
-  double y_w = 0.0;        // water line [m]
-  double c_w = 2.5e4;      // linear drag constant [Pa s]
-  DragModel drag_model = DragModel::Linear;
-  double C_d = 1.0;        // form drag coefficient (quadratic model) [-]
+  double rho_w = NAN;      // [kg/m³]
+  double y_w = NAN;        // water line [m]
+  double c_w = NAN;        // linear drag constant [Pa s]
+  DragModel drag_model = DragModel::None;
+  double C_d = NAN;        // form drag coefficient (quadratic model) [-]
   bool drag_on() const { return drag && drag_model != DragModel::None; }
   bool water() const { return buoyancy || drag_on(); }
 };
+
+// The check of these against the registry's ranges (where they enter: the
+// engine's parameters, the rigid-block model's water forces).
+void validate(const ExternalParams& p);
 
 // The water pass's arrays of a mesh (loads/water_kernel.hpp).
 WaterArrays water_arrays(const Nodes& nodes, Triangles& tris, const ExternalParams& p,

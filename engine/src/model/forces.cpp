@@ -36,16 +36,16 @@ void Model::compute_body_forces() {
   int32_t inverted[kMaxThreads];
   std::fill(inverted, inverted + kMaxThreads, -1);
   const bool damping = any_damping_;
-  const bool water = ext_.water();
-  const bool buoy = ext_.buoyancy, drag = ext_.drag_on();
-  const double g = ext_.gravity ? ext_.g : 0.0;
+  const bool water = params_.external.water();
+  const bool buoy = params_.external.buoyancy, drag = params_.external.drag_on();
+  const double g = params_.external.gravity ? params_.external.g : 0.0;
   if (drag) {
     Stopwatch drag_sw(timings_.drag);
-    body_drag_constants(nodes_, tris_, ext_, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
+    body_drag_constants(nodes_, tris_, params_.external, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
   }
   // Sleeping far field: only the listed triangles are computed; the others
   // keep their stored (exact, frozen) forces and energies.
-  const bool sleeping = sleep_.on && !compute_all_next_;
+  const bool sleeping = params_.sleep.on && !compute_all_next_;
   compute_all_next_ = false;
   if (sleeping) rebuild_awake_triangles();
   const int32_t* list = sleeping ? awake_tris_.data() : nullptr;
@@ -77,12 +77,12 @@ void Model::compute_body_forces() {
       const GatherPlan& P = gather_plan_;
       for (int32_t c = P.thread_chunk[tid]; c < P.thread_chunk[tid + 1]; ++c) {
         element_forces(nodes_, tris_, elem_mat_, damping, P.chunk_begin[c], P.chunk_end[c], sweep);
-        if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, P.chunk_begin[c], P.chunk_end[c]);
+        if (water) water_forces_on_triangles(nodes_, tris_, params_.external, body_area0_, body_drag_, P.chunk_begin[c], P.chunk_end[c]);
         for (int32_t k = P.node_start[c]; k < P.node_start[c + 1]; ++k) gather(P.nodes[k]);
       }
     } else {
       element_forces(nodes_, tris_, elem_mat_, damping, b, e, sweep, list);
-      if (water) water_forces_on_triangles(nodes_, tris_, ext_, body_area0_, body_drag_, b, e, list);
+      if (water) water_forces_on_triangles(nodes_, tris_, params_.external, body_area0_, body_drag_, b, e, list);
     }
     partial_[tid].s.elastic = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
@@ -129,7 +129,7 @@ ContactInput Model::contact_input() const {
   in.n_surface = int32_t(surface_tris_.size());
   in.surface_tris = surface_tris_.data();
   in.dt = dt_;
-  in.threads = threads_;
+  in.threads = params_.threads;
   in.topology_version = topology_version_;
   // Friction must see fixed and driven nodes as immovable (contact branch).
   in.constrained = nodes_.constrained.data();
@@ -147,12 +147,12 @@ ContactInput Model::reference_contact_input() const {
 }
 
 const ContactStiffness& Model::reference_contact_stiffness() {
-  if (ref_stiffness_topology_ != topology_version_ || ref_stiffness_reach_ != contact_reach_ ||
-      ref_stiffness_penalty_ != contact_params_.penalty) {
-    ref_stiffness_ = contact_stiffness(contact_params_, reference_contact_input(), contact_reach_);
+  if (ref_stiffness_topology_ != topology_version_ || ref_stiffness_reach_ != params_.contact_reach ||
+      ref_stiffness_penalty_ != params_.contact.penalty) {
+    ref_stiffness_ = contact_stiffness(params_.contact, reference_contact_input(), params_.contact_reach);
     ref_stiffness_topology_ = topology_version_;
-    ref_stiffness_reach_ = contact_reach_;
-    ref_stiffness_penalty_ = contact_params_.penalty;
+    ref_stiffness_reach_ = params_.contact_reach;
+    ref_stiffness_penalty_ = params_.contact.penalty;
   }
   return ref_stiffness_;
 }
@@ -162,7 +162,7 @@ void Model::compute_contact_forces() {
   if (!contact_possible_) return;
   const double detection_before = contact_.timings().detection_s;
   const double t0 = omp_get_wtime();
-  contact_.compute_normal(contact_params_, contact_input(), nodes_.f_con_x.data(), nodes_.f_con_y.data());
+  contact_.compute_normal(params_.contact, contact_input(), nodes_.f_con_x.data(), nodes_.f_con_y.data());
   const double wall = omp_get_wtime() - t0;
   // ContactTimings are read as cumulative seconds since the solver was made.
   const double detection = contact_.timings().detection_s - detection_before;
@@ -225,7 +225,7 @@ void Model::apply_friction(History history) {
     keys = contact_.warm_start_keys();
     stick = contact_.warm_start_forces();
   }
-  const double power = contact_.apply_friction(contact_params_, contact_input(), nodes_.f_x.data(), nodes_.f_y.data());
+  const double power = contact_.apply_friction(params_.contact, contact_input(), nodes_.f_x.data(), nodes_.f_y.data());
   const double detection = contact_.timings().detection_s - detection_before;
   timings_.contact_detection += detection;
   timings_.contact_forces += omp_get_wtime() - t0 - detection;

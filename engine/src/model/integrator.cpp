@@ -30,6 +30,7 @@ void Model::prepare_topology() {
 }
 
 StableStep Model::stable_step() {
+  require_parameters();
   prepare_topology();
   if (!stable_current_) {
     // The mesh's stable step, in its reference configuration: strains are
@@ -44,7 +45,7 @@ StableStep Model::stable_step() {
       reach_x_.push_back(nodes_.x0[i]);
       reach_y_.push_back(nodes_.y0[i]);
     }
-    stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, ext_, body_area0_);
+    stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, params_.external, body_area0_);
     report_added_mass();
     stable_current_ = true;
   }
@@ -54,7 +55,7 @@ StableStep Model::stable_step() {
 bool Model::use_threads() const { return tris_.size() >= kMinParallelTriangles; }
 
 int Model::thread_count() const {
-  return std::min(threads_ > 0 ? threads_ : omp_get_max_threads(), kMaxThreads);
+  return std::min(params_.threads > 0 ? params_.threads : omp_get_max_threads(), kMaxThreads);
 }
 
 void Model::prepare() {
@@ -69,7 +70,7 @@ void Model::step(int64_t n) {
   if (n < 0) bad("n (number of steps) must be >= 0");
   prepare();
   if (!(dt_ > 0.0)) bad("dt is not set: call set(dt=...) with dt > 0 s");
-  if (check_stable_dt_ && dt_ > stable_.dt * kRoundOff)
+  if (params_.check_stable_dt && dt_ > stable_.dt * kRoundOff)
     bad("dt = " + num17(dt_) + " s exceeds the stable step " + num17(stable_.dt) + " s (by " +
         num(100.0 * (dt_ / stable_.dt - 1.0)) + " %; the stable step is recomputed when bond points split): " +
         stable_.describe(tris_.body) +
@@ -84,9 +85,9 @@ void Model::step(int64_t n) {
 void Model::advance() {
   compute_forces(History::commit);
   update_positions();           // (7) central difference, work integration
-  if (sleep_.on) update_sleep();  // bodies woken, bodies at rest put to sleep
+  if (params_.sleep.on) update_sleep();  // bodies woken, bodies at rest put to sleep
   guard_stability();
-  if (contact_possible_ && std::isfinite(contact_reach_) && step_count_ % kReachCheckEvery == 0)
+  if (contact_possible_ && std::isfinite(params_.contact_reach) && step_count_ % kReachCheckEvery == 0)
     guard_contact_reach();
 }
 
@@ -95,7 +96,7 @@ void Model::advance() {
 // close the gap by reach). Checked every kReachCheckEvery steps: a node moves
 // far less than a millimetre in that time.
 void Model::guard_contact_reach() {
-  const double half = 0.5 * contact_reach_;
+  const double half = 0.5 * params_.contact_reach;
   double worst = 0.0;
   for (int32_t i = 0; i < nodes_.size(); ++i) {
     const double dx = nodes_.x[i] - reach_x_[i], dy = nodes_.y[i] - reach_y_[i];
@@ -103,16 +104,16 @@ void Model::guard_contact_reach() {
   }
   if (worst <= half * half) return;
   // the stiffness of the current configuration, for the step and any raise
-  const ContactStiffness now = contact_stiffness(contact_params_, contact_input(), contact_reach_);
+  const ContactStiffness now = contact_stiffness(params_.contact, contact_input(), params_.contact_reach);
   const ContactStableStep c = contact_critical_dt(now, nodes_.mass.data());
   reach_x_ = nodes_.x;
   reach_y_ = nodes_.y;
   const double limit = kTimeStepSafety * c.dt;
-  if (check_stable_dt_ && dt_ > limit * kRoundOff && mass_scaling_dt_ > 0.0) {
+  if (params_.check_stable_dt && dt_ > limit * kRoundOff && params_.mass_scaling_dt > 0.0) {
     raise_contact_masses(now);  // mass scaling is allowed: scale the nodes that now need it
     return;
   }
-  if (check_stable_dt_ && dt_ > limit * kRoundOff)
+  if (params_.check_stable_dt && dt_ > limit * kRoundOff)
     throw InstabilityError(
         "at step " + std::to_string(step_count_) + " (t = " + num(time_) + " s) the blocks have moved " +
         "within contact reach of stiffer boundaries: dt = " + num17(dt_) + " s now exceeds the contact " +
@@ -165,12 +166,12 @@ void Model::update_positions() {
   const int nt = int(partial_.size());
   const int32_t n = nodes_.size();
   const double dt = dt_;
-  const double g = ext_.gravity ? ext_.g : 0.0;
-  const double alpha = local_damping_;
-  const bool sleeping = sleep_.on;
-  const SleepParams sp = sleep_;
+  const double g = params_.external.gravity ? params_.external.g : 0.0;
+  const double alpha = params_.local_damping;
+  const bool sleeping = params_.sleep.on;
+  const SleepParams sp = params_.sleep;
   // the sleep force is a fraction of the weight at the set g, also with gravity off
-  const double g_sleep = ext_.g;
+  const double g_sleep = params_.external.g;
   if (sleeping && body_wake_.size() != size_t(n_bodies())) body_wake_.assign(size_t(n_bodies()), 0);
   uint8_t* body_wake = body_wake_.data();
   const int32_t* node_body = node_body_.data();

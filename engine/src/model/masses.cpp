@@ -70,8 +70,8 @@ void Model::scale_masses() {
   scaled_nodes_ = 0;
   total_mass_phys_ = 0.0;
   for (double m : nodes_.mass_phys) total_mass_phys_ += m;
-  if (!(mass_scaling_dt_ > 0.0)) return;
-  const double need = mass_scaling_dt_ / kTimeStepSafety;
+  if (!(params_.mass_scaling_dt > 0.0)) return;
+  const double need = params_.mass_scaling_dt / kTimeStepSafety;
   std::vector<double>& M = nodes_.mass;
   const std::vector<double>& Mp = nodes_.mass_phys;
   for (int32_t t = 0; t < tris_.size(); ++t) {
@@ -196,7 +196,7 @@ double Model::rescale_velocity(int32_t i, double factor) {
 }
 
 void Model::report_added_mass() {
-  stable_.mass_scaling_dt = mass_scaling_dt_;
+  stable_.mass_scaling_dt = params_.mass_scaling_dt;
   stable_.added_mass = added_mass_;
   stable_.added_mass_fraction = total_mass_phys_ > 0.0 ? added_mass_ / total_mass_phys_ : 0.0;
   stable_.scaled_nodes = scaled_nodes_;
@@ -217,11 +217,11 @@ int32_t Model::reset_contact_masses() {
     after += 0.5 * N.mass[i] * v2;
   }
   energy_.damping += before - after;
-  if (!(contact_possible_ && std::isfinite(contact_reach_) && mass_scaling_dt_ > 0.0)) return 0;
+  if (!(contact_possible_ && std::isfinite(params_.contact_reach) && params_.mass_scaling_dt > 0.0)) return 0;
   reach_x_ = N.x;  // the reach guard measures moves from here
   reach_y_ = N.y;
   // only the nodes that need more than they have
-  return raise_contact_masses(contact_stiffness(contact_params_, contact_input(), contact_reach_));
+  return raise_contact_masses(contact_stiffness(params_.contact, contact_input(), params_.contact_reach));
 }
 
 void Model::set_reach_origin(const std::vector<double>& x, const std::vector<double>& y) {

@@ -157,7 +157,7 @@ int32_t Model::split_off(int32_t node, int32_t body) {
 }
 
 void Model::regather_node(int32_t i) {
-  gather_node(i, any_damping_, ext_.water(), ext_.buoyancy, ext_.drag_on(), ext_.gravity ? ext_.g : 0.0);
+  gather_node(i, any_damping_, params_.external.water(), params_.external.buoyancy, params_.external.drag_on(), params_.external.gravity ? params_.external.g : 0.0);
 }
 
 bool Model::node_touches_body(int32_t node, int32_t body) const {

@@ -21,6 +21,7 @@
 #include "common/mesh_arrays.hpp"
 #include "model/sleeping.hpp"
 #include "model/time_step.hpp"
+#include "model/engine_parameters.hpp"
 
 namespace engine {
 
@@ -60,39 +61,26 @@ class Model {
   // call again to re-derive. dt_fraction() is 0 while an explicit dt is in force.
   void set_dt_fraction(double f);
   double dt_fraction() const { return dt_fraction_; }
-  void set_gravity(bool on, double g);
-  void set_water(bool buoyancy, bool drag, double rho_w, double y_w, double c_w);
-  // Which drag law acts when drag is on (external_forces.hpp); C_d >= 0 is
-  // the form drag coefficient of the quadratic law.
-  void set_drag_model(DragModel model, double C_d);
-  void set_contact(double penalty, double mu);
-  void set_check_stable_dt(bool on) { check_stable_dt_ = on; }
-  void set_check_energy(bool on) { check_energy_ = on; }
-  void set_energy_tolerance(double tol);
-  // Local non-viscous damping (Cundall): each free force component is reduced
-  // by alpha |f| when it pushes along the velocity and raised when against it.
-  // For reaching rest (settling), not for physics; its work is booked as
-  // damping. 0 switches it off. Throws std::invalid_argument outside [0, 1).
-  void set_local_damping(double alpha);
-  void set_threads(int n);
-  // Selective mass scaling: raise the inertial mass of the nodes that limit the
-  // stable step (element or contact limit) until it is at least dt_target;
-  // weight stays physical (Nodes::mass_phys). 0 switches it off (default).
-  // Throws std::invalid_argument unless dt_target >= 0 and finite.
-  void set_mass_scaling(double dt_target);
-  double mass_scaling() const { return mass_scaling_dt_; }
-  // How far (m) a boundary edge looks for the boundaries it can meet when the
-  // contact stable step is bounded (contact_critical_dt); infinite (default):
-  // the whole mesh. With a finite reach the step is re-checked whenever a node
-  // has moved more than reach/2 since the last bound, and a run whose dt no
-  // longer holds stops with an InstabilityError saying so. Throws
-  // std::invalid_argument unless reach > 0.
-  void set_contact_reach(double reach);
-
-  // The sleeping far field (sleeping.hpp): off by default. Throws
-  // std::invalid_argument unless velocity >= 0, force >= 0 (finite) and
-  // quiet_steps >= 1. Switching it on or off wakes every node.
-  void set_sleeping(bool on, double velocity, double force, int32_t quiet_steps);
+  // Every other parameter (engine_parameters.hpp), all at once: checked here,
+  // once, against the registry's ranges (std::invalid_argument naming the
+  // parameter and its range); what a changed value makes stale (stable step,
+  // masses, sleeping state) is dropped. Among them: local damping (Cundall:
+  // each free force component reduced by alpha |f| when it pushes along the
+  // velocity, raised when against it; for reaching rest, its work booked as
+  // damping), selective mass scaling (the inertial mass of the nodes that
+  // limit the stable step raised until it is at least mass_scaling_dt; weight
+  // stays physical, Nodes::mass_phys), the contact reach (how far a boundary
+  // edge looks for the boundaries it can meet when the contact stable step is
+  // bounded; infinite: the whole mesh; with a finite reach the step is
+  // re-checked whenever a node has moved more than reach/2 since the last
+  // bound, and a run whose dt no longer holds stops with an InstabilityError
+  // saying so) and the sleeping far field (sleeping.hpp; switching it on or
+  // off wakes every node). A model runs only once it has been given them.
+  void set_parameters(const EngineParameters& p);
+  const EngineParameters& parameters() const { return params_; }
+  // Throws std::invalid_argument unless set_parameters has been called.
+  void require_parameters() const;
+  double mass_scaling() const { return params_.mass_scaling_dt; }
   // Every node awake, quiet counters reset, pending body wakes cleared and
   // the balance window closed (the next update opens a new one).
   void wake_all();
@@ -105,7 +93,7 @@ class Model {
   // std::invalid_argument on a size or a negative or non-finite value.
   void set_mass_floor(const std::vector<double>& floor);
   // After a phase at a larger mass-scaling step (the settle's dynamic
-  // relaxation) and set_mass_scaling/set_dt back to the smaller one: drops the
+  // relaxation) and mass_scaling_dt (set_parameters) and dt back to the smaller one: drops the
   // mass floors the larger step raised, takes the masses of the current
   // target, books the kinetic energy this changes as damping, and raises the
   // nodes the present configuration needs for the current dt (blocks now
@@ -190,7 +178,7 @@ class Model {
   const Triangles& triangles() const { return tris_; }
   // Node -> triangle corners, in the fixed order of every per-node sum.
   const NodeGather& gather() const { return gather_; }
-  int threads() const { return threads_; }  // 0: OpenMP default
+  int threads() const { return params_.threads; }  // 0: OpenMP default
   // the threads a step's sums are split over (what their rounding depends on)
   int thread_count() const;
   const std::vector<int32_t>& surface_triangles() const { return surface_tris_; }
@@ -203,7 +191,7 @@ class Model {
   const std::vector<ElementMaterial>& element_materials() const { return elem_mat_; }
   const BodyTriangleLists& body_triangles() const { return body_tris_; }
   bool any_damping() const { return any_damping_; }
-  double local_damping() const { return local_damping_; }
+  double local_damping() const { return params_.local_damping; }
   const ContactSolver& contact() const { return contact_; }
   // A checkpoint's friction history (the stick forces the next step starts from).
   void set_contact_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
@@ -213,10 +201,10 @@ class Model {
   double time() const { return time_; }
   int64_t step_count() const { return step_count_; }
   double dt() const { return dt_; }
-  const ExternalParams& external() const { return ext_; }
-  const ContactParams& contact_params() const { return contact_params_; }
-  double energy_tolerance() const { return energy_tolerance_; }
-  bool check_stable_dt() const { return check_stable_dt_; }
+  const ExternalParams& external() const { return params_.external; }
+  const ContactParams& contact_params() const { return params_.contact; }
+  double energy_tolerance() const { return params_.energy_tolerance; }
+  bool check_stable_dt() const { return params_.check_stable_dt; }
   int32_t touching_pairs() const { return contact_.touching_pairs(); }
   int64_t contact_list_builds() const { return contact_.rebuilds(); }  // broad-phase builds so far
   size_t memory_bytes() const;
@@ -301,23 +289,16 @@ class Model {
   bool any_damping_ = false;
 
   std::vector<BoundaryCondition> bcs_;
-  ExternalParams ext_;
-  ContactParams contact_params_;
+  // every parameter but the materials and dt (set_parameters); NaN until set
+  EngineParameters params_;
+  bool parameters_set_ = false;
   ContactSolver contact_;
   double dt_ = 0.0;
   double dt_fraction_ = 0.0;  // 0: dt_ was set explicitly (or not at all)
-  bool check_stable_dt_ = true;
-  bool check_energy_ = true;
-  double energy_tolerance_ = 0.1;
-  double local_damping_ = 0.0;
-  double mass_scaling_dt_ = 0.0;  // 0: off
   double added_mass_ = 0.0;       // sum of mass - mass_phys [kg/m]
   double total_mass_phys_ = 0.0;
   int32_t scaled_nodes_ = 0;
   int32_t raised_nodes_ = 0;      // node mass raises by the reach guard so far (this process)
-  int threads_ = 0;  // 0: OpenMP default
-  SleepParams sleep_;
-  double contact_reach_ = INFINITY;
   std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
   ContactStiffness ref_stiffness_;
   uint64_t ref_stiffness_topology_ = ~uint64_t(0);

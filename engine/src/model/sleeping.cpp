@@ -1,6 +1,8 @@
 // The sleeping far field (sleeping.hpp): its parameters, the body balance
 // window, state for checkpoints and the list of triangles a step computes.
 #include "common/input_errors.hpp"
+#include "common/parameter_range.hpp"
+#include "engine_parameter_ranges.hpp"
 #include "model/model.hpp"
 
 #include <algorithm>
@@ -8,15 +10,10 @@
 
 namespace engine {
 
-void Model::set_sleeping(bool on, double velocity, double force, int32_t quiet_steps) {
-  if (!(velocity >= 0.0) || !std::isfinite(velocity))
-    bad("sleep_velocity must be >= 0 m/s and finite (got " + num(velocity) + ")");
-  if (!(force >= 0.0) || !std::isfinite(force))
-    bad("sleep_force must be >= 0 (a fraction of the weight) and finite (got " + num(force) + ")");
-  if (quiet_steps < 1) bad("sleep_quiet_steps must be >= 1 (got " + std::to_string(quiet_steps) + ")");
-  const bool switched = on != sleep_.on;
-  sleep_ = SleepParams{on, velocity, force, quiet_steps};
-  if (switched) wake_all();  // new thresholds apply to the nodes as they are
+void validate(const SleepParams& p) {
+  check(registry::sleep_velocity, p.velocity);
+  check(registry::sleep_force, p.force);
+  check(registry::sleep_quiet_steps, double(p.quiet_steps));
 }
 
 void Model::wake_all() {
@@ -65,7 +62,7 @@ int32_t Model::asleep_nodes() const {
 }
 
 int32_t Model::awake_triangles() {
-  if (!sleep_.on) return tris_.size();
+  if (!params_.sleep.on) return tris_.size();
   rebuild_awake_triangles();
   return int32_t(awake_tris_.size());
 }
@@ -143,16 +140,16 @@ void Model::update_sleep() {
     open_sleep_window();
     return;
   }
-  if (step_count_ - window_.start_step < sleep_.quiet_steps) return;
+  if (step_count_ - window_.start_step < params_.sleep.quiet_steps) return;
   const double T = time_ - window_.start_time;
-  const double g = ext_.g;  // the sleep force is a fraction of the weight at the set g, also with gravity off
+  const double g = params_.external.g;  // the sleep force is a fraction of the weight at the set g, also with gravity off
   std::vector<double> weight(B, 0.0);
   std::vector<uint8_t> still(B, 1);
   for (int32_t i = 0; i < N.size(); ++i) {
     const int32_t b = node_body_[i];
     weight[b] += N.mass_phys[i] * g;
     // a body with a held or driven node is loaded through it: never asleep
-    if (N.constrained[i] || N.sleep[i] || N.quiet[i] < sleep_.quiet_steps) still[b] = 0;
+    if (N.constrained[i] || N.sleep[i] || N.quiet[i] < params_.sleep.quiet_steps) still[b] = 0;
   }
   std::vector<double> px, py, l;
   body_momenta(window_.cx, window_.cy, px, py, l);
@@ -160,7 +157,7 @@ void Model::update_sleep() {
   bool any = false;
   for (size_t b = 0; b < B; ++b) {
     if (!still[b] || !(T > 0.0)) continue;
-    const double fmax = sleep_.force * weight[b];
+    const double fmax = params_.sleep.force * weight[b];
     const double f = std::hypot(px[b] - window_.px[b], py[b] - window_.py[b]) / T;
     const double moment = std::fabs(l[b] - window_.l[b]) / T;
     if (f < fmax && moment < fmax * std::sqrt(body_area0_[b])) {

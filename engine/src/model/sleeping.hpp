@@ -45,12 +45,16 @@
 
 namespace engine {
 
+// No defaults here: they are the registry's (icerubble/parameters.py).
 struct SleepParams {
   bool on = false;
-  double velocity = 1e-4;   // [m/s]
-  double force = 1e-3;      // fraction of the weight m_phys g [-]
-  int32_t quiet_steps = 100;
+  double velocity = NAN;    // [m/s]
+  double force = NAN;       // fraction of the weight m_phys g [-]
+  int32_t quiet_steps = 0;
 };
+
+// The check of these against the registry's ranges (Model::set_parameters).
+void validate(const SleepParams& p);
 
 // An awake free node's speed after its update: counts the updates in a row
 // it has been slower than the sleep velocity.

@@ -72,8 +72,8 @@ void Model::guard_stability() {
                        std::fabs(E.work_boundary) + std::fabs(E.dissipated());
   const double excess = E.kinetic + E.elastic + E.contact + E.dissipated() - E.initial - E.supplied();
   const bool growth = excess > kGrowthFactor * flows;
-  const bool imbalance = residual > energy_tolerance_ * scale && scale > 0.0;
-  if (check_energy_ && (growth || imbalance)) {
+  const bool imbalance = residual > params_.energy_tolerance * scale && scale > 0.0;
+  if (params_.check_energy && (growth || imbalance)) {
     // Where: the node with the most kinetic energy, the triangle with the
     // highest strain energy density.
     int32_t node = 0, tri = 0;
@@ -92,7 +92,7 @@ void Model::guard_stability() {
         growth ? "stored energy exceeds the energy supplied by " + num(excess) +
                      " J/m, more than 10 x all energy flows so far (" + num(flows) + " J/m)"
                : "balance residual " + num(residual) + " J/m > energy_tolerance " +
-                     num(energy_tolerance_) + " x " + num(scale) + " J/m";
+                     num(params_.energy_tolerance) + " x " + num(scale) + " J/m";
     fail(std::string(which) + " energy grew without an energy source: kinetic " + num(E.kinetic) +
              ", elastic " + num(E.elastic) + ", contact " + num(E.contact) + " J/m; " + test +
              "; largest kinetic energy at the node, largest strain energy density in the triangle below",

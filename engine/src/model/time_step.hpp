@@ -37,7 +37,7 @@ struct StableStep {
   double contact_mass = 0.0;
   double dt_drag = 0.0;
   int32_t drag_body = -1;
-  // Mass scaling (Model::set_mass_scaling): the target step (0: off), the
+  // Mass scaling (EngineParameters::mass_scaling_dt): the target step (0: off), the
   // inertial mass added over the physical mass [kg/m], its fraction of the
   // total physical mass, and how many nodes carry added mass.
   double mass_scaling_dt = 0.0;
