@@ -27,7 +27,7 @@ from icerubble.code_identity import code_version, source_hash
 from icerubble.machine import processor
 from icerubble.files.mesh_file import read_mesh
 from icerubble.run.presets import NUMERICS, scene
-from icerubble.run.punch_through_run import smooth_ramp_table
+from icerubble.run.loading import smooth_ramp_table
 from icerubble.run.scene import Scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

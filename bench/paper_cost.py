@@ -19,7 +19,7 @@ import numpy as np
 from icerubble import parameters as P
 from icerubble.files.mesh_file import read_mesh
 from icerubble.run.presets import NUMERICS, scene
-from icerubble.run.punch_through_run import smooth_ramp_table
+from icerubble.run.loading import smooth_ramp_table
 from icerubble.run.scene import Scene
 from icerubble.run.scene_cache import scene_files
 

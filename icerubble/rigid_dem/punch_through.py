@@ -27,7 +27,8 @@ from .. import _engine
 from ..files.mesh_file import read_mesh
 from ..run.progress import Progress, loading_eta_text, settle_eta_text
 from ..run.checkpoint import checkpoint_path
-from ..run.punch_through_run import ENERGY_EVERY, RunInterrupted, catching_stop_signals
+from ..run.loading import ENERGY_EVERY
+from ..run.punch_through_run import RunInterrupted, catching_stop_signals
 from ..files.recorder import RunRecorder
 from . import checkpoint
 from .energy import RigidLedger

@@ -111,3 +111,14 @@ def loading_eta_text(t, target_travel, v_final, ramp_time, dt, steps_per_s):
 def settle_eta_text(t, max_time, dt, steps_per_s):
     s = settle_eta_bound(t, max_time, dt, steps_per_s)
     return None if s is None else f"<= {s:.0f} s (settle_max_time {max_time:g} s)"
+
+
+def bond_text(model, sleeping=False):
+    """The bond points split and failed so far, and (sleeping far field on)
+    the share of triangles awake: the tail of a progress line."""
+    c = model.bonds.counts
+    text = f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
+    if sleeping:
+        z = model.sleep_counts()
+        text += f"  triangles awake {100.0 * z['awake_triangles'] / z['triangles']:.0f} %"
+    return text

@@ -10,6 +10,12 @@
     write   - one self-describing HDF5 result (docs/results_format.md) and
               ParaView snapshots (VTU + PVD) beside it.
 
+Each phase has a module of its own: run/settle.py, run/loading.py,
+run/output.py; the shared rest states run/rest_states.py; the run's progress
+(what a checkpoint saves) run/run_state.py. This driver holds the run's
+scene, parameters and options, its entry points (run, settle_only,
+run_from_rest), the boundary conditions of each phase and the checkpoints.
+
 A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
 the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
@@ -27,31 +33,18 @@ import time
 import h5py
 import numpy as np
 
-from .. import engine
 from . import checkpoint as ckpt
 from . import rest_states as RS
 from . import run_identity as RI
-from ..files.h5io import open_complete
 from ..files.mesh_file import mesh_geometry, read_mesh
 from .. import parameters as P
 from .presets import SCENES
-from .progress import Progress, loading_eta_text
 from ..files.recorder import RunRecorder
 from .run_state import RunState
 from .settle import SETTLE_LOCAL_DAMPING, Settle
-from .split_traction import point_split_traction
+from .loading import Loading, smooth_ramp_table
+from .output import Output
 from .scene import Scene
-from ..files.vtu import write_pvd, write_vtu
-
-# Indenter travel between two F samples at full speed (docs/model.md §4 asks <= 0.1 mm).
-FORCE_SAMPLE_TRAVEL = 0.05e-3
-ENERGY_EVERY = 10          # F samples per energy sample
-RAMP_SAMPLES = 2001        # points of the tabulated indenter ramp
-# Below this travel per sample (the first samples of the smooth ramp move
-# ~1e-15 m, positions' round-off) the mean force work/travel is meaningless:
-# such samples take the instantaneous force; 1 nm keeps the round-off < 1e-6.
-MEAN_FORCE_MIN_TRAVEL = 1e-9
-
 
 # What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
 # node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
@@ -87,16 +80,6 @@ def catching_stop_signals(run):
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
-
-
-def smooth_ramp_table(t0, v_final, ramp_time, n=RAMP_SAMPLES):
-    """The engine's smooth indenter ramp (engine.ramp_velocity: zero speed and
-    acceleration at the start, so the rubble sees no inertial load, paper
-    2.4) started at t0 instead of 0, as a velocity table."""
-    if ramp_time <= 0.0:
-        return np.array([t0, t0 + 1e-12]), np.array([0.0, v_final])
-    tau = np.linspace(0.0, ramp_time, n)
-    return t0 + tau, engine.ramp_velocity(tau, v_final, ramp_time)
 
 
 _SETTLE = {k: P.REGISTRY[k].default for k in P.SETTLE_OPTIONS}
@@ -236,6 +219,8 @@ class PunchThrough:
                            body=self.mesh["body"], body_kind=self.scene.body_kind)
         self.recorder = RunRecorder(self.params, mesh_arrays, self.scene.bond_points, pile_attrs, self.meta)
         self.settler = Settle(self)   # the settle (run/settle.py) and its node -> body maps
+        self.loading = Loading(self)  # the loading (run/loading.py)
+        self.output = Output(self)    # snapshots, bond events, the result (run/output.py)
         self.state = RunState()     # the run's progress: what a checkpoint saves of the driver
         self._stop_signal = None    # set by SIGTERM / SIGUSR1 / SIGINT while running
         self.rest_state = None      # run_from_rest: the rest state this run loaded from (its settle was that run's)
@@ -275,68 +260,21 @@ class PunchThrough:
             print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
                   f"phase {self.state.phase}", flush=True)
         elif self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
-            self._load_shared_rest()
+            RS.load_shared(self)
         self._last_ckpt = time.perf_counter()
         t0 = time.perf_counter()
         if self.state.phase == "settle":
             self.settle()
             if self.shared_rest is not None:   # for the runs that differ only in what the settle never read
-                self._share_rest()
+                RS.share(self)
         t1 = time.perf_counter()
-        self.load()
+        self.loading.run()
         # wall times of this process (a resumed run: from its resume)
         self.recorder.meta.update(wall_settle_s=t1 - t0, wall_load_s=time.perf_counter() - t1)
-        self.write()
+        self.output.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path
-
-    def _share_rest(self):
-        """Leave the rest state for the runs that differ from this one only in
-        what the settle never reads. Runs settling at once (a study's tasks)
-        each write their own part file; the files are equal bit for bit, the
-        last rename wins. A folder that cannot be written costs only the reuse."""
-        path, ident = self.shared_rest
-        if os.path.exists(path) and not self._shared_rest_damaged:
-            return
-        try:
-            ckpt.save(self, path, driver_attrs=dict(settle_identity=ident), shared=True)
-        except OSError as e:
-            print(f"[punch-through] warning: the rest state could not be shared as {path} ({e}); "
-                  "the run goes on", flush=True)
-            return
-        print(f"[punch-through] rest state shared as {path}", flush=True)
-
-    def _load_shared_rest(self):
-        """Start loading from the shared rest state (rest_states.py), after
-        checking that it was made by the same settle."""
-        path, ident = self.shared_rest
-        try:
-            with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
-                ckpt.check(f)
-                stored = f["driver"].attrs.get("settle_identity")
-                made_by = f.attrs.get("code_version", "")
-        except (ValueError, OSError) as e:
-            # files are written whole and renamed, so only outside damage does
-            # this: the run settles itself and writes the rest state again
-            print(f"[punch-through] warning: the shared rest state cannot be read ({e}); this run "
-                  "settles itself and replaces it", flush=True)
-            self._shared_rest_damaged = True
-            return
-        stored = stored.decode() if isinstance(stored, bytes) else stored
-        if stored != ident:
-            why = "; ".join(RI.differences(json.loads(stored), json.loads(ident))) if stored else \
-                "it records no settle identity"
-            raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
-                             "move it away")
-        ckpt.restore(self, path, shared=True)
-        # the code that settled, for people (the key holds its source hash, code_identity.py)
-        made_by = made_by.decode() if isinstance(made_by, bytes) else str(made_by)
-        self.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1,
-                                  rest_state_code_version=made_by)
-        self.rest_state = path
-        print(f"[punch-through] loads from the shared rest state {path} (settled by an earlier run that "
-              "differs only in what the settle never reads)", flush=True)
 
     def settle_only(self, rest_path):
         """Settle (resuming this run's own checkpoint if there is one) and
@@ -379,9 +317,9 @@ class PunchThrough:
             self.recorder.meta.update(rest_state_from=os.path.abspath(rest_path), rest_state_dt=rest_dt)
             self.rest_state = rest_path
             self._last_ckpt = t0 = time.perf_counter()
-            self.load()
+            self.loading.run()
             self.recorder.meta.update(wall_load_s=time.perf_counter() - t0)
-            self.write()
+            self.output.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path
@@ -435,125 +373,3 @@ class PunchThrough:
     def block_displacements(self):
         """(ids, u_x, u_y) [m] of each block's node centroid, as block_moves."""
         return self.settler.block_displacements()
-
-    def load(self):
-        m, p, o = self.model, self.params, self.options
-        dt = self.model.dt
-        chunk = max(1, int(FORCE_SAMPLE_TRAVEL / (p["v_final"] * dt)))
-        prog = Progress("punch-through", m.step_count, every_s=o.progress_every_s,
-                        eta=lambda t, rate: loading_eta_text(t, p["target_travel"], p["v_final"],
-                                                             p["ramp_time"], dt, rate))
-        # force samples of the load loop so far (the first row is the rest
-        # force of settle): a resumed run samples the energy at the same ones
-        k = len(self.recorder.force_rows) - 1
-        # F is sampled as the mean force over each interval, work done on the
-        # indenter / travel: the rubble rattles at its contact frequencies
-        # (~1 kHz on the small scene), far above the sampling rate, and an
-        # instantaneous sample would alias that into the record (a load cell
-        # reads the mean). The instantaneous value is kept beside it.
-        w_prev, y_prev = m.energies()["work_boundary"], self.travel()
-        b_prev = self.scene.indenter_net_buoyancy()
-        while True:
-            e0 = m.timings()["element_steps"]
-            m.step(chunk)
-            self.state.load_steps += chunk
-            self.state.load_element_steps += m.timings()["element_steps"] - e0
-            y_I = self.travel()
-            t_rel = m.time - self.state.t_load
-            F_now = self.scene.indenter_force()
-            w = m.energies()["work_boundary"]
-            b_now = self.scene.indenter_net_buoyancy()   # linear in travel: mean of the ends
-            F = F_now
-            if y_I - y_prev > MEAN_FORCE_MIN_TRAVEL:
-                F = (w - w_prev) / (y_I - y_prev) - 0.5 * (b_prev + b_now)
-            w_prev, y_prev, b_prev = w, y_I, b_now
-            self.recorder.force(t_rel, y_I, F, F_now)
-            k += 1
-            if k % ENERGY_EVERY == 0:
-                self.recorder.energy(t_rel, m.energies())
-            if self.recorder.wants_snapshot(y_I):
-                self.snapshot(t_rel, y_I)
-            prog.update(m.step_count, t_rel, lambda: self._load_text(y_I, F))
-            if y_I >= p["target_travel"]:
-                break
-            self._maybe_checkpoint()
-        prog.update(m.step_count, m.time - self.state.t_load, self._load_text(y_I, F), force=True)
-        self.recorder.energy(m.time - self.state.t_load, m.energies())
-
-    def _load_text(self, y_I, F):
-        return f"y_I {y_I * 1e3:8.3f} mm  F {F / 1e3:9.3f} kN/m  {self._bond_text()}"
-
-    def _bond_text(self):
-        c = self.model.bonds.counts
-        text = f"bonds split {c['split']}/{c['points']} failed {c['failed']}"
-        if self.state.phase == "load" and self.options.sleep is not None:
-            z = self.model.sleep_counts()
-            text += f"  triangles awake {100.0 * z['awake_triangles'] / z['triangles']:.0f} %"
-        return text
-
-    def bond_events(self):
-        """The engine's bond event log with times from the start of loading
-        and the indenter travel at each event (interpolated in the F record)."""
-        ev = self.model.bonds.events()
-        fr = np.array(self.recorder.force_rows, dtype=float).reshape(-1, 4)
-        out = {}
-        for kind in ("split", "fail"):
-            t = np.asarray(ev[f"t_{kind}"], dtype=float) - self.state.t_load
-            y = np.full_like(t, np.nan)
-            # t < 0: during the settle (settle_bonds='checked'), part of the
-            # initial state, at no travel: y_I stays NaN, t says when
-            ok = np.isfinite(t) & (t >= 0.0)
-            if len(fr) >= 2:
-                y[ok] = np.interp(t[ok], fr[:, 0], fr[:, 1])
-            out[f"t_{kind}"], out[f"y_I_{kind}"] = t, y
-        out["delta_n_fail"] = ev["delta_n_fail"]
-        out["delta_t_fail"] = ev["delta_t_fail"]
-        out["mode"] = ev["mode"]
-        bond_mu = self.model.bond_params["mu"]   # None: eq 6 takes the contact friction
-        out["split_tn"], out["split_tt"] = point_split_traction(
-            ev["pair_point"], ev["pair_split_tn"], ev["pair_split_tt"], self.recorder.bp.sigma_cr,
-            self.recorder.bp.tau_cr, self.model.params["mu"] if bond_mu is None else bond_mu)
-        return out
-
-    def snapshot(self, t_rel, y_I):
-        m = self.model
-        self.recorder.snapshot(t_rel, y_I, m.positions, m.triangles)
-        if self.options.vtu:
-            base = os.path.basename(self.out_path)[:-3]
-            d = self.out_path[:-3] + "_fields"
-            os.makedirs(d, exist_ok=True)
-            name = f"{base}_{len(self.state.vtu_entries):04d}.vtu"
-            u = m.positions - m.reference_positions
-            s = m.stress
-            write_vtu(os.path.join(d, name), m.positions, m.triangles,
-                      point_data={"u_total": u},
-                      cell_data={"body": m.body, "body_kind": self.scene.body_kind[m.body].astype(np.int8),
-                                 "u_since_loading": self.recorder.snapshots[-1][2],
-                                 "stress": np.asarray(s)})
-            self.state.vtu_entries.append((y_I, name))
-            # the collection is written once the result is (write()): a
-            # killed run leaves .vtu pieces but no .pvd that looks complete
-
-    def write(self):
-        if self.options.mass_scaling_dt is not None:
-            # the contact reach guard may have raised nodes mid-run (engine masses.cpp)
-            st = self.model.stable_time_step()
-            self.recorder.meta.update(added_mass_fraction_end=st["added_mass_fraction"],
-                                      scaled_nodes_end=st["scaled_nodes"])
-        self.recorder.meta.update(F_at_rest=self.state.F_at_rest, settle_time=self.state.settle_time,
-                                  settle_max_speed=self.state.settle_max_speed,
-                                  settle_max_block_move=self.state.settle_max_block_move,
-                                  settle_splits=int(self.state.settle_splits),
-                                  load_steps=int(self.state.load_steps), n_triangles=int(self.model.n_triangles),
-                                  load_element_steps=int(self.state.load_element_steps),
-                                  sleep=json.dumps(self.options.sleep))
-        # a run loaded from another run's rest state (run_from_rest) did not
-        # settle at its own settle step; one from a shared rest state did (it is in the key)
-        if self.options.settle_mass_scaling_dt is not None and (
-                self.rest_state is None or self.recorder.meta.get("rest_state_shared")):
-            self.recorder.meta.update(settle_mass_scaling_dt=self.options.settle_mass_scaling_dt)
-        self.recorder.bond_events(self.bond_events())
-        self.recorder.write(self.out_path)
-        if self.options.vtu and self.state.vtu_entries:
-            base = os.path.basename(self.out_path)[:-3]
-            write_pvd(os.path.join(self.out_path[:-3] + "_fields", base + ".pvd"), self.state.vtu_entries)

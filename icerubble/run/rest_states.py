@@ -23,10 +23,13 @@ checks both: the rest states of two runs differing in every SETTLE_FREE
 parameter are equal bit for bit, and a run from another's rest state writes
 the result of its own settle.
 """
+import json
 import os
 
 from .. import parameters as P
 from ..code_identity import source_hash
+from ..files.h5io import open_complete
+from . import checkpoint as ckpt
 from . import run_identity as RI
 
 # Parameters the settle does not read (see above), and the settle's own
@@ -60,3 +63,53 @@ def rest_state_path(rest_dir, mesh_path, ident):
     stem = stem[:-3] if stem.endswith(".h5") else stem
     stem = stem[:-5] if stem.endswith("_mesh") else stem
     return os.path.join(os.fspath(rest_dir), f"{stem}_rest_{RI.run_id(ident)}.checkpoint.h5")
+
+
+def share(run):
+    """Leave the rest state of PunchThrough `run` (at the start of its
+    loading) for the runs that differ from it only in what the settle never
+    reads. Runs settling at once (a study's tasks) each write their own part
+    file; the files are equal bit for bit, the last rename wins. A folder that
+    cannot be written costs only the reuse."""
+    path, ident = run.shared_rest
+    if os.path.exists(path) and not run._shared_rest_damaged:
+        return
+    try:
+        ckpt.save(run, path, driver_attrs=dict(settle_identity=ident), shared=True)
+    except OSError as e:
+        print(f"[punch-through] warning: the rest state could not be shared as {path} ({e}); "
+              "the run goes on", flush=True)
+        return
+    print(f"[punch-through] rest state shared as {path}", flush=True)
+
+
+def load_shared(run):
+    """Start PunchThrough `run`'s loading from its shared rest state, after
+    checking that it was made by the same settle."""
+    path, ident = run.shared_rest
+    try:
+        with open_complete(path, ckpt.CHECKPOINT_FORMAT) as f:
+            ckpt.check(f)
+            stored = f["driver"].attrs.get("settle_identity")
+            made_by = f.attrs.get("code_version", "")
+    except (ValueError, OSError) as e:
+        # files are written whole and renamed, so only outside damage does
+        # this: the run settles itself and writes the rest state again
+        print(f"[punch-through] warning: the shared rest state cannot be read ({e}); this run "
+              "settles itself and replaces it", flush=True)
+        run._shared_rest_damaged = True
+        return
+    stored = stored.decode() if isinstance(stored, bytes) else stored
+    if stored != ident:
+        why = "; ".join(RI.differences(json.loads(stored), json.loads(ident))) if stored else \
+            "it records no settle identity"
+        raise ValueError(f"shared rest state {path} was not made by this run's settle ({why}): "
+                         "move it away")
+    ckpt.restore(run, path, shared=True)
+    # the code that settled, for people (the key holds its source hash, code_identity.py)
+    made_by = made_by.decode() if isinstance(made_by, bytes) else str(made_by)
+    run.recorder.meta.update(rest_state_from=os.path.abspath(path), rest_state_shared=1,
+                             rest_state_code_version=made_by)
+    run.rest_state = path
+    print(f"[punch-through] loads from the shared rest state {path} (settled by an earlier run that "
+          "differs only in what the settle never reads)", flush=True)

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .progress import Progress, settle_eta_text
+from .progress import Progress, bond_text, settle_eta_text
 
 SETTLE_CHECK_INTERVAL = 2e-3  # s simulated between two at-rest checks
 SETTLE_LOCAL_DAMPING = 0.7     # Cundall damping while settling (YADE's default is 0.2)
@@ -172,7 +172,7 @@ class Settle:
             t_rel = m.time - t_start
             prog.update(m.step_count, t_rel, lambda: f"max speed {vmax:.2g} m/s (at rest < {o.settle_velocity:g})"
                         f"  out of balance {imbalance:.2g} (< {o.settle_accel:g})"
-                        + (f"  {self.driver._bond_text()}" if checked else ""))
+                        + (f"  {bond_text(m)}" if checked else ""))
             # at rest = slow AND in balance: a low speed alone is also what the
             # first steps after switching gravity on look like; a chunk in which
             # points split is not at rest (and its momenta were summed over the
