@@ -51,7 +51,7 @@ class Parameter:
     choices: tuple = None
     doc: str = ""
     group: str = "engine"
-    kind: str = "number"      # number, flag (True/False), whole (an integer), choice
+    kind: str = "number"      # number, flag (True/False), whole (an integer), choice, text
     inf_ok: bool = False      # a number may be +inf (contact_reach: the whole mesh)
     table: bool = True        # a column of a study table (validate takes it)
     identity: bool = True     # part of the run identity (run_identity.identity)
@@ -70,6 +70,8 @@ class Parameter:
             return "one of " + ", ".join(repr(c) for c in self.choices)
         if self.kind == "flag":
             return "True or False"
+        if self.kind == "text":
+            return "text"
         if self.kind == "whole":
             return f"a whole number >= {self.lo:g}" + ("" if self.hi is None else f" and <= {self.hi:d}")
         left = "(" if self.lo_open or self.lo is None else "["
@@ -211,6 +213,54 @@ REGISTRY = {
 }
 
 
+# Phase 1's parameters (yade_scripts/make_pile.py: the pile, made in YADE),
+# declared here beside the run's: a pile table's columns, their defaults (the
+# demo pile's) and ranges. domain_width and keel_depth here are what phase 1
+# aims at; the run's (group mesh) are what the mesh it made measures. Phase 1
+# also reads the run registry's rho_i, rho_w, g and layer_thickness (PILE_SHARED).
+PILE_ONLY = dict(group="pile", table=False, identity=False, settle=False)
+PILE = {
+    "seed": Parameter(1, "-", lo=0, kind="whole", **PILE_ONLY,
+                      doc="random generator seed (block sizes, tilts, velocities)"),
+    "domain_width": Parameter(10.0, "m", **POS, **PILE_ONLY, doc="keel width between the side walls (paper: 50)"),
+    "n_blocks": Parameter(0, "-", lo=0, kind="whole", **PILE_ONLY,
+                          doc="number of blocks; 0: from keel_depth and porosity_guess"),
+    "keel_depth": Parameter(1.8, "m", **POS, **PILE_ONLY, doc="target keel depth when n_blocks = 0 (paper: ~4)"),
+    "porosity_guess": Parameter(0.25, "-", lo=0.0, hi=0.95, **PILE_ONLY,
+                                doc="porosity used only to count blocks for keel_depth (paper: ~0.25)"),
+    "t_min": Parameter(0.2, "m", **POS, **PILE_ONLY, doc="block thickness range, lower end (paper Table 1)"),
+    "t_max": Parameter(0.4, "m", **POS, **PILE_ONLY, doc="block thickness range, upper end (>= t_min)"),
+    "l_min": Parameter(0.6, "m", **POS, **PILE_ONLY, doc="block length range, lower end (>= t_max; paper Table 1)"),
+    "l_max": Parameter(1.8, "m", **POS, **PILE_ONLY, doc="block length range, upper end (>= l_min)"),
+    "max_tilt": Parameter(30.0, "deg", lo=0.0, hi=90.0, **PILE_ONLY, doc="initial random tilt range +-"),
+    "v_max": Parameter(0.2, "m/s", **NONNEG, **PILE_ONLY, doc="initial random speed (uniform direction)"),
+    "w_max": Parameter(0.5, "rad/s", **NONNEG, **PILE_ONLY, doc="initial random spin range +-"),
+    "mu_settle": Parameter(0.05, "-", lo=0.0, hi=2.0, **PILE_ONLY,
+                           doc="friction coefficient while the blocks rise and settle"),
+    "mu_hold": Parameter(-1.0, "-", hi=2.0, **PILE_ONLY,
+                         doc="then at rest under this friction (<= mu_settle) with face contacts frozen; "
+                             "< 0: no hold stage"),
+    "hold_bond_length": Parameter(0.05, "m", **POS, **PILE_ONLY,
+                                  doc="a contact this long is a face contact (the mesher's min_bond_length)"),
+    "hold_from": Parameter("", "-", kind="text", **PILE_ONLY,
+                           doc="a pile file: skip the rise, hold its blocks (its own parameters are kept)"),
+    "E_settle": Parameter(2e6, "Pa", **POS, **PILE_ONLY,
+                          doc="contact Young's modulus for settling (k_n = E/2 per m^3)"),
+    "damping": Parameter(0.5, "-", lo=0.0, hi=0.99, **PILE_ONLY, doc="Cundall local damping of NewtonIntegrator"),
+    "dt_safety": Parameter(0.5, "-", lo=0.0, hi=1.0, lo_open=True, **PILE_ONLY,
+                           doc="fraction of the critical step of a block chain"),
+    "ke_per_block": Parameter(1e-4, "J/m", **POS, **PILE_ONLY,
+                              doc="settled when kinetic energy / n_blocks stays below this"),
+    "check_interval": Parameter(0.25, "s", **POS, **PILE_ONLY, doc="simulated time between kinetic-energy checks"),
+    "n_quiet": Parameter(4, "-", lo=1, kind="whole", **PILE_ONLY, doc="consecutive quiet checks required"),
+    "max_time": Parameter(300.0, "s", **POS, **PILE_ONLY,
+                          doc="simulated time after which phase 1 gives up (writes settled=0)"),
+    "out": Parameter("", "-", kind="text", **PILE_ONLY,
+                     doc="output file; '' -> pile_<description>.h5 or pile.h5"),
+}
+PILE_SHARED = ("rho_i", "rho_w", "g", "layer_thickness")
+
+
 def _select(**flags):
     return {k: p for k, p in REGISTRY.items() if all(getattr(p, f) == v for f, v in flags.items())}
 
@@ -266,6 +316,10 @@ def check_value(name, value, spec=None):
         return bool(value)
     if spec.kind == "whole":
         return require_whole(name, value, lo=int(spec.lo), hi=spec.hi)
+    if spec.kind == "text":
+        if not isinstance(value, str):
+            raise ValueError(f"parameter {name}={value!r} must be text")
+        return value
     # True is 1 to float(): a table's `mu True` would run at mu = 1
     if isinstance(value, bool) or type(value).__name__ == "bool_":
         raise ValueError(f"parameter {name}={value!r} is a boolean, not a number; valid range "
@@ -371,7 +425,7 @@ def docs_table():
             "|---|---|---|---|---|---|---|---|---|"]
     yes = {True: "yes", False: "no"}
     for group in GROUPS:
-        for k, p in REGISTRY.items():
+        for k, p in (PILE if group == "pile" else REGISTRY).items():
             if p.group != group:
                 continue
             rows.append(f"| `{k}` | {group} | {p.default!r} | {p.unit} | {p.range_text()} | {yes[p.table]} | "
@@ -396,6 +450,8 @@ C++ engine checks (written into it by the build) and this table derive.
   geometry (keel_depth = 4.0 whatever the mesh): the same run has another run id today.
 - **settle reads**: no: the settle never reads it (rest_states.SETTLE_FREE), so runs
   differing only in these share a rest state.
+- **group pile**: phase 1's (`yade_scripts/make_pile.py`), the columns of a pile table;
+  phase 1 also reads `rho_i`, `rho_w`, `g` and `layer_thickness` from the run's.
 - **group mesh**: refused as a table column and by `validate`, with a message naming
   the scenes: to change the geometry, pick a scene (icerubble/run/presets.py).
   A result's /parameters records the geometry as measured on the mesh.

@@ -55,7 +55,7 @@ sys.path.insert(0, _ROOT)
 from icerubble import exit_status, machine
 from icerubble.files.pile_file import read_pile, write_pile
 from icerubble.geometry import pile
-from icerubble.parameters import GRAVITY, LAYER_THICKNESS, RHO_I, RHO_W, require_range, require_whole
+from icerubble.parameters import PILE, PILE_SHARED, REGISTRY, check_value, require_range
 from icerubble.study.table_check import reader_problems
 
 # every touching pair prints a warning each step otherwise (docs/yade_notes.md)
@@ -71,32 +71,10 @@ if os.environ.get("YADE_BATCH"):
               file=sys.stderr)
         sys.exit(exit_status.USAGE)   # bad input, before any work (icerubble/exit_status.py)
 
-utils.readParamsFromTable(
-    seed=1,                # random generator seed (block sizes, tilts, velocities)
-    domain_width=10.0,     # m, keel width between the side walls (paper: 50)
-    n_blocks=0,            # number of blocks; 0: from keel_depth and porosity_guess
-    keel_depth=1.8,        # m, target keel depth when n_blocks = 0 (paper: ~4)
-    porosity_guess=0.25,   # porosity used only to count blocks for keel_depth (paper: ~0.25)
-    t_min=0.2, t_max=0.4,  # m, block thickness range (paper Table 1)
-    l_min=0.6, l_max=1.8,  # m, block length range (paper Table 1)
-    max_tilt=30.0,         # deg, initial random tilt range +-
-    v_max=0.2,             # m/s, initial random speed (uniform direction)
-    w_max=0.5,             # rad/s, initial random spin range +-
-    mu_settle=0.05,        # friction coefficient while the blocks rise and settle
-    mu_hold=-1.0,          # then at rest under this friction with face contacts frozen; < 0: no hold stage
-    hold_bond_length=0.05, # m, a contact this long is a face contact (the mesher's min_bond_length)
-    hold_from='',          # a pile file: skip the rise, hold its blocks (its own parameters are kept)
-    E_settle=2e6,          # Pa, contact Young's modulus for settling (k_n = E/2 per m^3)
-    damping=0.5,           # Cundall local damping of NewtonIntegrator, [0, 1)
-    dt_safety=0.5,         # fraction of the critical step of a block chain (see below)
-    ke_per_block=1e-4,     # J/m, settled when kinetic energy / n_blocks stays below this
-    check_interval=0.25,   # s simulated between kinetic-energy checks
-    n_quiet=4,             # consecutive quiet checks required
-    max_time=300.0,        # s simulated: give up (writes settled=0) after this
-    rho_i=RHO_I, rho_w=RHO_W, g=GRAVITY, layer_thickness=LAYER_THICKNESS,
-    out='',                # output file; '' -> pile_<description>.h5 or pile.h5
-    noTableOk=True,
-)
+# the columns a pile table may have and their defaults (the demo pile's):
+# the registry's, icerubble/parameters.py (PILE, and the run's PILE_SHARED)
+utils.readParamsFromTable(noTableOk=True, **{k: p.default for k, p in PILE.items()},
+                          **{k: REGISTRY[k].default for k in PILE_SHARED})
 from yade.params import table as P  # noqa: E402
 
 try:  # O.reset() wipes O.tags: keep the batch description now
@@ -106,35 +84,19 @@ except KeyError:
 
 
 def validate(P):
-    r = require_range
-    require_whole("seed", P.seed, 0)   # counts and seeds: int() would read 1.5 or True as 1
-    r("domain_width (m)", P.domain_width, 0.0, lo_open=True)
-    require_whole("n_blocks", P.n_blocks, 0)
-    r("keel_depth (m)", P.keel_depth, 0.0, lo_open=True)
-    r("porosity_guess", P.porosity_guess, 0.0, 0.95)
+    """Each parameter against its registry range, then what ties them together."""
+    for k, spec in PILE.items():
+        check_value(k, getattr(P, k), spec)
+    for k in PILE_SHARED:
+        check_value(k, getattr(P, k))
     pile.validate_block_sizes(P.t_min, P.t_max, P.l_min, P.l_max)
-    r("max_tilt (deg)", P.max_tilt, 0.0, 90.0)
-    r("v_max (m/s)", P.v_max, 0.0)
-    r("w_max (rad/s)", P.w_max, 0.0)
-    r("mu_settle", P.mu_settle, 0.0, 2.0)
     if P.mu_hold >= 0.0:
-        r("mu_hold", P.mu_hold, 0.0, P.mu_settle)   # a hold at more friction holds nothing more
-    r("hold_bond_length (m)", P.hold_bond_length, 0.0, lo_open=True)
+        require_range("mu_hold", P.mu_hold, 0.0, P.mu_settle)   # a hold at more friction holds nothing more
     if P.hold_from and not os.path.isfile(P.hold_from):
         raise ValueError(f"hold_from = {P.hold_from!r} is not a file")
     if P.hold_from and P.mu_hold < 0.0:
         raise ValueError("hold_from needs mu_hold >= 0 (the friction to hold its blocks at)")
-    r("E_settle (Pa)", P.E_settle, 0.0, lo_open=True)
-    r("damping", P.damping, 0.0, 0.99)
-    r("dt_safety", P.dt_safety, 0.0, 1.0, lo_open=True)
-    r("ke_per_block (J/m)", P.ke_per_block, 0.0, lo_open=True)
-    r("check_interval (s)", P.check_interval, 0.0, lo_open=True)
-    require_whole("n_quiet", P.n_quiet, 1)
-    r("max_time (s)", P.max_time, 0.0, lo_open=True)
-    r("rho_i (kg/m^3)", P.rho_i, 0.0, lo_open=True)
-    r("rho_w (kg/m^3)", P.rho_w, P.rho_i, lo_open=True)  # blocks must float
-    r("g (m/s^2)", P.g, 0.0, lo_open=True)
-    r("layer_thickness (m)", P.layer_thickness, 0.0, lo_open=True)
+    require_range("rho_w (kg/m^3)", P.rho_w, P.rho_i, lo_open=True)  # blocks must float
 
 
 def prism(mat, corners_xy, fixed=False):
