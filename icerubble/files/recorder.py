@@ -157,3 +157,35 @@ class RunRecorder:
             write_dataset(eg, "t", er[:, 0], "s")
             for i, k in enumerate(ENERGY_TERMS):
                 write_dataset(eg, k, er[:, 1 + i], "J/m")
+
+
+def write_recorder_state(group, s):
+    """A recorder's state (RunRecorder.state()) into an HDF5 group: what a
+    checkpoint of either model keeps of its record so far."""
+    group.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 4))
+    group.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(-1, 1 + len(ENERGY_TERMS)))
+    group.create_dataset("pending_snaps", data=np.array(s["pending_snaps"], float))
+    group.create_dataset("reference_nodes", data=s["reference_nodes"])
+    group.create_dataset("centroid0", data=s["centroid0"])
+    b = group.create_group("bonds")
+    for k, v in s["bonds"].items():
+        b.create_dataset(k, data=v)
+    sn = group.create_group("snapshots")
+    for i, (t, y, ue, un) in enumerate(s["snapshots"]):
+        g = sn.create_group(f"{i:04d}")
+        g.attrs["t"], g.attrs["y_I"] = t, y
+        g.create_dataset("u_elem", data=ue)
+        g.create_dataset("u_node", data=un)
+
+
+def read_recorder_state(group):
+    """Inverse of write_recorder_state: a state RunRecorder.restore takes."""
+    r = group
+    return dict(force_rows=[tuple(row) for row in r["force_rows"][...]],
+                energy_rows=[tuple(row) for row in r["energy_rows"][...]],
+                pending_snaps=list(r["pending_snaps"][...]),
+                reference_nodes=r["reference_nodes"][...], centroid0=r["centroid0"][...],
+                bonds={k: r["bonds"][k][...] for k in r["bonds"]},
+                snapshots=[(r["snapshots"][k].attrs["t"], r["snapshots"][k].attrs["y_I"],
+                            r["snapshots"][k]["u_elem"][...], r["snapshots"][k]["u_node"][...])
+                           for k in sorted(r["snapshots"])])

@@ -13,13 +13,13 @@ checkpoint. It is refused for a run of other parameters or another ridge,
 or written by other code (code_identity.py), before anything is loaded.
 """
 import json
-import pickle
 
 import numpy as np
 from yade.wrapper import O
 
 from ..code_identity import refuse_other_code
-from ..files.h5io import AtomicH5, open_complete
+from ..files.h5io import AtomicH5, open_complete, read_tree, write_tree
+from ..files.recorder import read_recorder_state, write_recorder_state
 
 FORMAT = "icerubble rigid-dem checkpoint"
 
@@ -29,25 +29,56 @@ DRIVER_KEYS = ("t_load", "y0", "work", "y_prev", "F_prev", "y_sample", "t_sample
                "wall_load_s")
 
 
+# the driver's attributes that are pose pairs (positions (n, 2), angles (n,))
+POSE_KEYS = ("ref", "body0")
+
+
 def save(run, path):
+    """Every state as HDF5 groups, datasets and attributes (no pickled
+    objects: a checkpoint is data, read back only as data)."""
     c = run.coupling
-    state = dict(driver={k: getattr(run, k) for k in DRIVER_KEYS},
-                 recorder=run.rec.state(),
-                 ledger=dict(vars(run.ledger)),
-                 friction=(np.array(c.friction.keys), np.array(c.friction.forces)),
-                 bonds=c.bonds.history(),
-                 # (the bodies' start poses, the water's polygons and the bonds'
-                 # anchors are build()'s, made again the same by the resumed run)
-                 coupling=dict(dry=c.dry.copy(), degenerate=c.degenerate, keep_terms=c.keep_terms,
-                               drag=c.water.drag),
-                 newton_damping=run.newton.damping)
+    driver = {k: getattr(run, k) for k in DRIVER_KEYS if k not in POSE_KEYS + ("t_sample",)}
+    for k in POSE_KEYS:
+        pos, theta = getattr(run, k)
+        driver[k + "_pos"], driver[k + "_theta"] = np.asarray(pos, float), np.asarray(theta, float)
+    driver["t_sample"] = np.array(run.t_sample, float).reshape(-1, 2)   # (t, y_I) of each force sample
     with AtomicH5(path, FORMAT) as f:
         for k, v in _identity(run).items():
             f.attrs[k] = v
         f.attrs["iter"] = O.iter
         f.attrs["y_I"] = float(run.y_prev)
         f.create_dataset("yade_scene", data=np.void(O.sceneToString()))
-        f.create_dataset("state", data=np.void(pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)))
+        write_tree(f.create_group("driver"), driver)
+        write_recorder_state(f.create_group("recorder"), run.rec.state())
+        write_tree(f.create_group("ledger"), _ledger_tree(run.ledger))
+        fr = f.create_group("friction")
+        fr.create_dataset("keys", data=np.asarray(c.friction.keys, np.uint64))
+        fr.create_dataset("forces", data=np.asarray(c.friction.forces, float))
+        if c.bonds is not None:
+            write_tree(f.create_group("bonds"), c.bonds.history())
+        # (the bodies' start poses, the water's polygons and the bonds'
+        # anchors are build()'s, made again the same by the resumed run)
+        write_tree(f.create_group("coupling"), dict(dry=np.asarray(c.dry, bool), degenerate=int(c.degenerate),
+                                                    keep_terms=bool(c.keep_terms),
+                                                    drag=c.water.drag if c.water is not None else None,
+                                                    newton_damping=float(run.newton.damping)))
+
+
+def _ledger_tree(ledger):
+    """What a RigidLedger has counted (its masses and bodies are make_ledger()'s)."""
+    t = dict(work=dict(ledger.work), initial=ledger.initial, spring0=ledger.spring0, bonds0=ledger.bonds0)
+    if ledger.pending is not None:
+        v0, w0, forces = ledger.pending
+        t["pending"] = dict(vel=v0, omega=w0, forces={k: dict(fx=fx, fy=fy, tz=tz) for k, (fx, fy, tz) in forces.items()})
+    return t
+
+
+def _restore_ledger(ledger, t):
+    ledger.work = {k: float(v) for k, v in t["work"].items()}
+    ledger.initial, ledger.spring0, ledger.bonds0 = float(t["initial"]), float(t["spring0"]), float(t["bonds0"])
+    p = t.get("pending")
+    ledger.pending = None if p is None else (
+        p["vel"], p["omega"], {k: (v["fx"], v["fy"], v["tz"]) for k, v in p["forces"].items()})
 
 
 def _identity(run):
@@ -68,7 +99,12 @@ def restore(run, path):
                 raise ValueError(f"{path} is the checkpoint of another run ({k}: {theirs!r}, this run: {mine!r}): "
                                  "move it away to start afresh")
         scene = f["yade_scene"][()].tobytes()
-        state = pickle.loads(f["state"][()].tobytes())
+        driver = read_tree(f["driver"])
+        recorder = read_recorder_state(f["recorder"])
+        ledger = read_tree(f["ledger"])
+        friction = (f["friction/keys"][...], f["friction/forces"][...])
+        bonds = read_tree(f["bonds"]) if "bonds" in f else None
+        coupling = read_tree(f["coupling"])
     # YADE rebuilds a loaded polyhedron's internal (CGAL) form from its vertices
     # in its own order, and its intersections then differ at round-off; the
     # shapes build() just made are the uninterrupted run's own: they are kept
@@ -78,18 +114,23 @@ def restore(run, path):
         b.shape = shape
     c = run.coupling
     c.states = [b.state for b in O.bodies]          # the loaded scene's own objects
-    c.dry[:] = state["coupling"]["dry"]
-    c.degenerate = state["coupling"]["degenerate"]
-    c.keep_terms = state["coupling"]["keep_terms"]
-    c.water.drag = state["coupling"]["drag"]
-    c.friction.restore(*state["friction"])
-    c.bonds.restore_history(state["bonds"])
+    c.dry[:] = coupling["dry"]
+    c.degenerate = int(coupling["degenerate"])
+    c.keep_terms = bool(coupling["keep_terms"])
+    if c.water is not None:
+        c.water.drag = bool(coupling["drag"])
+    c.friction.restore(*friction)
+    if bonds is not None:
+        c.bonds.restore_history(bonds)
     run.newton = next(e for e in O.engines if type(e).__name__ == "NewtonIntegrator")
-    run.newton.damping = state["newton_damping"]
-    for k, v in state["driver"].items():
+    run.newton.damping = float(coupling["newton_damping"])
+    for k in POSE_KEYS:
+        setattr(run, k, (driver.pop(k + "_pos"), driver.pop(k + "_theta")))
+    run.t_sample = [(float(t), float(y)) for t, y in driver.pop("t_sample")]
+    for k, v in driver.items():
         setattr(run, k, v)
     run.ledger = run.make_ledger()
-    vars(run.ledger).update(state["ledger"])
+    _restore_ledger(run.ledger, ledger)
     run.rec = run._recorder(*run.ref)
-    run.rec.restore(state["recorder"])
+    run.rec.restore(recorder)
     run.loading = True      # checkpoints are written while loading

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..code_identity import refuse_other_code
 from ..files.h5io import AtomicH5, open_complete, read_checked, read_tree, write_tree
-from ..files.recorder import ENERGY_TERMS, snapshot_travels
+from ..files.recorder import ENERGY_TERMS, read_recorder_state, snapshot_travels, write_recorder_state
 from ..parameters import settle_free
 from .run_identity import PHYSICS_VERSION
 
@@ -42,22 +42,7 @@ def save(run, path, driver_attrs=None, shared=False):
         d.attrs["params"] = json.dumps(run.params)
         d.attrs["physics_version"] = PHYSICS_VERSION
         write_tree(f.create_group("engine"), run.model.checkpoint())
-        r = f.create_group("recorder")
-        s = run.recorder.state()
-        r.create_dataset("force_rows", data=np.array(s["force_rows"], float).reshape(-1, 4))
-        r.create_dataset("energy_rows", data=np.array(s["energy_rows"], float).reshape(-1, 1 + len(ENERGY_TERMS)))
-        r.create_dataset("pending_snaps", data=np.array(s["pending_snaps"], float))
-        r.create_dataset("reference_nodes", data=s["reference_nodes"])
-        r.create_dataset("centroid0", data=s["centroid0"])
-        b = r.create_group("bonds")
-        for k, v in s["bonds"].items():
-            b.create_dataset(k, data=v)
-        sn = r.create_group("snapshots")
-        for i, (t, y, ue, un) in enumerate(s["snapshots"]):
-            g2 = sn.create_group(f"{i:04d}")
-            g2.attrs["t"], g2.attrs["y_I"] = t, y
-            g2.create_dataset("u_elem", data=ue)
-            g2.create_dataset("u_node", data=un)
+        write_recorder_state(f.create_group("recorder"), run.recorder.state())
 
 
 def _text(v):
@@ -175,15 +160,7 @@ def restore(run, path, from_rest=False, shared=False):
             m._m.set_reach_origin(np.asarray(m.x, float), np.asarray(m.y, float))
             m.reset_energy()   # the ledger starts with the loading, as after a settle
         run.apply_boundary_conditions()
-        r = f["recorder"]
-        s = dict(force_rows=[tuple(row) for row in r["force_rows"][...]],
-                 energy_rows=[tuple(row) for row in r["energy_rows"][...]],
-                 pending_snaps=list(r["pending_snaps"][...]),
-                 reference_nodes=r["reference_nodes"][...], centroid0=r["centroid0"][...],
-                 bonds={k: r["bonds"][k][...] for k in r["bonds"]},
-                 snapshots=[(r["snapshots"][k].attrs["t"], r["snapshots"][k].attrs["y_I"],
-                             r["snapshots"][k]["u_elem"][...], r["snapshots"][k]["u_node"][...])
-                            for k in sorted(r["snapshots"])])
+        s = read_recorder_state(f["recorder"])
         if from_rest or shared:   # no snapshot taken yet: this run's own travels
             s["pending_snaps"] = snapshot_travels(run.params["target_travel"])
         run.recorder.restore(s)
