@@ -23,7 +23,8 @@ from icerubble import cli, exit_status
 from icerubble.files.h5io import open_complete
 from icerubble.files.output_path import check_output_folder
 from icerubble.run.presets import DEFAULT_NUMERICS, numerics
-from icerubble.run.punch_through_run import RunInterrupted, RunOptions
+from icerubble.run.driver import RunInterrupted
+from icerubble.run.punch_through_run import RunOptions
 from icerubble.study.line import run_one
 
 from . import loads, run_figures

@@ -54,7 +54,7 @@ from yade.params import table
 from yade.wrapper import O
 
 from icerubble.cli import os_error_text
-from icerubble.run.punch_through_run import RunInterrupted
+from icerubble.run.driver import RunInterrupted
 from icerubble.study.line import run_one
 from icerubble.study.outcome import EXIT_INTERRUPTED, INTERRUPTED_MARK, RESULT_MARK
 

@@ -28,7 +28,7 @@ from ..files.mesh_file import read_mesh
 from ..run.progress import Progress, loading_eta_text, settle_eta_text
 from ..run.checkpoint import checkpoint_path
 from ..run.loading import ENERGY_EVERY
-from ..run.punch_through_run import RunInterrupted, catching_stop_signals
+from ..run.driver import Driver, RunInterrupted
 from ..files.recorder import RunRecorder
 from . import checkpoint
 from .energy import RigidLedger
@@ -45,11 +45,11 @@ SAMPLE_TRAVEL = 1e-4     # [m] force samples at least this often
 HOLD_TIME = 0.05         # [s] the indenter held before loading (F at rest: second half)
 
 
-class RigidPunchThrough:
+class RigidPunchThrough(Driver):
     def __init__(self, mesh_path, out_path, params, meta, threads=1, checkpoint_every_s=600.0):
         if not checkpoint_every_s > 0.0:
             raise ValueError(f"checkpoint_every_s must be > 0 s (got {checkpoint_every_s})")
-        self.mesh_path, self.out = mesh_path, out_path
+        self.mesh_path, self.out_path = mesh_path, out_path
         self.ckpt_path = checkpoint_path(out_path)
         self.checkpoint_every_s = float(checkpoint_every_s)
         self.mesh = read_mesh(mesh_path)
@@ -133,35 +133,34 @@ class RigidPunchThrough:
             self.done = True
             O.pause()
 
-    # --- the run ------------------------------------------------------------------
-    def run(self, resume=False):
-        """Settle, hold, load and write the result. With `resume`, a checkpoint
-        of this run (OUT.checkpoint.h5, written while loading) is taken up where
-        it was; a run stopped while settling starts again. SIGTERM and SIGUSR1
-        (a scheduler's stop) and SIGINT (Ctrl-C) write the checkpoint after the current chunk and
-        raise RunInterrupted."""
-        with catching_stop_signals(self):
-            return self._run(resume)
-
-    def _run(self, resume):
+    # --- the phases, in the order run() (run/driver.py) takes them ------------------
+    # run(resume): settle, hold, load and write the result. With `resume`, a
+    # checkpoint of this run (OUT.checkpoint.h5, written while loading) is
+    # taken up where it was; a run stopped while settling starts again.
+    def start(self):
         self.build()
-        if resume and os.path.exists(self.ckpt_path):
-            checkpoint.restore(self, self.ckpt_path)
-            print(f"[rigid punch-through] resumed from {self.ckpt_path} at step {O.iter}, "
-                  f"y_I = {1e3 * self.y_prev:.3f} mm", flush=True)
-        else:
-            self.settle_and_hold()
-        self.load()
+
+    def resume(self, path):
+        checkpoint.restore(self, path)
+        print(f"[rigid punch-through] resumed from {path} at step {O.iter}, "
+              f"y_I = {1e3 * self.y_prev:.3f} mm", flush=True)
+
+    def settled(self):
+        return self.loading    # checkpoints are written while loading
+
+    def settle(self):
+        self.settle_and_hold()
+
+    def write(self, wall_settle_s, wall_load_s):
+        """The result; its wall times are the run's own, counted across resumes
+        (the checkpoint keeps them), not this process's."""
         rec = self.rec
         self._bond_events(rec, np.array(self.t_sample))
         rec.meta.update(settle_time=self.settle_time, settle_max_speed=self.settle_speed, F_at_rest=self.F_at_rest,
                         dt=self.dt, wall_settle_s=self.wall_settle_s, wall_load_s=self.wall_load_s,
                         load_steps=O.iter - self.iter_load, degenerate_contacts=self.coupling.degenerate,
                         hull_added_area=self.hull_added_area)
-        rec.write(self.out)
-        if os.path.exists(self.ckpt_path):
-            os.remove(self.ckpt_path)
-        return self.out
+        rec.write(self.out_path)
 
     def settle_and_hold(self):
         """Settle to rest, hold the indenter (F at rest) and make the loading's

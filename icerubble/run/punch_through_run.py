@@ -14,7 +14,8 @@ Each phase has a module of its own: run/settle.py, run/loading.py,
 run/output.py; the shared rest states run/rest_states.py; the run's progress
 (what a checkpoint saves) run/run_state.py. This driver holds the run's
 scene, parameters and options, its entry points (run, settle_only,
-run_from_rest), the boundary conditions of each phase and the checkpoints.
+run_from_rest; run's order of phases is run/driver.py's, which the rigid-block
+model's run shares), the boundary conditions of each phase and the checkpoints.
 
 A checkpoint written every ``checkpoint_every_s`` wall seconds lets an
 interrupted run resume (``resume=True``); the result file appears only when
@@ -22,12 +23,10 @@ the run is complete. A run sent SIGTERM or SIGUSR1 (what a scheduler sends
 before it stops a job) or SIGINT (Ctrl-C) writes its checkpoint at once and
 stops with RunInterrupted (the YADE script then exits 75).
 """
-import contextlib
 import json
 import math
 import os
 import signal
-import threading
 import time
 
 import h5py
@@ -42,45 +41,10 @@ from .presets import SCENES
 from ..files.recorder import RunRecorder
 from .run_state import RunState
 from .settle import SETTLE_LOCAL_DAMPING, Settle
+from .driver import Driver, RunInterrupted, catching_stop_signals
 from .loading import Loading, smooth_ramp_table
 from .output import Output
 from .scene import Scene
-
-# What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
-# node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
-# and SIGUSR1 (sbatch --signal, some minutes before the time limit); and
-# SIGINT, Ctrl-C: a person stopping a run wants to keep the hours it has
-# computed as much as a scheduler does.
-STOP_SIGNALS = (signal.SIGTERM, signal.SIGUSR1, signal.SIGINT)
-
-
-class RunInterrupted(RuntimeError):
-    """The run stopped on a signal after writing its checkpoint: running it
-    again with resume=True continues it, bit for bit."""
-
-
-@contextlib.contextmanager
-def catching_stop_signals(run):
-    """While inside: SIGTERM, SIGUSR1 and SIGINT only set run._stop_signal
-    (the run checks it between its chunks of steps); the previous handlers
-    come back after. A second Ctrl-C while the first is pending raises
-    KeyboardInterrupt at once, as Python's own handler (the last checkpoint
-    on disk stays whole: it is written atomically). Outside the main thread
-    (where Python takes no handlers) nothing is caught."""
-    run._stop_signal = None
-
-    def note(signum, frame):
-        if signum == signal.SIGINT and run._stop_signal is not None:
-            raise KeyboardInterrupt("Ctrl-C twice: stopped at once, without a checkpoint of this moment")
-        run._stop_signal = signum
-    catch = threading.current_thread() is threading.main_thread()
-    previous = {s: signal.signal(s, note) for s in STOP_SIGNALS} if catch else {}
-    try:
-        yield
-    finally:
-        for s, h in previous.items():
-            signal.signal(s, h)
-
 
 _SETTLE = {k: P.REGISTRY[k].default for k in P.SETTLE_OPTIONS}
 
@@ -155,7 +119,7 @@ def check_sleep(sleep):
     return out
 
 
-class PunchThrough:
+class PunchThrough(Driver):
     def __init__(self, mesh_path, out_path, params=None, options=None, meta=None, rest_dir=None):
         """rest_dir: a folder of shared rest states (rest_states.py): the run
         loads from the rest state of an earlier run that differs from it only
@@ -248,33 +212,36 @@ class PunchThrough:
     def travel(self):
         return self.state.y_top0 - self.scene.indenter_top_y()
 
-    def run(self, resume=False):
-        # a signal only sets a flag: the run stops at the end of its chunk of
-        # steps (< 1 s), where the state is whole, after writing its checkpoint
-        with catching_stop_signals(self):
-            return self._run(resume)
+    # --- the phases, in the order run() (run/driver.py) takes them
+    def resume(self, path):
+        ckpt.restore(self, path)
+        print(f"[punch-through] resumed from {path} at step {self.model.step_count}, "
+              f"phase {self.state.phase}", flush=True)
+        self._last_ckpt = time.perf_counter()
 
-    def _run(self, resume):
-        if resume and os.path.exists(self.ckpt_path):
-            ckpt.restore(self, self.ckpt_path)
-            print(f"[punch-through] resumed from {self.ckpt_path} at step {self.model.step_count}, "
-                  f"phase {self.state.phase}", flush=True)
-        elif self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
+    def begin(self):
+        if self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
             RS.load_shared(self)
         self._last_ckpt = time.perf_counter()
-        t0 = time.perf_counter()
-        if self.state.phase == "settle":
-            self.settle()
-            if self.shared_rest is not None:   # for the runs that differ only in what the settle never read
-                RS.share(self)
-        t1 = time.perf_counter()
+
+    def settled(self):
+        return self.state.phase != "settle"
+
+    def settle(self):
+        """To rest, then held; the loading starts (run/settle.py); the rest
+        state is left for the runs that differ only in what the settle never
+        read (rest_dir given)."""
+        self.settler.run()
+        if self.shared_rest is not None:
+            RS.share(self)
+
+    def load(self):
         self.loading.run()
+
+    def write(self, wall_settle_s, wall_load_s):
         # wall times of this process (a resumed run: from its resume)
-        self.recorder.meta.update(wall_settle_s=t1 - t0, wall_load_s=time.perf_counter() - t1)
+        self.recorder.meta.update(wall_settle_s=wall_settle_s, wall_load_s=wall_load_s)
         self.output.write()
-        if os.path.exists(self.ckpt_path):
-            os.remove(self.ckpt_path)
-        return self.out_path
 
     def settle_only(self, rest_path):
         """Settle (resuming this run's own checkpoint if there is one) and
@@ -289,7 +256,7 @@ class PunchThrough:
                 ckpt.restore(self, self.ckpt_path)
             self._last_ckpt = time.perf_counter()
             if self.state.phase == "settle":
-                self.settle()
+                self.settler.run()
         ckpt.save(self, rest_path)
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
@@ -360,10 +327,6 @@ class PunchThrough:
         if self.state.phase == "load":
             t, s = smooth_ramp_table(self.state.t_load, self.params["v_final"], self.params["ramp_time"])
             m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, s))
-
-    def settle(self):
-        """To rest, then held; the loading starts (run/settle.py)."""
-        self.settler.run()
 
     def block_moves(self):
         """(ids, distances [m]): how far each block's node centroid is from

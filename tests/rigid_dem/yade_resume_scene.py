@@ -17,7 +17,7 @@ from yade.wrapper import O  # noqa: E402
 from icerubble import parameters as P  # noqa: E402
 from icerubble.rigid_dem.punch_through import RigidPunchThrough  # noqa: E402
 from icerubble.run.presets import scene  # noqa: E402
-from icerubble.run.punch_through_run import RunInterrupted  # noqa: E402
+from icerubble.run.driver import RunInterrupted  # noqa: E402
 
 params = P.validate(dict(scene("tiny")["params"], mu=0.3))
 after, settling = os.environ.get("SIGNAL_AFTER"), os.environ.get("SIGNAL_SETTLING")

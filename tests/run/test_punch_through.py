@@ -13,7 +13,8 @@ from icerubble.code_identity import code_version
 from icerubble.files.h5io import open_complete
 from icerubble.run import checkpoint as ckpt
 from icerubble.run.loading import MEAN_FORCE_MIN_TRAVEL
-from icerubble.run.punch_through_run import PunchThrough, RunInterrupted, RunOptions, catching_stop_signals
+from icerubble.run.driver import RunInterrupted, catching_stop_signals
+from icerubble.run.punch_through_run import PunchThrough, RunOptions
 from tests.h5_edits import broken
 from tests.run.punch_through_scenes import brick_mesh
 
