@@ -39,6 +39,7 @@ from postproc import failure_plane, loads, plug  # noqa: E402
 
 OUT_JSON = os.path.join(ROOT, "bench", "results", "deep_vs_paper.json")
 TRAVEL = 20e-3                      # m: the paper's "after the steep decrease" instant
+FIRST_PEAK_TRAVEL = 1e-3            # m: the first peak, before a later event in the 5 mm window can replace it
 REFERENCE = dict(mu=0.3, tau_cr=50e3, target_travel=TRAVEL, settle_bonds="checked")   # as data/study_deep.table
 # (domain width m, element size m) of the variants beside the two scenes
 EXTRA = {"deep_h0.2": (20.0, 0.2), "deep_w12": (12.0, 0.15), "deep_w30": (30.0, 0.15)}
@@ -56,10 +57,14 @@ def measures(path):
     r = results.load(path)
     y, F = r.force_y, r.force_F
     F_m, y_m = loads.cohesive_peak(y, F)
+    early = y <= FIRST_PEAK_TRAVEL
+    i_first = int(np.argmax(np.where(early, F, -np.inf)))
     alpha_mean, alpha_sd = failure_plane.mean_sd(failure_plane.alpha_samples(r))
     areas = [plug.plug_area(r, t) for t in failure_plane.ALPHA_TRAVELS]
     a = r.attrs
     return dict(F_m_kN_per_m=F_m / 1e3, y_I_peak_mm=y_m * 1e3,
+                first_peak_kN_per_m=float(F[i_first]) / 1e3, y_I_first_peak_mm=float(y[i_first]) * 1e3,
+                n_split_settle=int(np.sum(r.bonds["t_split"] < 0)) if "t_split" in r.bonds else 0,
                 F_20mm_kN_per_m=loads.load_at(y, F, TRAVEL) / 1e3,
                 alpha_mean_1_20mm_deg=alpha_mean, alpha_sd_1_20mm_deg=alpha_sd,
                 A_p_mean_1_20mm_m2=failure_plane.mean_sd(areas)[0],
@@ -68,7 +73,7 @@ def measures(path):
                 settle_time_s=float(a.get("settle_time", np.nan)),
                 wall_settle_s=float(a.get("wall_settle_s", np.nan)),
                 wall_load_s=float(a.get("wall_load_s", np.nan)),
-                load_steps=int(a.get("load_steps", 0)))
+                load_steps=int(a.get("load_steps", 0)), code_version=str(a.get("code_version", "")))
 
 
 def main(argv=None):
@@ -79,13 +84,26 @@ def main(argv=None):
     ap.add_argument("--out-dir", default=os.path.join(ROOT, "runs", "bench", "deep_vs_paper"))
     # the study's folder: its deep_ridgeN_mu0.3_tau50k line is this bench's deep run
     ap.add_argument("--study-dir", default=os.path.join(ROOT, "runs", "deep"))
+    ap.add_argument("--measure", nargs="+", metavar="VARIANT=RESULT.h5",
+                    help="measure these finished runs (of --ridges' first ridge) instead of running "
+                         "(runs made in another checkout)")
     a = ap.parse_args(argv)
     register_variants()
     rows = []
     if os.path.exists(OUT_JSON):   # rows of other ridges and variants measured before
         with open(OUT_JSON) as f:
             rows = [r for r in json.load(f)["runs"]
-                    if (r["ridge"], r["variant"]) not in {(g, v) for g in a.ridges for v in a.variants}]
+                    if a.measure or (r["ridge"], r["variant"]) not in {(g, v) for g in a.ridges for v in a.variants}]
+    if a.measure:
+        for item in a.measure:
+            name, path = item.split("=", 1)
+            if name not in ORDER:
+                raise SystemExit(f"--measure: {name!r} is not a variant ({', '.join(ORDER)})")
+            rows = [r for r in rows if (r["ridge"], r["variant"]) != (a.ridges[0], name)]
+            rows.append(dict(ridge=a.ridges[0], variant=name, file=path, **measures(path)))
+        write(rows)
+        report(rows)
+        return
     for ridge in a.ridges:
         for name in [v for v in ORDER if v in a.variants]:
             out = run_one(name, ridge, overrides=REFERENCE, numerics_name="fast",
