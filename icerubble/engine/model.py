@@ -47,8 +47,9 @@ DRAG_MODELS = P.DRAG_MODELS
 
 # Parameter name -> (default, description) for Model.set(): the registry's
 # engine parameters (icerubble/parameters.py, engine=True); the engine checks
-# each value against the registry's ranges (the build writes them into it). The engine starts without a time step (step() refuses to run
-# until dt or dt_fraction is set), whatever Table 1's dt.
+# each value against the registry's ranges (the build writes them into it).
+# The engine starts without a time step (step() refuses to run until dt or
+# dt_fraction is set), whatever Table 1's dt.
 START_UNSET = ("dt", "dt_fraction")
 PARAMETERS = {k: (None if k in START_UNSET else p.default,
                   f"{p.doc} [{p.unit}], {p.range_text()}") for k, p in P.ENGINE.items()}

@@ -154,17 +154,18 @@ EngineParameters engine_parameters(const py::dict& d) {
   if (!unknown.empty()) bad("set_parameters: unknown parameter(s) " + list(unknown));
   if (!missing.empty()) bad("set_parameters: missing parameter(s) " + list(missing));
   // types here (True is 1 to a double caster: `mu True` would run at 1); ranges in validate()
+  auto boolean = [](py::handle v) {   // Python's bool or numpy's
+    return py::isinstance<py::bool_>(v) || std::string(py::str(py::type::handle_of(v).attr("__name__"))) == "bool_";
+  };
+  const py::object real = py::module_::import("numbers").attr("Real");
   auto flag = [&](const char* k) {
     py::handle v = d[k];
-    if (!py::isinstance<py::bool_>(v) && std::string(py::str(py::type::handle_of(v).attr("__name__"))) != "bool_")
-      bad(std::string(k) + " must be True or False (got " + std::string(py::repr(v)) + ")");
+    if (!boolean(v)) bad(std::string(k) + " must be True or False (got " + std::string(py::repr(v)) + ")");
     return v.cast<bool>();
   };
   auto number = [&](const char* k) {
     py::handle v = d[k];
-    const bool boolean = py::isinstance<py::bool_>(v) ||
-                         std::string(py::str(py::type::handle_of(v).attr("__name__"))) == "bool_";
-    if (boolean || !py::isinstance(v, py::module_::import("numbers").attr("Real")))
+    if (boolean(v) || !py::isinstance(v, real))
       bad("parameter " + std::string(k) + "=" + std::string(py::repr(v)) + " is not a number");
     return v.cast<double>();
   };

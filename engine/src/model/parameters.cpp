@@ -39,12 +39,10 @@ void Model::set_dt_fraction(double f) {
 
 namespace {
 
-// Equal, or both unset (NaN): a value that did not change.
-bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
-
+// (before the first struct the old values are NaN, unequal to any: all changed)
 bool same_water(const ExternalParams& a, const ExternalParams& b) {
-  return a.buoyancy == b.buoyancy && a.drag == b.drag && same(a.rho_w, b.rho_w) && same(a.y_w, b.y_w) &&
-         same(a.c_w, b.c_w) && a.drag_model == b.drag_model && same(a.C_d, b.C_d);
+  return a.buoyancy == b.buoyancy && a.drag == b.drag && a.rho_w == b.rho_w && a.y_w == b.y_w &&
+         a.c_w == b.c_w && a.drag_model == b.drag_model && a.C_d == b.C_d;
 }
 
 }  // namespace
@@ -59,15 +57,15 @@ void Model::set_parameters(const EngineParameters& p) {
   // mass scaling, the reach), the sleeping state (new thresholds apply to
   // the nodes as they are)
   if (!same_water(old.external, p.external)) stable_current_ = false;
-  if (!same(old.contact.penalty, p.contact.penalty) || !same(old.contact.mu, p.contact.mu)) {
+  if (old.contact.penalty != p.contact.penalty || old.contact.mu != p.contact.mu) {
     stable_current_ = false;
     if (p.mass_scaling_dt > 0.0) prepared_ = false;
   }
-  if (!same(old.mass_scaling_dt, p.mass_scaling_dt)) {
+  if (old.mass_scaling_dt != p.mass_scaling_dt) {
     prepared_ = false;
     stable_current_ = false;
   }
-  if (!same(old.contact_reach, p.contact_reach)) prepared_ = false;
+  if (old.contact_reach != p.contact_reach) prepared_ = false;
   if (old.sleep.on != p.sleep.on) wake_all();
 }
 
