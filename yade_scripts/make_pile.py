@@ -15,8 +15,9 @@ extruded 1 m in z, motion in the x-y plane only):
   The pile is re-meshed afterwards, so the soft contact only sets the (mm) overlaps;
 - friction: YADE 2023.02a polyhedra friction is wrong with more than one contact
   (docs/yade_notes.md), so the law runs frictionless and Coulomb friction mu_settle is
-  added from Python each step (ContactFriction below: an elastic-plastic tangential
-  spring per contact, Cundall-Strack in 2D). Friction jams the pile; a frictionless
+  added each step by the rigid-block model's own law (rigid_dem/yade_coupling.py's
+  Coupling, engine rigid/rigid_friction.hpp: an elastic-plastic tangential spring per
+  contact, Cundall-Strack in 2D, tangential stiffness k_n t_min). Friction jams the pile; a frictionless
   pile creeps for tens of seconds and ends denser (porosity ~0.14 on the demo pile).
   mu_settle defaults to 0.05, the lowest friction of the paper's study: one pile per
   ridge is run at every mu of the study, and a pile at rest within the 0.05 friction
@@ -56,6 +57,7 @@ from icerubble import exit_status, machine
 from icerubble.files.pile_file import read_pile, write_pile
 from icerubble.geometry import pile
 from icerubble.parameters import PILE, PILE_SHARED, REGISTRY, check_value, require_range
+from icerubble.rigid_dem.yade_coupling import Coupling
 from icerubble.study.table_check import reader_problems
 
 # every touching pair prints a warning each step otherwise (docs/yade_notes.md)
@@ -121,55 +123,6 @@ def world_corners(b):
     return xy[order]
 
 
-class ContactFriction:
-    """Coulomb friction between blocks, from Python (the law's own friction is broken).
-
-    Per real contact a tangential spring s (m) in the plane: s += v_t dt with v_t the
-    tangential velocity of body 2 relative to body 1 at the contact point; the force on
-    body 2 is -k_t s t, capped at mu |F_n| (slip: s reset to the cap). k_t = k_n t_min (1 m)
-    keeps the tangential frequency below the normal one, so the step dt stays stable.
-    """
-
-    def __init__(self, mu, k_t, dt):
-        self.mu, self.k_t, self.dt = mu, k_t, dt
-        self.s = {}
-        self.states = [b.state for b in O.bodies]
-        self.frozen = set()   # contacts that stick at any force (the hold stage's face contacts)
-
-    def __call__(self):
-        mu, k_t, dt, st = self.mu, self.k_t, self.dt, self.states
-        new = {}
-        addF, addT = O.forces.addF, O.forces.addT
-        for i in O.interactions:
-            if not i.isReal:
-                continue
-            fn = i.phys.normalForce.norm()
-            if fn == 0.0:
-                continue
-            g = i.geom
-            n, c = g.normal, g.contactPoint
-            tx, ty = -n[1], n[0]
-            a, b = st[i.id1], st[i.id2]
-            pa, pb, va, vb = a.pos, b.pos, a.vel, b.vel
-            wa, wb = a.angVel[2], b.angVel[2]
-            rax, ray, rbx, rby = c[0] - pa[0], c[1] - pa[1], c[0] - pb[0], c[1] - pb[1]
-            vt = ((vb[0] - wb * rby) - (va[0] - wa * ray)) * tx + \
-                 ((vb[1] + wb * rbx) - (va[1] + wa * rax)) * ty
-            key = (i.id1, i.id2)
-            s = self.s.get(key, 0.0) + vt * dt
-            f, fmax = k_t * s, mu * fn
-            if abs(f) > fmax and key not in self.frozen:
-                f = fmax if f > 0 else -fmax
-                s = f / k_t
-            new[key] = s
-            fx, fy = -f * tx, -f * ty  # on body 2; body 1 gets the opposite
-            addF(i.id2, Vector3(fx, fy, 0.0))
-            addT(i.id2, Vector3(0.0, 0.0, rbx * fy - rby * fx))
-            addF(i.id1, Vector3(-fx, -fy, 0.0))
-            addT(i.id1, Vector3(0.0, 0.0, -(rax * fy - ray * fx)))
-        self.s = new
-
-
 def contact_chord(c1, c2, normal):
     """Length of the common face of two touching convex blocks (corners CCW):
     the extent of their overlap along the contact plane (soft contacts overlap
@@ -189,15 +142,18 @@ def contact_chord(c1, c2, normal):
 
 def freeze_face_contacts(friction, outlines, walls):
     """Freeze every contact with a common face of hold_bond_length or more
-    (where the mesher will bond them); blocks against the phase-1 side walls
-    (absent in phase 2) stay frictional. Returns how many were frozen."""
+    (where the mesher will bond them): it sticks at any tangential force; blocks
+    against the phase-1 side walls (absent in phase 2) stay frictional. Returns
+    how many were frozen."""
+    pairs = []
     for i in O.interactions:
         if not i.isReal or i.phys.normalForce.norm() == 0.0 or i.id1 in walls or i.id2 in walls:
             continue
         n = i.geom.normal
         if contact_chord(outlines(i.id1), outlines(i.id2), (n[0], n[1])) >= P.hold_bond_length:
-            friction.frozen.add((i.id1, i.id2))
-    return len(friction.frozen)
+            pairs.append((i.id1, i.id2))
+    friction.stick(pairs)
+    return len(friction.friction.stuck)
 
 
 def main():
@@ -253,7 +209,7 @@ def main():
     dt = P.dt_safety * 2.0 / np.sqrt(4.0 * k_n / (P.rho_i * P.t_min))
     O.dt = dt
     global friction
-    friction = ContactFriction(P.mu_settle, k_n * P.t_min, dt)
+    friction = Coupling((), P.mu_settle, k_n * P.t_min, dt)   # friction alone: no water, no bonds
     if P.mu_settle == 0.0 and P.mu_hold < 0.0:
         O.engines = O.engines[:3] + O.engines[4:]
     steps_per_check = max(1, int(round(P.check_interval / dt)))

@@ -88,15 +88,23 @@ class Coupling:
         v = (self.states[i].ori * self.ori0[i].conjugate()) * Vector3(1.0, 0.0, 0.0)
         return float(np.arctan2(v[1], v[0]))
 
-    def body_arrays(self):
+    def body_arrays(self, turns=True):
         """Every body's centroid, velocity, angular velocity and turn since the
-        coupling was made: (pos (n, 2), vel (n, 2), omega (n,), theta (n,))."""
+        coupling was made: (pos (n, 2), vel (n, 2), omega (n,), theta (n,));
+        theta None without `turns` (friction alone does not read it, and its
+        quaternions are most of this call's cost)."""
         st = self.states
         pos = np.array([(s.pos[0], s.pos[1]) for s in st])
         vel = np.array([(s.vel[0], s.vel[1]) for s in st])
         omega = np.array([s.angVel[2] for s in st])
-        theta = np.array([self._theta(i) for i in range(len(st))])
+        theta = np.array([self._theta(i) for i in range(len(st))]) if turns else None
         return pos, vel, omega, theta
+
+    def stick(self, pairs):
+        """Make these body pairs (YADE ids, either order) stick at any
+        tangential force from now on: no Coulomb cap (phase 1's hold stage)."""
+        p = np.sort(np.asarray(pairs, np.int32).reshape(-1, 2), axis=1)
+        self.friction.stick(p[:, 0], p[:, 1])
 
     def contact_arrays(self):
         a, b, p, n, fn = [], [], [], [], []
@@ -133,7 +141,8 @@ class Coupling:
         has read them already. With `keep_terms` set, each law's per-body
         (fx, fy, tz) is kept in `terms` (for an energy ledger), and YADE's own
         (normal) contact forces as read before any of them is added."""
-        pos, vel, omega, theta = self.body_arrays() if arrays is None else arrays
+        turns = self.water is not None or self.bonds is not None
+        pos, vel, omega, theta = self.body_arrays(turns) if arrays is None else arrays
         terms = {} if self.keep_terms else None
         if terms is not None:
             terms["contact"] = self.yade_forces()

@@ -109,6 +109,22 @@ def test_yade_pile_meshes_with_bonds(tiny):
     assert pairs == rule
 
 
+def test_hold_stage_brings_a_pile_formed_at_high_friction_to_rest_at_low(tmp_path):
+    """The hold stage (the paper scene's piles): formed at mu 0.3, then held at
+    0.05 with its face contacts stuck (the rigid-block friction law's stick,
+    engine rigid/rigid_friction.hpp) until at rest again."""
+    proc, out = run_make_pile(tmp_path, "held", seed=3, n_blocks=8, domain_width=6.0,
+                              mu_settle=0.3, mu_hold=0.05)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    held = pile_file.read_pile(str(out))
+    m, P = held["meta"], held["params"]
+    assert m["settled"] == 1 and m["ke_per_block"] < P["ke_per_block"]
+    assert m["hold_friction"] == 0.05 and m["friction"] == 0.3
+    # 8 blocks under a layer: some meet the layer or each other on a face
+    assert 0 < m["hold_frozen_contacts"] and m["hold_time"] > 0.0
+    assert "face contacts frozen" in proc.stdout
+
+
 def test_invalid_parameters_stop_before_work(tmp_path):
     for name, params, word in (("neg", dict(t_min=-0.1), "t_min"),
                                ("narrow", dict(domain_width=1.0), "domain_width"),

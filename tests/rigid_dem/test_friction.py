@@ -11,12 +11,15 @@ G, MU, K_T, DT = 9.81, 0.35, 1e6, 1e-4
 M = 331.2  # a 1.2 m x 0.3 m ice block per metre of width [kg/m]
 
 
-def run_on_floor(pushes, steps, mu=MU):
+def run_on_floor(pushes, steps, mu=MU, stuck=()):
     """Blocks 1..n resting on a fixed floor (body 0) at x = 2k, each pushed
     sideways with pushes[k-1] [N/m]; normal force m g at a point under each
-    block's centroid. Returns positions and velocities of the blocks."""
+    block's centroid; the blocks numbered in `stuck` stick to the floor.
+    Returns displacements and velocities of the blocks, and the last step's
+    tangential forces."""
     n = len(pushes)
     fr = _engine.RigidFriction()
+    fr.stick(np.zeros(len(stuck), np.int32), np.asarray(stuck, np.int32))
     x = np.array([0.0] + [2.0 * k for k in range(1, n + 1)])
     y = np.array([-1.0] + [0.15] * n)
     vx = np.zeros(n + 1)
@@ -60,6 +63,27 @@ def test_above_the_limit_a_block_slides_at_the_coulomb_acceleration():
     assert (v2[1] - v1[1]) / (10000 * DT) == pytest.approx(-a_expected, rel=1e-9)
     # along t = z x n = -x on block 1 (it slides to +x): against the slip, at mu f_n
     assert ft[0] == pytest.approx(MU * M * G, rel=1e-12)
+
+
+def test_a_stuck_pair_holds_at_any_force_and_the_others_still_slide():
+    """Phase 1's hold stage (make_pile.py mu_hold): a face contact the mesher will
+    bond sticks beyond mu f_n; its neighbour on the same floor still slides."""
+    P = 1.5 * MU * M * G
+    _, v1, _ = run_on_floor([P, P], 10000, stuck=[1])
+    dx, v2, ft = run_on_floor([P, P], 20000, stuck=[1])
+    # the stuck block swings on its tangential spring about P / k_t, never further than 2 P / k_t
+    assert abs(dx[0]) <= 2 * P / K_T * (1 + 1e-9)
+    assert (v2[1] - v1[1]) / (10000 * DT) == pytest.approx((P - MU * M * G) / M, rel=1e-9)
+    assert abs(ft[1]) == pytest.approx(MU * M * G, rel=1e-12)
+
+
+def test_stick_refuses_what_is_not_a_body_pair():
+    fr = _engine.RigidFriction()
+    for a, b in (([1], [1]), ([2], [1]), ([-1], [0])):
+        with pytest.raises(ValueError, match="0 <= a < b"):
+            fr.stick(np.array(a, np.int32), np.array(b, np.int32))
+    fr.stick(np.array([0, 0], np.int32), np.array([3, 3], np.int32))
+    assert list(fr.stuck) == [3]
 
 
 def test_friction_is_action_and_reaction_and_independent_of_contact_order():

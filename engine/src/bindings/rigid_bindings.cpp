@@ -2,6 +2,7 @@
 // in, arrays out, for the discrete-only model's YADE scene.
 #include <pybind11/numpy.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -182,6 +183,22 @@ void bind_rigid(py::module_& m) {
            py::arg("ny"), py::arg("fn"), py::arg("x"), py::arg("y"), py::arg("vx"), py::arg("vy"),
            py::arg("omega"), py::arg("dt"), py::arg("k_t"), py::arg("mu"),
            "One step: (ft per contact [N/m], fx, fy, tz per body [N/m, N m/m]); the history moves on.")
+      .def("stick", [](FrictionHistory& h, IArray a, IArray b) {
+        if (a.ndim() != 1 || b.ndim() != 1 || a.size() != b.size())
+          bad("a and b must be 1-D arrays of the same length (one body pair each)");
+        for (ssize_t k = 0; k < a.size(); ++k) {
+          if (!(a.data()[k] >= 0 && a.data()[k] < b.data()[k]))
+            bad("pair " + std::to_string(k) + ": (" + std::to_string(a.data()[k]) + ", " +
+                std::to_string(b.data()[k]) + ") must be body ids with 0 <= a < b");
+          h.stuck.push_back((uint64_t(uint32_t(a.data()[k])) << 32) | uint32_t(b.data()[k]));
+        }
+        std::sort(h.stuck.begin(), h.stuck.end());
+        h.stuck.erase(std::unique(h.stuck.begin(), h.stuck.end()), h.stuck.end());
+      }, py::arg("a"), py::arg("b"),
+           "Make body pairs (a < b) stick at any tangential force from now on (no Coulomb cap).")
+      .def_property_readonly("stuck", [](const FrictionHistory& h) {
+        return py::array_t<uint64_t>(ssize_t(h.stuck.size()), h.stuck.data());
+      }, "The keys (a << 32 | b) of the pairs that stick, ascending.")
       .def_property_readonly("keys", [](const FrictionHistory& h) {
         return py::array_t<uint64_t>(ssize_t(h.key.size()), h.key.data());
       })

@@ -35,7 +35,8 @@ void rigid_friction(const RigidContacts& c, const RigidBodies& B, double dt, dou
     const double slip = (vbx - vax) * tx + (vby - vay) * ty;  // b relative to a, along t
     f -= k_t * slip * dt;
     const double cap = mu * std::max(c.fn[k], 0.0);
-    if (std::fabs(f) > cap) f = std::copysign(cap, f);
+    const bool sticks = std::binary_search(history.stuck.begin(), history.stuck.end(), kk);
+    if (!sticks && std::fabs(f) > cap) f = std::copysign(cap, f);
     ft[k] = f;
     if (!next.key.empty() && next.key.back() == kk)
       bad("contacts " + std::to_string(order[&k - order.data() - 1]) + " and " + std::to_string(k) +
@@ -51,6 +52,7 @@ void rigid_friction(const RigidContacts& c, const RigidBodies& B, double dt, dou
     fy[a] -= Fy;
     tz[a] -= rax * Fy - ray * Fx;
   }
+  next.stuck = std::move(history.stuck);
   history = std::move(next);
 }
 

@@ -8,7 +8,9 @@
 // contact point, f_t <- f_t - k_t (v_rel . t) dt, and is capped at mu f_n
 // (sliding). So below the friction limit a block rests, held by f_t within
 // f/k_t of where it stuck; at the limit it slides with f_t = mu f_n against
-// the slip. A contact absent from a step forgets its history.
+// the slip. A contact absent from a step forgets its history. A body pair
+// made to stick (phase 1's hold stage: the face contacts the mesher will bond,
+// yade_scripts/make_pile.py) has no cap: it holds at any tangential force.
 //
 // Conventions: the normal n points from body a to body b, t = z x n; f_n >= 0
 // is the normal force magnitude; f_t is the tangential force on b along t
@@ -39,10 +41,12 @@ struct RigidBodies {
   const double* omega = nullptr;  // [rad/s]
 };
 
-// The friction history: tangential force per body pair, keys ascending.
+// The friction history: tangential force per body pair, keys ascending; and
+// the pairs that stick at any force (kept whether in contact or not).
 struct FrictionHistory {
   std::vector<uint64_t> key;  // (uint64(a) << 32) | b
   std::vector<double> ft;
+  std::vector<uint64_t> stuck;  // ascending, the same keys
 };
 
 // The tangential force of every contact this step (ft, in the contacts'
