@@ -12,8 +12,6 @@ import numpy as np
 from .. import _engine
 from .. import parameters as P
 
-DRAG_MODELS = {"none": 0, "linear": 1, "quadratic": 2}
-
 
 def polygon_frame(corners):
     """(area, centroid, corners relative to the centroid, counter-clockwise) of a
@@ -65,4 +63,4 @@ class BlockWater:
         return _engine.rigid_water_forces(
             self.offset, self.vx, self.vy, self.area, cx, cy, theta, ux, uy, omega,
             y_w=self.y_w, rho_w=p["rho_w"], g=p["g"], buoyancy=buoyancy,
-            drag_model=DRAG_MODELS[p["drag_model"]] if drag else 0, c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)
+            drag_model=p["drag_model"] if drag else "none", c_w=p["c_w"], C_d=p["C_d"], threads=self.threads)

@@ -134,7 +134,6 @@ const char* const kParameterNames[] = {
     "gravity", "g", "buoyancy", "drag", "rho_w", "y_w", "c_w", "drag_model", "C_d", "penalty", "mu",
     "check_stable_dt", "check_energy", "energy_tolerance", "local_damping", "mass_scaling_dt",
     "contact_reach", "threads", "sleeping", "sleep_velocity", "sleep_force", "sleep_quiet_steps"};
-const char* const kDragModels[] = {"none", "linear", "quadratic"};  // DragModel's order
 
 EngineParameters engine_parameters(const py::dict& d) {
   std::vector<std::string> unknown, missing;
@@ -184,13 +183,10 @@ EngineParameters engine_parameters(const py::dict& d) {
   p.external.rho_w = number("rho_w");
   p.external.y_w = number("y_w");
   p.external.c_w = number("c_w");
-  const std::string drag_model = py::str(d["drag_model"]);
-  const auto m = std::find_if(std::begin(kDragModels), std::end(kDragModels),
-                              [&](const char* n) { return drag_model == n; });
-  if (!py::isinstance<py::str>(d["drag_model"]) || m == std::end(kDragModels))
+  if (!py::isinstance<py::str>(d["drag_model"]))
     bad("parameter drag_model=" + std::string(py::repr(d["drag_model"])) + " is invalid: valid values are " +
         registry::drag_model_range);
-  p.external.drag_model = DragModel(m - std::begin(kDragModels));
+  p.external.drag_model = drag_model_named(py::str(d["drag_model"]));
   p.external.C_d = number("C_d");
   p.contact.penalty = number("penalty");
   p.contact.mu = number("mu");
@@ -217,7 +213,7 @@ py::dict parameters_dict(const EngineParameters& p) {
   d["rho_w"] = p.external.rho_w;
   d["y_w"] = p.external.y_w;
   d["c_w"] = p.external.c_w;
-  d["drag_model"] = kDragModels[int(p.external.drag_model)];
+  d["drag_model"] = drag_model_name(p.external.drag_model);
   d["C_d"] = p.external.C_d;
   d["penalty"] = p.contact.penalty;
   d["mu"] = p.contact.mu;

@@ -217,7 +217,7 @@ void bind_rigid(py::module_& m) {
   m.def(
       "rigid_water_forces",
       [](IArray offset, DArray vx, DArray vy, DArray area, DArray cx, DArray cy, DArray theta, DArray ux,
-         DArray uy, DArray omega, double y_w, double rho_w, double g, bool buoyancy, int drag_model,
+         DArray uy, DArray omega, double y_w, double rho_w, double g, bool buoyancy, const std::string& drag_model,
          double c_w, double C_d, int threads) {
         const ssize_t n = offset.size() - 1;
         if (offset.ndim() != 1 || n < 0) bad("offset must be a 1-D array of n_blocks + 1 corner offsets");
@@ -235,15 +235,14 @@ void bind_rigid(py::module_& m) {
         for (ssize_t k = 0; k < n; ++k)
           if (!(area.data()[k] > 0.0))
             bad("area[" + std::to_string(k) + "] must be > 0 m² (got " + num(area.data()[k]) + ")");
-        if (drag_model < 0 || drag_model > 2) bad("drag_model must be 0 (none), 1 (linear) or 2 (quadratic)");
         if (threads < 1) bad("threads must be >= 1 (got " + std::to_string(threads) + ")");
         ExternalParams p;
         p.y_w = y_w;
         p.rho_w = rho_w;
         p.g = g;
         p.buoyancy = buoyancy;
-        p.drag = drag_model != 0;
-        p.drag_model = DragModel(drag_model);
+        p.drag_model = drag_model_named(drag_model);
+        p.drag = p.drag_model != DragModel::None;
         p.c_w = c_w;
         p.C_d = C_d;
         validate(p);  // against the registry's ranges
@@ -261,8 +260,8 @@ void bind_rigid(py::module_& m) {
       py::arg("g"), py::arg("buoyancy"), py::arg("drag_model"), py::arg("c_w"), py::arg("C_d"),
       py::arg("threads") = 1,
       "Buoyancy and drag on rigid polygon blocks per metre of width: (fx, fy, tz) [N/m, N m/m].\n"
-      "Corners (vx, vy) are body-frame, relative to each block's centroid; drag_model 0 none,\n"
-      "1 linear (c_w), 2 quadratic (C_d). docs/model.md §6.");
+      "Corners (vx, vy) are body-frame, relative to each block's centroid; drag_model 'none',\n"
+      "'linear' (c_w) or 'quadratic' (C_d). docs/model.md §6.");
 }
 
 }  // namespace engine

@@ -8,6 +8,36 @@
 
 namespace engine {
 
+namespace {
+
+constexpr bool same_name(const char* a, const char* b) {
+  while (*a != '\0' && *a == *b) ++a, ++b;
+  return *a == *b;
+}
+
+template <size_t N, size_t M>
+constexpr bool same_names(const char* const (&a)[N], const char* const (&b)[M]) {
+  if (N != M) return false;
+  for (size_t i = 0; i < N; ++i) {
+    bool found = false;
+    for (size_t j = 0; j < M; ++j) found = found || same_name(a[i], b[j]);
+    if (!found) return false;
+  }
+  return true;
+}
+
+static_assert(same_names(kDragModelNames, registry::drag_model_choices),
+              "DragModel's names and the registry's drag_model choices (icerubble/parameters.py) differ");
+
+}  // namespace
+
+DragModel drag_model_named(const std::string& name) {
+  const auto m = std::find(std::begin(kDragModelNames), std::end(kDragModelNames), name);
+  if (m == std::end(kDragModelNames))
+    bad("parameter drag_model='" + name + "' is invalid: valid values are " + registry::drag_model_range);
+  return DragModel(m - std::begin(kDragModelNames));
+}
+
 void validate(const ExternalParams& p) {
   check(registry::g, p.g);
   check(registry::rho_w, p.rho_w);

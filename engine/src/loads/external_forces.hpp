@@ -20,6 +20,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "common/mesh_arrays.hpp"
@@ -28,6 +29,12 @@
 namespace engine {
 
 enum class DragModel : int { None = 0, Linear = 1, Quadratic = 2 };
+
+// The drag models' names in DragModel's order: the registry's drag_model
+// choices (external_forces.cpp holds the two to one set at compile time).
+inline constexpr const char* kDragModelNames[] = {"none", "linear", "quadratic"};
+DragModel drag_model_named(const std::string& name);  // refuses another name, giving the registry's range
+inline const char* drag_model_name(DragModel m) { return kDragModelNames[int(m)]; }
 
 // The water and gravity parameters. No defaults here: they are the
 // registry's (icerubble/parameters.py), sent whole with the engine's other
