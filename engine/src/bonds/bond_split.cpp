@@ -13,13 +13,12 @@
 
 #include "cohesive_law/softening.hpp"
 #include "bonds/freeze_bonds.hpp"
-#include "model/model.hpp"
 
 namespace engine {
 
 namespace cl = cohesive_law;
 
-void FreezeBonds::split_force(const Model& M, int32_t k, double& gx, double& gy) const {
+void FreezeBonds::split_force(const BondHost& M, int32_t k, double& gx, double& gy) const {
   // Eq 8 with the elastic element forces: the paper's internal forces "for
   // the stress state t_e = sigma_cr". (The force that holds an opened pair in
   // its rigid phase is bonds/cohesive_pair_kernel.hpp's bond_holding_force.)
@@ -29,8 +28,8 @@ void FreezeBonds::split_force(const Model& M, int32_t k, double& gx, double& gy)
             N.f_int_x[b] - N.f_visc_x[b], N.f_int_y[b] - N.f_visc_y[b], gx, gy);
 }
 
-void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
-  const Model& CM = M;
+void FreezeBonds::split_points(BondHost& M, const std::vector<int32_t>& points) {
+  const BondHost& CM = M;
   const Nodes& N = CM.nodes();
   const Triangles& T = CM.triangles();
   const NodeGather& gather = CM.gather();
@@ -71,7 +70,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     groups.push_back(std::move(G));
   }
   M.prepare_topology();  // gather list, surface triangles, masses, constraints
-  Nodes& W = M.nodes();
+  Nodes& W = M.bond_nodes();
 
   for (const Group& G : groups) {
     // Forces of this step on each new node; contact shared by mass, the last
@@ -81,7 +80,7 @@ void FreezeBonds::split_points(Model& M, const std::vector<int32_t>& points) {
     // must not move the shares); with it, to what the sides now need.
     double pieces = 0.0;
     for (int32_t id : G.nodes) pieces += N.mass[id];
-    if (std::fabs(pieces - G.mass) <= Model::kSameMass * G.mass) pieces = G.mass;
+    if (std::fabs(pieces - G.mass) <= BondHost::kSameMass * G.mass) pieces = G.mass;
     for (size_t b = 0; b < G.nodes.size(); ++b) {
       const int32_t id = G.nodes[b];
       M.regather_node(id);

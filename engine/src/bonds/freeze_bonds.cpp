@@ -9,7 +9,6 @@
 #include <stdexcept>
 
 #include "cohesive_law/criterion.hpp"
-#include "model/model.hpp"
 
 namespace engine {
 
@@ -27,7 +26,7 @@ constexpr int32_t kMinParallelItems = 1024;
 
 // ---------------------------------------------------------------- setup
 
-int FreezeBonds::team_size(const Model& M, int64_t items) {
+int FreezeBonds::team_size(const BondHost& M, int64_t items) {
   if (items < kMinParallelItems) return 1;
   const int t = M.threads() > 0 ? M.threads() : omp_get_max_threads();
   return std::max(1, t);
@@ -37,7 +36,7 @@ void FreezeBonds::clear() {
   *this = FreezeBonds{};
 }
 
-void FreezeBonds::set(Model& M, const BondInput& in, bool for_restore) {
+void FreezeBonds::set(BondHost& M, const BondInput& in, bool for_restore) {
   if (!st_.parent.empty())
     bad("bond points can only be set before any bond point has split "
         "(restore a checkpoint to continue a run with split bonds)");
@@ -74,7 +73,7 @@ void FreezeBonds::set(Model& M, const BondInput& in, bool for_restore) {
     if (!(in.G[p] > 0.0) || !std::isfinite(in.G[p]))
       bad(where + ": G must be > 0 J/m² and finite (got " + num(in.G[p]) + ")");
   }
-  const Model& CM = M;
+  const BondHost& CM = M;
   const Nodes& N = CM.nodes();
   for (int64_t k = 0; k < K; ++k) {
     const std::string where = "bond pair " + std::to_string(k);
@@ -155,7 +154,7 @@ void FreezeBonds::set_params(const BondParams& p) {
   params_ = p;
 }
 
-double FreezeBonds::mu(const Model& M) const {
+double FreezeBonds::mu(const BondHost& M) const {
   return std::isnan(params_.mu) ? M.contact_params().mu : params_.mu;
 }
 
@@ -195,7 +194,7 @@ size_t FreezeBonds::memory_bytes() const {
 
 // ---------------------------------------------------------------- eq 7 and the criterion
 
-BondCheckArrays FreezeBonds::check_arrays(const Model& M) const {
+BondCheckArrays FreezeBonds::check_arrays(const BondHost& M) const {
   const Nodes& N = M.nodes();
   const Triangles& T = M.triangles();
   return {N.x.data(),         N.y.data(),         M.gather().start.data(), M.gather().slot.data(),
@@ -205,7 +204,7 @@ BondCheckArrays FreezeBonds::check_arrays(const Model& M) const {
           n0x_.data(),        n0y_.data(),        tn_.data(),              tt_.data()};
 }
 
-SplitPlan FreezeBonds::check(const Model& M) {
+SplitPlan FreezeBonds::check(const BondHost& M) {
   SplitPlan plan;
   if (!params_.check_failure || intact_points_.empty()) return plan;
   const int64_t step = M.step_count();
@@ -239,7 +238,7 @@ SplitPlan FreezeBonds::check(const Model& M) {
   return plan;
 }
 
-void FreezeBonds::split(Model& M, const SplitPlan& plan) {
+void FreezeBonds::split(BondHost& M, const SplitPlan& plan) {
   if (plan.empty()) return;
   split_points(M, plan.points);
   refresh_lists();
@@ -247,7 +246,7 @@ void FreezeBonds::split(Model& M, const SplitPlan& plan) {
 
 // ---------------------------------------------------------------- eqs 9-11
 
-CohesivePairArrays FreezeBonds::pair_arrays(const Model& M) const {
+CohesivePairArrays FreezeBonds::pair_arrays(const BondHost& M) const {
   const Nodes& N = M.nodes();
   return {N.x.data(),       N.y.data(),       N.vx.data(),         N.vy.data(),          N.mass.data(),
           N.f_x.data(),     N.f_y.data(),     N.f_con_x.data(),    N.f_con_y.data(),     in_.pair_point.data(),
@@ -256,14 +255,14 @@ CohesivePairArrays FreezeBonds::pair_arrays(const Model& M) const {
           st_.d_t_prev.data(), beta_.data()};
 }
 
-void FreezeBonds::apply(Model& M, bool commit) {
+void FreezeBonds::apply(BondHost& M, bool commit) {
   const int32_t n = int32_t(open_pairs_.size());
   fx_pair_.assign(n, 0.0);
   fy_pair_.assign(n, 0.0);
   w_pair_.assign(n, 0.0);
   s_pair_.assign(n, 0.0);
   e_pair_.assign(n, 0.0);
-  const Nodes& N = static_cast<const Model&>(M).nodes();
+  const Nodes& N = static_cast<const BondHost&>(M).nodes();
   const CohesivePairArrays a = pair_arrays(M);
   const cl::ForceDirection dir = params_.direction;
   const double time = M.time();
@@ -298,7 +297,7 @@ void FreezeBonds::apply(Model& M, bool commit) {
     }
   }
   // Scatter in pair order: deterministic, whatever the thread count.
-  Nodes& W = M.nodes();
+  Nodes& W = M.bond_nodes();
   double work = 0.0, stored = 0.0, eff = 0.0;
   for (int32_t j = 0; j < n; ++j) {
     const int32_t k = open_pairs_[j];
@@ -330,9 +329,9 @@ void FreezeBonds::apply(Model& M, bool commit) {
 // potential contact the stable step allows for), keeps x+ and x- from
 // crossing along the bond normal. It is conservative: its forces go with the
 // contact forces, whose work the ledger books as stored contact energy.
-void FreezeBonds::apply_crack_closure(Model& M) {
+void FreezeBonds::apply_crack_closure(BondHost& M) {
   const double k = M.contact_params().penalty;
-  Nodes& W = M.nodes();
+  Nodes& W = M.bond_nodes();
   const int32_t n = int32_t(st_.pair_state.size());
   for (int32_t j = 0; j < n; ++j) {
     if (st_.pair_state[j] == PairState::intact) continue;
@@ -350,7 +349,7 @@ void FreezeBonds::apply_crack_closure(Model& M) {
 
 // ---------------------------------------------------------------- checkpoints
 
-void FreezeBonds::restore(Model& M, const BondState& s) {
+void FreezeBonds::restore(BondHost& M, const BondState& s) {
   const size_t extent_size[] = {in_.node.size(), in_.pair_point.size(), 0, 1};
   BondState::each(s, [&](const char* name, BondExtent e, const auto& field, auto) {
     if constexpr (is_bond_array<decltype(field)>) {

@@ -21,13 +21,13 @@
 #include <vector>
 
 #include "bonds/bond_check_kernel.hpp"
+#include "bonds/bond_host.hpp"
 #include "bonds/bond_fields.hpp"
 #include "bonds/cohesive_pair_kernel.hpp"
 #include "cohesive_law/softening.hpp"
 
 namespace engine {
 
-class Model;
 
 // The bond points a step's check found at the criterion (eqs 5-7), in the
 // order of the intact-point list: what the model's topology stage splits.
@@ -56,7 +56,7 @@ class FreezeBonds {
   // before storing anything. Only allowed while no bond has split.
   // for_restore: the model is rebuilt from a checkpoint, so a split point's
   // bodies are no longer at its node; restore() checks the split topology.
-  void set(Model& M, const BondInput& in, bool for_restore = false);
+  void set(BondHost& M, const BondInput& in, bool for_restore = false);
   void set_params(const BondParams& p);
   const BondParams& params() const { return params_; }
   void clear();
@@ -67,14 +67,14 @@ class FreezeBonds {
   // the model's topology stage (Model::apply_topology_changes); apply()
   // (eqs 9-11) adds the cohesive forces and, if commit, advances the pairs'
   // history, events and energy.
-  SplitPlan check(const Model& M);
-  void split(Model& M, const SplitPlan& plan);
-  void apply(Model& M, bool commit);
+  SplitPlan check(const BondHost& M);
+  void split(BondHost& M, const SplitPlan& plan);
+  void apply(BondHost& M, bool commit);
 
   // Checkpoints: state out, and back into a model rebuilt from the exported
   // nodes/triangles with the same set() input. The clock is the model's.
   const BondState& state() const { return st_; }
-  void restore(Model& M, const BondState& s);
+  void restore(BondHost& M, const BondState& s);
 
   int32_t n_points() const { return int32_t(in_.node.size()); }
   int32_t n_pairs() const { return int32_t(in_.pair_point.size()); }
@@ -83,15 +83,15 @@ class FreezeBonds {
   const BondInput& input() const { return in_; }
   // The check's arrays (bonds/bond_check_kernel.hpp: eq 7's stress, the
   // pairs' normals, eqs 5-6); the tractions go to last_tn()/last_tt().
-  BondCheckArrays check_arrays(const Model& M) const;
+  BondCheckArrays check_arrays(const BondHost& M) const;
   // The cohesive force kernel's arrays (bonds/cohesive_pair_kernel.hpp): the
   // nodes' state and this step's forces, the pairs' history.
-  CohesivePairArrays pair_arrays(const Model& M) const;
+  CohesivePairArrays pair_arrays(const BondHost& M) const;
   // Pairs opened and not yet fully failed, ascending: what apply() steps.
   const std::vector<int32_t>& open_pairs() const { return open_pairs_; }
   // The friction coefficient of eq 6's compressive branch: params().mu, or the
   // contact mu where that is NaN.
-  double mu(const Model& M) const;
+  double mu(const BondHost& M) const;
   // Bond points not yet split, ascending.
   const std::vector<int32_t>& intact_points() const { return intact_points_; }
   // Original node of every node appended by splitting (in order of appending).
@@ -110,14 +110,14 @@ class FreezeBonds {
   size_t memory_bytes() const;
 
  private:
-  void apply_crack_closure(Model& M);
-  static int team_size(const Model& M, int64_t items);
+  void apply_crack_closure(BondHost& M);
+  static int team_size(const BondHost& M, int64_t items);
   void refresh_lists();
   // bond_split.cpp
-  void split_points(Model& M, const std::vector<int32_t>& points);
+  void split_points(BondHost& M, const std::vector<int32_t>& points);
   // Eq 8 force on the + node of pair k from this step's elastic element
   // forces: gives f0 at the split.
-  void split_force(const Model& M, int32_t k, double& gx, double& gy) const;
+  void split_force(const BondHost& M, int32_t k, double& gx, double& gy) const;
 
   BondInput in_;
   BondParams params_;

@@ -16,6 +16,7 @@
 #include "model/gather_plan.hpp"
 #include "model/step_sums.hpp"
 #include "loads/external_forces.hpp"
+#include "bonds/bond_host.hpp"
 #include "bonds/freeze_bonds.hpp"
 #include "element/material.hpp"
 #include "common/mesh_arrays.hpp"
@@ -44,7 +45,7 @@ struct StepTimings {
   int64_t element_steps = 0;       // triangles computed, summed over steps
 };
 
-class Model {
+class Model final : public BondHost {
  public:
   // xy: 2 per node; tri: 3 node ids per triangle, counter-clockwise; body: per
   // triangle, ids 0..n_bodies-1. Throws std::invalid_argument on bad input.
@@ -147,15 +148,15 @@ class Model {
   void rebuild_topology();
   // rebuild_topology + masses + constraint masks if anything changed
   // (validates materials); step() and stable_step() call it.
-  void prepare_topology();
+  void prepare_topology() override;
   // Node splitting (freeze bonds): a new node at `node`'s place and velocity
   // takes over the corners of `body`'s triangles at `node`, and joins every
   // boundary condition holding `node` (a prescribed node stays prescribed on
   // every side). Returns its id; prepare_topology() then rebuilds the rest.
-  int32_t split_off(int32_t node, int32_t body);
+  int32_t split_off(int32_t node, int32_t body) override;
   // Recompute one node's sum of this step's corner forces, gravity and drag
   // (after a split gave it its own corners).
-  void regather_node(int32_t node);
+  void regather_node(int32_t node) override;
   // After prepare_topology() recomputed the masses of a split: with mass
   // scaling the pieces of a split node need not add up to its inertial mass
   // (each side keeps the contact mass the node needed). Keeps the momentum of
@@ -164,21 +165,19 @@ class Model {
   // of each node added since, in order) and books the kinetic energy this
   // changes as damping. Returns the nodes whose mass changed.
   int32_t keep_momentum_through_split(const std::vector<double>& m_before,
-                                      const std::vector<int32_t>& split_parent);
-  // Relative difference below which masses are the same: the round-off of
-  // lumped thirds summed per side in another order (m+ + m- = m unscaled).
-  static constexpr double kSameMass = 1e-12;
+                                      const std::vector<int32_t>& split_parent) override;
+  // (kSameMass, the masses' round-off: bonds/bond_host.hpp)
   // Some triangle of `body` has a corner at `node`.
-  bool node_touches_body(int32_t node, int32_t body) const;
+  bool node_touches_body(int32_t node, int32_t body) const override;
 
   // --- read access (the state changes only through the methods above and
   // the step's own stages; FreezeBonds, the topology stage's collaborator,
-  // writes its forces and splits through the private accessors below) ---
-  const Nodes& nodes() const { return nodes_; }
-  const Triangles& triangles() const { return tris_; }
+  // writes its forces and splits through its host interface, bonds/bond_host.hpp) ---
+  const Nodes& nodes() const override { return nodes_; }
+  const Triangles& triangles() const override { return tris_; }
   // Node -> triangle corners, in the fixed order of every per-node sum.
-  const NodeGather& gather() const { return gather_; }
-  int threads() const { return params_.threads; }  // 0: OpenMP default
+  const NodeGather& gather() const override { return gather_; }
+  int threads() const override { return params_.threads; }  // 0: OpenMP default
   // the threads a step's sums are split over (what their rounding depends on)
   int thread_count() const;
   const std::vector<int32_t>& surface_triangles() const { return surface_tris_; }
@@ -197,12 +196,12 @@ class Model {
   void set_contact_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
     contact_.set_warm_start(keys, forces);
   }
-  int32_t n_bodies() const { return int32_t(materials_.size()); }
-  double time() const { return time_; }
-  int64_t step_count() const { return step_count_; }
-  double dt() const { return dt_; }
+  int32_t n_bodies() const override { return int32_t(materials_.size()); }
+  double time() const override { return time_; }
+  int64_t step_count() const override { return step_count_; }
+  double dt() const override { return dt_; }
   const ExternalParams& external() const { return params_.external; }
-  const ContactParams& contact_params() const { return params_.contact; }
+  const ContactParams& contact_params() const override { return params_.contact; }
   double energy_tolerance() const { return params_.energy_tolerance; }
   bool check_stable_dt() const { return params_.check_stable_dt; }
   int32_t touching_pairs() const { return contact_.touching_pairs(); }
@@ -218,7 +217,7 @@ class Model {
   void restore_bonds(const BondState& s) { bonds_.restore(*this, s); }
 
  private:
-  friend class FreezeBonds;  // its cohesive forces and splits write the nodes
+  Nodes& bond_nodes() override { return nodes_; }  // the bonds' writes (BondHost)
   Nodes& nodes() { return nodes_; }
   Triangles& triangles() { return tris_; }
   ContactSolver& contact() { return contact_; }
