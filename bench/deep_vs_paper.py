@@ -15,8 +15,8 @@ y_I = 1...20 mm (split bond points, docs/postproc.md), F(20 mm) and the cost.
 Variants (domain width, element size): paper (50 m, 0.085 m), deep (20 m,
 0.15 m: the study's scene; the run is data/study_deep.table's line of that
 name, made by whichever of the two comes first), deep_h0.2 (20 m, 0.2 m), deep_w12 (12 m, 0.15 m),
-deep_w30 (30 m, 0.15 m). The paper scene costs ~1.5 h to 20 mm on 2 cores, a
-deep variant 10-30 min. Runs are kept in --out-dir (the deep one in the
+deep_w30 (30 m, 0.15 m). What each cost is in its row (bench/README.md): the paper
+scene takes hours, a deep variant tens of minutes. Runs are kept in --out-dir (the deep one in the
 study's folder, --study-dir) and resumed from their
 checkpoints (run the script again); every row is written to
 bench/results/deep_vs_paper.json as soon as its run exists.
