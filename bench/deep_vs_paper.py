@@ -9,8 +9,8 @@ run on the first (cohesive) peak F^m and y_I at it, alpha and A_p over
 y_I = 1...20 mm (split bond points, docs/postproc.md), F(20 mm) and the cost.
 
     OMP_NUM_THREADS=2 /usr/bin/python3 bench/deep_vs_paper.py [--ridges 1 2]
-        [--variants paper deep deep_h0.2 deep_w12 deep_w30] [--out-dir runs/bench/deep_vs_paper]
-        [--study-dir runs/deep]
+        [--variants paper deep deep_h0.2 deep_w12 deep_w30] [--settle-bonds checked|held]
+        [--out-dir runs/bench/deep_vs_paper] [--study-dir runs/deep]
 
 Variants (domain width, element size): paper (50 m, 0.085 m), deep (20 m,
 0.15 m: the study's scene; the run is data/study_deep.table's line of that
@@ -32,6 +32,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 from icerubble import machine  # noqa: E402
+from icerubble import parameters as P  # noqa: E402
 from icerubble.files import results  # noqa: E402
 from icerubble.run import presets  # noqa: E402
 from icerubble.study.line import run_one  # noqa: E402
@@ -40,7 +41,8 @@ from postproc import failure_plane, loads, plug  # noqa: E402
 OUT_JSON = os.path.join(ROOT, "bench", "results", "deep_vs_paper.json")
 TRAVEL = 20e-3                      # m: the paper's "after the steep decrease" instant
 FIRST_PEAK_TRAVEL = 1e-3            # m: the first peak, before a later event in the 5 mm window can replace it
-REFERENCE = dict(mu=0.3, tau_cr=50e3, target_travel=TRAVEL, settle_bonds="checked")   # as data/study_deep.table
+REFERENCE = dict(mu=0.3, tau_cr=50e3, target_travel=TRAVEL)   # as data/study_deep.table
+SETTLE_BONDS = P.REGISTRY["settle_bonds"].choices   # the study's tables check them ('checked')
 # (domain width m, element size m) of the variants beside the two scenes
 EXTRA = {"deep_h0.2": (20.0, 0.2), "deep_w12": (12.0, 0.15), "deep_w30": (30.0, 0.15)}
 ORDER = ("deep", "deep_h0.2", "deep_w12", "deep_w30", "paper")   # cheap first
@@ -65,6 +67,7 @@ def measures(path):
     return dict(F_m_kN_per_m=F_m / 1e3, y_I_peak_mm=y_m * 1e3,
                 first_peak_kN_per_m=float(F[i_first]) / 1e3, y_I_first_peak_mm=float(y[i_first]) * 1e3,
                 n_split_settle=int(np.sum(r.bonds["t_split"] < 0)) if "t_split" in r.bonds else 0,
+                settle_bonds=str(r.parameters.get("settle_bonds", P.REGISTRY["settle_bonds"].default)),
                 F_20mm_kN_per_m=loads.load_at(y, F, TRAVEL) / 1e3,
                 alpha_mean_1_20mm_deg=alpha_mean, alpha_sd_1_20mm_deg=alpha_sd,
                 A_p_mean_1_20mm_m2=failure_plane.mean_sd(areas)[0],
@@ -84,6 +87,9 @@ def main(argv=None):
     ap.add_argument("--out-dir", default=os.path.join(ROOT, "runs", "bench", "deep_vs_paper"))
     # the study's folder: its deep_ridgeN_mu0.3_tau50k line is this bench's deep run
     ap.add_argument("--study-dir", default=os.path.join(ROOT, "runs", "deep"))
+    ap.add_argument("--settle-bonds", choices=SETTLE_BONDS, default="checked",
+                    help="the bonds while settling: checked (the study's tables) or held (every bond "
+                         "kept while settling, the earlier reference); a held run's name ends in _held")
     ap.add_argument("--measure", nargs="+", metavar="VARIANT=RESULT.h5",
                     help="measure these finished runs (of --ridges' first ridge) instead of running "
                          "(runs made in another checkout)")
@@ -93,43 +99,57 @@ def main(argv=None):
     if os.path.exists(OUT_JSON):   # rows of other ridges and variants measured before
         with open(OUT_JSON) as f:
             rows = [r for r in json.load(f)["runs"]
-                    if a.measure or (r["ridge"], r["variant"]) not in {(g, v) for g in a.ridges for v in a.variants}]
+                    if a.measure or key(r) not in {(g, v, a.settle_bonds) for g in a.ridges for v in a.variants}]
     if a.measure:
         for item in a.measure:
             name, path = item.split("=", 1)
             if name not in ORDER:
                 raise SystemExit(f"--measure: {name!r} is not a variant ({', '.join(ORDER)})")
-            rows = [r for r in rows if (r["ridge"], r["variant"]) != (a.ridges[0], name)]
-            rows.append(dict(ridge=a.ridges[0], variant=name, file=path, **measures(path)))
+            row = dict(ridge=a.ridges[0], variant=name, file=path, **measures(path))
+            rows = [r for r in rows if key(r) != key(row)]
+            rows.append(row)
         write(rows)
         report(rows)
         return
     for ridge in a.ridges:
         for name in [v for v in ORDER if v in a.variants]:
-            out = run_one(name, ridge, overrides=REFERENCE, numerics_name="fast",
-                          out_dir=a.study_dir if name == "deep" else a.out_dir,
-                          description=f"{name}_ridge{ridge}_mu0.3_tau50k")   # data/study_deep.table's name
+            held = a.settle_bonds != "checked"
+            out = run_one(name, ridge, overrides=dict(REFERENCE, settle_bonds=a.settle_bonds), numerics_name="fast",
+                          out_dir=a.study_dir if name == "deep" and not held else a.out_dir,
+                          # data/study_deep.table's name, for the study's settling
+                          description=f"{name}_ridge{ridge}_mu0.3_tau50k" + ("_held" if held else ""))
             rows.append(dict(ridge=ridge, variant=name, file=os.path.relpath(out, ROOT), **measures(out)))
             write(rows)
     report(rows)
+
+
+def key(row):
+    """A row's run: ridge, variant and the bonds while settling (rows measured
+    before the column: checked, as the study's tables)."""
+    return row["ridge"], row["variant"], row.get("settle_bonds", "checked")
+
+
+def order(row):
+    return row["ridge"], ORDER.index(row["variant"]), SETTLE_BONDS.index(row.get("settle_bonds", "checked"))
 
 
 def write(rows):
     os.makedirs(os.path.dirname(OUT_JSON), exist_ok=True)
     with open(OUT_JSON + ".part", "w") as f:
         json.dump(dict(set_up=dict(REFERENCE, numerics="fast"), machine=machine.processor(),
-                       runs=sorted(rows, key=lambda r: (r["ridge"], ORDER.index(r["variant"])))),
+                       runs=sorted(rows, key=order)),
                   f, indent=1, default=float)
     os.replace(OUT_JSON + ".part", OUT_JSON)
 
 
 def report(rows):
     keys = ("F_m_kN_per_m", "y_I_peak_mm", "alpha_mean_1_20mm_deg", "A_p_mean_1_20mm_m2", "F_20mm_kN_per_m")
-    for r in sorted(rows, key=lambda r: (r["ridge"], ORDER.index(r["variant"]))):
-        ref = next((q for q in rows if q["ridge"] == r["ridge"] and q["variant"] == "paper"), None)
+    for r in sorted(rows, key=order):
+        ref = next((q for q in rows if key(q) == (r["ridge"], "paper", "checked")), None)
         vals = "  ".join(f"{k.split('_')[0]} {r[k]:8.3f}" + (f" ({100 * (r[k] / ref[k] - 1):+5.1f} %)" if ref else "")
                          for k in keys)
-        print(f"ridge {r['ridge']} {r['variant']:10s} {vals}  {r['n_triangles']} triangles, "
+        print(f"ridge {r['ridge']} {r['variant']:10s} {r.get('settle_bonds', 'checked'):7s} {vals}  "
+              f"{r['n_triangles']} triangles, "
               f"load {r['wall_load_s'] / 60:.1f} min")
 
 
