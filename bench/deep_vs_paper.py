@@ -111,9 +111,9 @@ def main(argv=None):
         write(rows)
         report(rows)
         return
+    held = a.settle_bonds != "checked"
     for ridge in a.ridges:
         for name in [v for v in ORDER if v in a.variants]:
-            held = a.settle_bonds != "checked"
             out = run_one(name, ridge, overrides=dict(REFERENCE, settle_bonds=a.settle_bonds), numerics_name="fast",
                           out_dir=a.study_dir if name == "deep" and not held else a.out_dir,
                           # data/study_deep.table's name, for the study's settling
@@ -130,7 +130,8 @@ def key(row):
 
 
 def order(row):
-    return row["ridge"], ORDER.index(row["variant"]), SETTLE_BONDS.index(row.get("settle_bonds", "checked"))
+    ridge, variant, bonds = key(row)
+    return ridge, ORDER.index(variant), SETTLE_BONDS.index(bonds)
 
 
 def write(rows):
@@ -148,7 +149,7 @@ def report(rows):
         ref = next((q for q in rows if key(q) == (r["ridge"], "paper", "checked")), None)
         vals = "  ".join(f"{k.split('_')[0]} {r[k]:8.3f}" + (f" ({100 * (r[k] / ref[k] - 1):+5.1f} %)" if ref else "")
                          for k in keys)
-        print(f"ridge {r['ridge']} {r['variant']:10s} {r.get('settle_bonds', 'checked'):7s} {vals}  "
+        print(f"ridge {r['ridge']} {r['variant']:10s} {key(r)[2]:7s} {vals}  "
               f"{r['n_triangles']} triangles, "
               f"load {r['wall_load_s'] / 60:.1f} min")
 

@@ -107,8 +107,7 @@ def freeze_face_contacts(friction, outlines, walls, hold_bond_length):
         n = i.geom.normal
         if contact_chord(outlines(i.id1), outlines(i.id2), (n[0], n[1])) >= hold_bond_length:
             pairs.append((i.id1, i.id2))
-    friction.stick(pairs)
-    return len(friction.friction.stuck)
+    return friction.stick(pairs)
 
 
 def make_pile(P, description=""):

@@ -102,9 +102,11 @@ class Coupling:
 
     def stick(self, pairs):
         """Make these body pairs (YADE ids, either order) stick at any
-        tangential force from now on: no Coulomb cap (phase 1's hold stage)."""
+        tangential force from now on: no Coulomb cap (phase 1's hold stage).
+        Returns how many pairs stick now."""
         p = np.sort(np.asarray(pairs, np.int32).reshape(-1, 2), axis=1)
         self.friction.stick(p[:, 0], p[:, 1])
+        return len(self.friction.stuck)
 
     def contact_arrays(self):
         a, b, p, n, fn = [], [], [], [], []

@@ -190,7 +190,7 @@ void bind_rigid(py::module_& m) {
           if (!(a.data()[k] >= 0 && a.data()[k] < b.data()[k]))
             bad("pair " + std::to_string(k) + ": (" + std::to_string(a.data()[k]) + ", " +
                 std::to_string(b.data()[k]) + ") must be body ids with 0 <= a < b");
-          h.stuck.push_back((uint64_t(uint32_t(a.data()[k])) << 32) | uint32_t(b.data()[k]));
+          h.stuck.push_back(friction_key(a.data()[k], b.data()[k]));
         }
         std::sort(h.stuck.begin(), h.stuck.end());
         h.stuck.erase(std::unique(h.stuck.begin(), h.stuck.end()), h.stuck.end());

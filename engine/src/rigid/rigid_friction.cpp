@@ -15,7 +15,7 @@ void rigid_friction(const RigidContacts& c, const RigidBodies& B, double dt, dou
   std::fill(tz, tz + B.n, 0.0);
   std::vector<int32_t> order(c.n);
   std::iota(order.begin(), order.end(), 0);
-  const auto key = [&](int32_t k) { return (uint64_t(uint32_t(c.a[k])) << 32) | uint32_t(c.b[k]); };
+  const auto key = [&](int32_t k) { return friction_key(c.a[k], c.b[k]); };
   std::sort(order.begin(), order.end(), [&](int32_t i, int32_t j) { return key(i) < key(j); });
   FrictionHistory next;
   next.key.reserve(c.n);

@@ -41,10 +41,13 @@ struct RigidBodies {
   const double* omega = nullptr;  // [rad/s]
 };
 
+// A body pair's key in the history (a < b): ascending keys order pairs by a, then b.
+inline uint64_t friction_key(int32_t a, int32_t b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
+
 // The friction history: tangential force per body pair, keys ascending; and
 // the pairs that stick at any force (kept whether in contact or not).
 struct FrictionHistory {
-  std::vector<uint64_t> key;  // (uint64(a) << 32) | b
+  std::vector<uint64_t> key;  // friction_key(a, b)
   std::vector<double> ft;
   std::vector<uint64_t> stuck;  // ascending, the same keys
 };
