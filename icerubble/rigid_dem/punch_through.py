@@ -151,7 +151,7 @@ class RigidPunchThrough(Driver):
     def settle(self):
         self.settle_and_hold()
 
-    def write(self, wall_settle_s, wall_load_s):
+    def write(self):
         """The result; its wall times are the run's own, counted across resumes
         (the checkpoint keeps them), not this process's."""
         rec = self.rec

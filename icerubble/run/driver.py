@@ -11,7 +11,6 @@ import contextlib
 import os
 import signal
 import threading
-import time
 
 # What a scheduler sends before it stops a run: SIGTERM (scancel, preemption,
 # node shutdown; SLURM follows with SIGKILL after KillWait, 30 s by default)
@@ -58,8 +57,8 @@ class Driver:
     - ``begin()``: what a run not resumed does first (the FEM-DEM run loads a
       shared rest state where there is one);
     - ``settled()``: whether the settle is behind it;
-    - ``settle()``, ``load()``, ``write(wall_settle_s, wall_load_s)``: the
-      phases; the wall times are this process's.
+    - ``settle()``, ``load()``, ``write()``: the phases; the result's wall
+      times are each model's own record, counted across resumes.
     """
 
     def start(self):
@@ -77,12 +76,10 @@ class Driver:
                 self.resume(self.ckpt_path)
             else:
                 self.begin()
-            t0 = time.perf_counter()
             if not self.settled():
                 self.settle()
-            t1 = time.perf_counter()
             self.load()
-            self.write(t1 - t0, time.perf_counter() - t1)
+            self.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path

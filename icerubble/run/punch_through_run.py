@@ -217,12 +217,12 @@ class PunchThrough(Driver):
         ckpt.restore(self, path)
         print(f"[punch-through] resumed from {path} at step {self.model.step_count}, "
               f"phase {self.state.phase}", flush=True)
-        self._last_ckpt = time.perf_counter()
+        self._last_ckpt = self._wall_mark = time.perf_counter()
 
     def begin(self):
         if self.shared_rest is not None and os.path.exists(self.shared_rest[0]):
             RS.load_shared(self)
-        self._last_ckpt = time.perf_counter()
+        self._last_ckpt = self._wall_mark = time.perf_counter()
 
     def settled(self):
         return self.state.phase != "settle"
@@ -238,10 +238,21 @@ class PunchThrough(Driver):
     def load(self):
         self.loading.run()
 
-    def write(self, wall_settle_s, wall_load_s):
-        # wall times of this process (a resumed run: from its resume)
-        self.recorder.meta.update(wall_settle_s=wall_settle_s, wall_load_s=wall_load_s)
+    def write(self):
+        self.book_wall_time()
+        self.recorder.meta.update(wall_settle_s=self.state.wall_settle_s, wall_load_s=self.state.wall_load_s)
         self.output.write()
+
+    def book_wall_time(self):
+        """Add the wall time since the last booking to the current phase's
+        (RunState.wall_settle_s / wall_load_s): at each checkpoint, when the
+        settle hands over to the loading, and at the end."""
+        now = time.perf_counter()
+        if self.state.phase == "settle":
+            self.state.wall_settle_s += now - self._wall_mark
+        else:
+            self.state.wall_load_s += now - self._wall_mark
+        self._wall_mark = now
 
     def settle_only(self, rest_path):
         """Settle (resuming this run's own checkpoint if there is one) and
@@ -254,7 +265,7 @@ class PunchThrough(Driver):
         with catching_stop_signals(self):
             if os.path.exists(self.ckpt_path):
                 ckpt.restore(self, self.ckpt_path)
-            self._last_ckpt = time.perf_counter()
+            self._last_ckpt = self._wall_mark = time.perf_counter()
             if self.state.phase == "settle":
                 self.settler.run()
         ckpt.save(self, rest_path)
@@ -283,10 +294,9 @@ class PunchThrough(Driver):
                 rest_dt = json.loads(f["driver"].attrs["params"])["dt"]
             self.recorder.meta.update(rest_state_from=os.path.abspath(rest_path), rest_state_dt=rest_dt)
             self.rest_state = rest_path
-            self._last_ckpt = t0 = time.perf_counter()
+            self._last_ckpt = self._wall_mark = time.perf_counter()
             self.loading.run()
-            self.recorder.meta.update(wall_load_s=time.perf_counter() - t0)
-            self.output.write()
+            self.write()
         if os.path.exists(self.ckpt_path):
             os.remove(self.ckpt_path)
         return self.out_path
@@ -294,9 +304,11 @@ class PunchThrough(Driver):
     def _maybe_checkpoint(self, force=False):
         now = time.perf_counter()
         if force or now - self._last_ckpt >= self.options.checkpoint_every_s:
+            self.book_wall_time()
             ckpt.save(self, self.ckpt_path)
             self._last_ckpt = now
         if self._stop_signal is not None:
+            self.book_wall_time()
             ckpt.save(self, self.ckpt_path)
             m = self.model
             raise RunInterrupted(

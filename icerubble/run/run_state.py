@@ -24,6 +24,12 @@ class RunState:
     settle_splits: int = 0                 # bond points split while settling (settle_bonds='checked')
     load_steps: int = 0                    # steps of the load phase ...
     load_element_steps: int = 0            # ... and the triangles they computed (sleeping far field)
+    # wall time of each phase summed over the processes that ran it, so that a
+    # resumed run reports what it cost, not what its last process did (time
+    # after the last checkpoint of a stopped process is redone, so not counted);
+    # a run loading from a shared rest state reports the settle that made it
+    wall_settle_s: float = 0.0
+    wall_load_s: float = 0.0
     vtu_entries: list = field(default_factory=list)   # (y_I, file) of the VTU pieces written
 
     def to_attrs(self):

@@ -214,6 +214,7 @@ class Settle:
         self.driver.state.F_at_rest = float(np.mean(forces))
         self.driver.state.y_top0 = self.driver.scene.indenter_top_y()
         self.driver.state.t_load = m.time
+        self.driver.book_wall_time()   # the hold is the settle's
         self.driver.state.phase = "load"
         self.driver.apply_boundary_conditions()
         m.set_bond_params(check_failure=True)

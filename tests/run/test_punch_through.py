@@ -179,10 +179,17 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
         Signalled(mesh_path, out, params=PARAMS, options=RunOptions(**opts)).run()
     assert not out.exists() and (tmp_path / "run.checkpoint.h5").exists()
     assert signal.getsignal(signum) is signal.SIG_DFL or signal.getsignal(signum) is signal.default_int_handler
+    with h5py.File(tmp_path / "run.checkpoint.h5") as f:
+        before = {k: float(f["driver"].attrs[k]) for k in ("wall_settle_s", "wall_load_s")}
+    assert before["wall_settle_s"] > 0 and before["wall_load_s"] > 0
     PunchThrough(mesh_path, out, params=PARAMS, options=RunOptions(**opts)).run(resume=True)
     with h5py.File(out0) as a, h5py.File(out) as b:
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
+        # the cost is the run's, not the resumed process's: the settle was
+        # all before the stop, the loading is both processes' share
+        assert b.attrs["wall_settle_s"] == before["wall_settle_s"]
+        assert b.attrs["wall_load_s"] > before["wall_load_s"]
 
 
 def test_a_second_ctrl_c_stops_at_once():
