@@ -246,7 +246,10 @@ def deep_vs_paper(d):
              f"{r['F_m_kN_per_m']:.1f} at {r['y_I_peak_mm']:.2f}",
              f"{r['alpha_mean_1_20mm_deg']:.1f} ± {r['alpha_sd_1_20mm_deg']:.1f}", f"{r['A_p_mean_1_20mm_m2']:.0f}",
              f"{r['F_20mm_kN_per_m']:.1f}", r.get("n_split_settle", ""),
-             f"{r['settle_time_s']:.2f} s, {r['wall_settle_s'] / 60:.0f} min", f"{r['wall_load_s'] / 60:.0f} min",
+             f"{r['settle_time_s']:.2f} s, " + (f"{r['wall_settle_s'] / 60:.0f} min" if r["wall_settle_s"] >= 1 else
+                                                   # before c59cda7 a resumed run kept its last process's wall
+                                                   # times: a settle resumed into its loading shows ~0 s
+                                                   "wall not kept (resumed)"), f"{r['wall_load_s'] / 60:.0f} min",
              r.get("code_version", "")] for r in d["runs"]]
     return ([f"Set-up: μ {u['mu']}, τ_cr {u['tau_cr'] / 1e3:g} kPa, "
              f"`{u['numerics']}` numerics, to {u['target_travel'] * 1e3:g} mm. First peak: the largest F before "
