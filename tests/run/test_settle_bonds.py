@@ -23,7 +23,7 @@ from icerubble.run import run_identity as RI
 from icerubble.run.punch_through_run import PunchThrough, RunOptions
 from tests.run.punch_through_scenes import brick_mesh
 from tests.run.test_punch_through import PARAMS
-from tests.run.test_rest_states import OPTS, _same, _tree
+from tests.run.test_rest_states import OPTS, REST_HOW_MADE, _same, _tree
 
 CHECKED = dict(PARAMS, settle_bonds="checked")
 # a quarter of Table 1's strengths: a settle checking them splits points under
@@ -81,7 +81,7 @@ def test_checking_bonds_that_hold_changes_nothing(mesh_path, tmp_path):
     with h5py.File(rests[0]) as fa, h5py.File(rests[1]) as fb:
         a, b = _tree(fa), _tree(fb)
     assert set(a) == set(b)
-    differ = sorted(k for k in a if not _same(a[k], b[k]) and k != "@created")
+    differ = sorted(k for k in a if not _same(a[k], b[k]) and k not in REST_HOW_MADE)
     # beside the parameters, only the check's own record: how often it ran and
     # which points its screen keeps near eq 5 (docs/freeze_bonds.md)
     assert differ == ["/driver@params", "/engine/bond_state/near", "/engine/bond_state@checks"], differ
