@@ -9,14 +9,15 @@ run on the first (cohesive) peak F^m and y_I at it, alpha and A_p over
 y_I = 1...20 mm (split bond points, docs/postproc.md), F(20 mm) and the cost.
 
     OMP_NUM_THREADS=2 /usr/bin/python3 bench/deep_vs_paper.py [--ridges 1 2]
-        [--variants paper deep deep_h0.2 deep_w12 deep_w30 deep_w50_h0.2] [--settle-bonds checked|held]
+        [--variants paper deep deep_h0.2 deep_w12 deep_w30 deep_w50_h0.2 deep_w50] [--settle-bonds checked|held]
         [--out-dir runs/bench/deep_vs_paper] [--study-dir runs/deep]
 
 Variants (domain width, element size): paper (50 m, 0.085 m), deep (20 m,
 0.15 m: the study's scene; the run is data/study_deep.table's line of that
 name, made by whichever of the two comes first), deep_h0.2 (20 m, 0.2 m), deep_w12 (12 m, 0.15 m),
 deep_w30 (30 m, 0.15 m), deep_w50_h0.2 (the paper scene's whole 50 m, nothing cut, on 0.2 m
-elements: about as many triangles as deep_w30). What each cost is in its row (bench/README.md): the paper
+elements: about as many triangles as deep_w30), deep_w50 (the whole 50 m on 0.15 m elements).
+What each cost is in its row (bench/README.md): the paper
 scene takes hours, a deep variant tens of minutes. Runs are kept in --out-dir (the deep one in the
 study's folder, --study-dir) and resumed from their
 checkpoints (run the script again); every row is written to
@@ -47,8 +48,8 @@ SETTLE_BONDS = P.REGISTRY["settle_bonds"].choices   # the study's tables check t
 # (domain width m, element size m) of the variants beside the two scenes
 EXTRA = {"deep_h0.2": (20.0, 0.2), "deep_w12": (12.0, 0.15), "deep_w30": (30.0, 0.15),
          # the whole domain, so no cut face at all: what the width costs, paid for by the mesh
-         "deep_w50_h0.2": (50.0, 0.2)}
-ORDER = ("deep", "deep_h0.2", "deep_w12", "deep_w30", "deep_w50_h0.2", "paper")   # cheap first
+         "deep_w50_h0.2": (50.0, 0.2), "deep_w50": (50.0, 0.15)}
+ORDER = ("deep", "deep_h0.2", "deep_w12", "deep_w30", "deep_w50_h0.2", "deep_w50", "paper")   # cheap first
 
 
 def register_variants():
