@@ -222,6 +222,10 @@ def gpu_body_forces(d):
                       f"forces the CPU's bits) takes {g['contact_normal_us']:.1f} µs, against "
                       f"{d['cpu'][-1]['contact_forces_ms'] * 1e3:.0f} µs for the contact forces part (friction "
                       f"included) at {d['cpu'][-1]['threads']} threads."]
+        if "friction_us" in g:
+            lines += ["", f"GPU: friction ({g['friction_pairs']:,} touching pairs in {g['friction_colours']} colours; "
+                      f"coloured, solved and summed on the GPU with the CPU's colours and bits, tools/gpu_check.py) "
+                      f"takes {g['friction_us']:.1f} µs (bench/gpu_friction.py times it with many pairs)."]
         if "bond_check_us" in g:
             lines += ["", f"GPU: the bond check of all {g['bond_points_intact']:,} intact bond points (eqs 5-7; "
                       f"ratios, tractions and split plan the CPU's) takes {g['bond_check_us']:.1f} µs, against "
@@ -260,10 +264,25 @@ def deep_vs_paper(d):
                      "load 20 mm (wall)", "code"], rows))
 
 
+def gpu_friction(d):
+    lines = [f"A wall of {d['rows']} × {d['cols']} pressed blocks ({d['n_triangles']:,} triangles): "
+             f"{d['touching_pairs']:,} touching pairs in {d['colours']} colours. The CPU's friction (one thread) "
+             f"takes {fmt(d['cpu_ms'])} ms."]
+    g = d.get("gpu")
+    if g:
+        lines[0] += (f" On the GPU ({g['device']}): {g['friction_us']:.1f} µs, {d['cpu_ms'] * 1e3 / g['friction_us']:.0f}× "
+                     f"the CPU, the colouring in {g['rounds']} parallel rounds; the CPU's colours and bits: "
+                     f"{'yes' if g['same'] else 'NO'}.")
+    else:
+        lines[0] += " No GPU was visible where it was measured."
+    return lines
+
+
 FORMATS = {"demo_reference.json": demo_reference, "paper_cost.json": paper_cost, "paper_peak.json": paper_peak,
            "runtime_vs_error.json": runtime_vs_error, "sleeping_wide.json": sleeping,
            "rigid_cost.json": rigid_cost, "bonds.json": bonds, "collision.json": collision,
            "time_vs_error.json": time_vs_error, "gpu_body_forces.json": gpu_body_forces,
+           "gpu_friction.json": gpu_friction,
            "deep_vs_paper.json": deep_vs_paper}
 
 

@@ -19,7 +19,11 @@ Checks, each printed with its outcome:
      round-off;
   6. the bond check (eqs 5-7) of every intact point on a bonded square and
      each mesh: ratios and tractions the CPU's bits, the same split plan.
-  7. the cohesive forces (eqs 8-12) of the opened pairs of a bonded square,
+  7. friction (eq 4): the touching pairs coloured on the GPU, the sweeps
+     colour by colour from the CPU's warm start, on rubbing blocks and each
+     mesh: the CPU's colour for every pair, tangential forces and node forces
+     bit for bit, the power to round-off;
+  8. the cohesive forces (eqs 8-12) of the opened pairs of a bonded square,
      for both force directions, just split (rigid phase), softening and failing,
      and of each mesh 20 steps after its points at the criterion split: per
      pair and per node the CPU's bits, the energy sums to round-off.
@@ -35,7 +39,8 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
-from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_square, pressed_blocks  # noqa: E402
+from tests.engine.gpu_scenes import (bonded_square, floating_blocks, opened_square, pressed_blocks,  # noqa: E402
+                                    rubbing_blocks)
 
 
 
@@ -75,6 +80,15 @@ def report_bonds(name, cmp):
     return cmp["ok"]
 
 
+def report_friction(name, cmp):
+    differ = {k: cmp[k][0] for k in ("lambda", "f_x", "f_y") if cmp[k][0]}
+    detail = "tangential forces and node forces the CPU's bits" if not differ else f"entries differing: {differ}"
+    colours = "the CPU's colours" if cmp["colour"] == 0 else f"{cmp['colour']} pairs in another colour"
+    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, friction: {detail}; {cmp['pairs']} pairs, {colours} "
+          f"({cmp['colours']}, coloured in {cmp['rounds']} rounds); power {cmp['power_rel']:.1e} relative", flush=True)
+    return cmp["ok"]
+
+
 def report_cohesive(name, cmp):
     differ = {k: cmp[k][0] for k in gpu.COHESIVE_EXACT if cmp[k][0]}
     detail = "forces, openings and failures the CPU's bits" if not differ else f"entries differing: {differ}"
@@ -104,6 +118,7 @@ def main(argv=None):
         ok &= report_update(f"three floating blocks, {drag_model} drag", gpu.compare_update(m))
     ok &= report_contact("pressed blocks", gpu.compare_contact(pressed_blocks(rng)))
     ok &= report_bonds("bonded square", gpu.compare_bond_check(bonded_square(rng)))
+    ok &= report_friction("rubbing blocks", gpu.compare_friction(rubbing_blocks(rng)))
     for direction in ("paper", "work_conjugate"):
         for k, m in enumerate(opened_square(rng, direction=direction)):
             state = ("just split (rigid phase)", "softening", "softening later", "failing")[k]
@@ -131,6 +146,7 @@ def main(argv=None):
             ok &= report_contact(os.path.basename(path), gpu.compare_contact(m))
             ok &= report_bonds(os.path.basename(path), gpu.compare_bond_check(m))
             ok &= report_update(os.path.basename(path), gpu.compare_update(m))
+            ok &= report_friction(os.path.basename(path), gpu.compare_friction(m))
             m.set_bond_params(check_failure=True)   # the points at the criterion split and open
             m.step(20)
             ok &= report_cohesive(f"{os.path.basename(path)} 20 steps after its points split",

@@ -265,3 +265,47 @@ def compare_cohesive(model):
     out["ok"] = (all(out[k][0] == 0 for k in COHESIVE_EXACT)
                  and all(out[k][1] <= ROUND_OFF for k in COHESIVE_SUMMED))
     return out
+
+
+class Friction(_Stage):
+    """Coulomb friction (eq 4) of `model`'s touching pairs on the GPU: the
+    sweeps colour by colour from the warm start the model holds, on the forces
+    its last evaluation assembled before friction."""
+    DEVICE = "DeviceFriction"
+
+    @property
+    def pairs(self):
+        return self._d.pairs
+
+
+def compare_friction(model):
+    """Evaluate `model` on the CPU (which leaves the friction's warm start as
+    it was), then solve the same friction on the GPU from the same warm start.
+    Returns {'lambda', 'f_x', 'f_y': (entries whose bits differ, largest
+    relative difference)} (f_x, f_y where a component is not prescribed: the
+    boundary conditions overwrite the others after friction), 'power_rel'
+    (summed in another order: relative to the power's scale, sum |lambda| times
+    the largest node speed), 'pairs', 'colours' (CPU, GPU), 'colour' (pairs
+    the GPU's colouring put in another colour than the CPU's), 'rounds' (the
+    GPU colouring's parallel rounds) and 'ok'."""
+    model.evaluate()
+    cpu = _engine.friction_fields(model._m)
+    stage = Friction(model)
+    stage.run()
+    gpu = stage.fields()
+    free_x = (cpu["constrained"] & 1) == 0
+    free_y = (cpu["constrained"] & 2) == 0
+    out = differences(dict(lambda_=cpu["lambda"], f_x=cpu["f_x"][free_x], f_y=cpu["f_y"][free_y]),
+                      dict(lambda_=gpu["lambda"], f_x=gpu["f_x"][free_x], f_y=gpu["f_y"][free_y]),
+                      ("lambda_", "f_x", "f_y"))
+    out["lambda"] = out.pop("lambda_")
+    out["colour"] = int(np.count_nonzero(np.asarray(cpu["colour"]) != np.asarray(gpu["colour"])))
+    out["rounds"] = int(gpu["rounds"])
+    speed = float(np.abs(model.velocities).max(initial=0.0))
+    scale = max(float(np.abs(cpu["lambda"]).sum()) * speed, abs(cpu["power"]), 1e-300)
+    out["power_rel"] = abs(gpu["power"] - cpu["power"]) / scale
+    out["pairs"] = len(cpu["lambda"])
+    out["colours"] = (int(cpu["colours"]), int(gpu["colours"]))
+    out["ok"] = (all(out[k][0] == 0 for k in ("lambda", "f_x", "f_y")) and out["power_rel"] <= ROUND_OFF
+                 and out["colours"][0] == out["colours"][1] and out["colour"] == 0)
+    return out

@@ -80,3 +80,14 @@ def opened_square(rng, direction="paper"):
                 yield m
                 return
         raise AssertionError("no opened pair of the square failed within 1000 steps")
+
+
+def rubbing_blocks(rng):
+    """The pressed blocks (pressed_blocks) given random velocities of a few
+    mm/s and stepped once: touching pairs that stick and slip, coupled
+    through shared nodes, with a warm start from the step before (the
+    penalty pushes the blocks apart within a few steps)."""
+    m = pressed_blocks(rng)
+    m.set_velocities(rng.normal(0.0, 3e-3, m.positions.shape))
+    m.step(1)
+    return m

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_square, pressed_blocks
+from tests.engine.gpu_scenes import bonded_square, floating_blocks, opened_square, pressed_blocks, rubbing_blocks
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -80,3 +80,13 @@ def test_the_gpu_cohesive_forces_are_the_cpus(direction):
     for m in opened_square(np.random.default_rng(3), direction=direction):
         cmp = gpu.compare_cohesive(m)
         assert cmp["pairs"] > 0 and cmp["ok"], cmp
+
+
+@needs_gpu
+@pytest.mark.parametrize("seed", [3, 8])
+def test_the_gpu_friction_is_the_cpus(seed):
+    cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)))
+    assert cmp["pairs"] > 10 and cmp["colours"][0] > 1 and cmp["colours"][0] == cmp["colours"][1]
+    assert cmp["colour"] == 0  # the GPU's parallel colouring is the CPU's greedy one
+    assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
+    assert cmp["power_rel"] <= gpu.ROUND_OFF

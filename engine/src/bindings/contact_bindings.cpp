@@ -226,6 +226,23 @@ void bind_contact(py::module_& m) {
                                }
                                return a;
                              })
+      .def_property_readonly("sweep_order",
+                             [](const ContactSolver& s) {
+                               const FrictionOrder& o = s.sweep_order();
+                               py::dict d;
+                               d["pair"] = py::array_t<int32_t>(py::ssize_t(o.pair.size()), o.pair.data());
+                               d["colour_start"] = py::array_t<int32_t>(py::ssize_t(o.colour_start.size()),
+                                                                        o.colour_start.data());
+                               return d;
+                             },
+                             "The last friction call's sweep order: 'pair' (pair indices, colour by\n"
+                             "colour) and 'colour_start' (colour c is pair[colour_start[c]:colour_start[c+1]]).")
+      .def_property_readonly("friction_forces",
+                             [](const ContactSolver& s) {
+                               const std::vector<double> f = s.friction_forces();
+                               return py::array_t<double>(py::ssize_t(f.size()), f.data());
+                             },
+                             "The last friction call's tangential force per pair [N/m], pair order.")
       .def_property_readonly("pairs",
                              [](const ContactSolver& s) {
                                const auto& ps = s.pairs();

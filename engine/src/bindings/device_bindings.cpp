@@ -10,6 +10,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
 
@@ -19,8 +20,9 @@ namespace engine {
 
 namespace {
 
-py::array_t<double> copy(const std::vector<double>& v) {
-  return py::array_t<double>(ssize_t(v.size()), v.data());
+template <typename T>
+py::array_t<T> copy(const std::vector<T>& v) {
+  return py::array_t<T>(ssize_t(v.size()), v.data());
 }
 
 py::dict as_dict(const BodyForceFields& f) {
@@ -142,6 +144,23 @@ void bind_device(py::module_& m) {
         d["touching"] = model.contact().touching_pairs();
         return d;
       }, "the CPU's normal contact fields of the model's last evaluation (what DeviceContactNormal computes)");
+  m.def("friction_fields", [](const Model& model) {
+        const Nodes& N = model.nodes();
+        py::dict d;
+        d["f_x"] = copy(N.f_x);
+        d["f_y"] = copy(N.f_y);
+        d["lambda"] = copy(model.contact().friction_forces());
+        d["power"] = model.contact().friction_power();
+        const FrictionOrder& o = model.contact().sweep_order();
+        std::vector<int32_t> colour(o.pair.size());
+        for (int32_t c = 0; c < o.colours(); ++c)
+          for (int32_t k = o.colour_start[c]; k < o.colour_start[c + 1]; ++k) colour[size_t(o.pair[k])] = c;
+        d["colour"] = copy(colour);
+        d["colours"] = o.colours();
+        d["constrained"] = copy(N.constrained);
+        return d;
+      }, "the CPU's friction of the model's last evaluation (what DeviceFriction computes); f_x, f_y after "
+         "the boundary conditions, so compare the components that are not prescribed");
   m.def("bond_check_fields", [](const Model& model) { return as_dict(cpu_bond_check(model)); },
         "the CPU's bond check at the model's state now, every intact point (what DeviceBondCheck computes)");
   m.def("cohesive_fields", [](const Model& model) { return as_dict(cpu_cohesive_forces(model)); },
@@ -182,6 +201,24 @@ void bind_device(py::module_& m) {
         out["f_con_y"] = copy(f.f_con_y);
         out["energy"] = f.energy;
         out["touching"] = f.touching;
+        return out;
+      });
+  py::class_<DeviceFriction>(m, "DeviceFriction")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("run", &DeviceFriction::run)
+      .def("time_per_run", &DeviceFriction::time_per_run, py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("pairs", &DeviceFriction::pairs)
+      .def("fields", [](DeviceFriction& d) {
+        const FrictionFields f = d.fields();
+        py::dict out;
+        out["f_x"] = copy(f.f_x);
+        out["f_y"] = copy(f.f_y);
+        out["lambda"] = copy(f.lambda);
+        out["power"] = f.power;
+        out["colour"] = copy(f.colour);
+        out["colours"] = f.colours;
+        out["rounds"] = f.rounds;
         return out;
       });
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")

@@ -150,20 +150,11 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
       cp.nc[k] = r.nc[k];
       cp.nt[k] = r.nt[k];
     }
-    double rx = 0.0, ry = 0.0;  // resultant on the contactor
     for (int k = 0; k < 6; ++k) {
       fx[cp.node[k]] += r.fx[k];
       fy[cp.node[k]] += r.fy[k];
-      if (k < 3) {
-        rx += r.fx[k];
-        ry += r.fy[k];
-      }
     }
-    cp.fn = std::hypot(rx, ry);
-    if (cp.fn > 0.0) {
-      cp.nx = rx / cp.fn;
-      cp.ny = ry / cp.fn;
-    }
+    contact_resultant(r, cp.fn, cp.nx, cp.ny);
     cp.px = r.px;
     cp.py = r.py;
     cp.energy = r.energy;

@@ -9,12 +9,14 @@
 //      dynamic Coulomb friction (eq 4) on the pairs of pass 1, regularised at
 //      zero slip so that a block below the friction angle stays at rest.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "contact/broad_phase.hpp"
+#include "contact/friction_order.hpp"
 #include "contact/potential_contact.hpp"
 
 namespace engine {
@@ -162,6 +164,13 @@ class ContactSolver {
   // key, keys sorted): part of a checkpoint, so a resumed run continues exactly.
   const std::vector<uint64_t>& warm_start_keys() const { return prev_key_; }
   const std::vector<double>& warm_start_forces() const { return prev_lambda_; }
+  // The last apply_friction call: its pairs' tangential forces (pair order)
+  // and the order its sweeps took (for the GPU backend's comparison).
+  std::vector<double> friction_forces() const {
+    return std::vector<double>(lambda_.begin(), lambda_.begin() + std::min(lambda_.size(), pairs_.size()));
+  }
+  const FrictionOrder& sweep_order() const { return order_; }
+  double friction_power() const { return friction_power_; }  // its return value
   void set_warm_start(const std::vector<uint64_t>& keys, const std::vector<double>& forces) {
     prev_key_ = keys;
     prev_lambda_ = forces;
@@ -195,7 +204,11 @@ class ContactSolver {
   std::vector<uint8_t> hit_;
   std::vector<ContactPair> pairs_;
   std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
-  std::vector<std::pair<uint64_t, double>> order_;
+  double friction_power_ = 0.0;
+  FrictionOrder order_;              // the sweeps' order of the last friction call
+  std::vector<int32_t> order_nodes_; // its input: six nodes per pair
+  std::vector<uint64_t> order_keys_; // (contactor, target) per pair, ascending
+  std::vector<uint64_t> order_used_; // its workspace
   std::vector<int64_t> hits_;       // touching candidates, in pair order
   std::vector<uint64_t> prev_key_;  // (contactor, target) of last step's pairs, sorted
   std::vector<double> prev_lambda_; // their tangential forces (warm start)

@@ -11,16 +11,20 @@
 //   - otherwise lambda = -mu |f_c| sign(v_t') (slip: eq 4 with the end-of-step
 //     sliding direction).
 // Pairs that share nodes are coupled; projected Gauss-Seidel sweeps over the
-// pairs (in pair order, so deterministic), warm-started from the previous
-// step's forces, resolve that. The force acts at
-// the contact point and is spread by the shape functions of both triangles,
-// so it has zero resultant and zero moment over the pair.
+// pairs, warm-started from the previous step's forces, resolve that. The
+// sweeps visit the pairs colour by colour (no two pairs of a colour share a
+// node; contact/friction_order.hpp), an order fixed by the state alone, so a
+// colour's pairs can be updated at once on the GPU with the CPU's bits. The
+// per-pair physics is contact/friction_kernel.hpp, shared with the GPU. The
+// force acts at the contact point and is spread by the shape functions of both
+// triangles, so it has zero resultant and zero moment over the pair.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "contact/contact.hpp"
+#include "contact/friction_kernel.hpp"
 
 namespace engine {
 namespace {
@@ -29,20 +33,17 @@ namespace {
 // neighbouring pairs well enough, and the rest carries over to the next step.
 constexpr int kSweeps = 4;
 
-inline uint64_t pair_key(const ContactPair& c) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(c.contactor)) << 32) |
-         static_cast<uint32_t>(c.target);
-}
-
-inline double inverse_mass(double m) { return (m > 0.0 && std::isfinite(m)) ? 1.0 / m : 0.0; }
-
 }  // namespace
 
 double ContactSolver::apply_friction(const ContactParams& p, const ContactInput& in, double* fx,
                                      double* fy) {
   if (p.mu == 0.0 || pairs_.empty()) {
+    lambda_.assign(pairs_.size(), 0.0);
+    order_.pair.clear();
+    order_.colour_start.assign(1, 0);
     prev_key_.clear();
     prev_lambda_.clear();
+    friction_power_ = 0.0;
     return 0.0;
   }
   if (!(std::isfinite(in.dt) && in.dt > 0.0))
@@ -66,97 +67,53 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   for (size_t i = 0; i < np; ++i) {
     for (int k = 0; k < 6; ++k) {
       const int32_t n = pairs_[i].node[k];
-      const double im = inverse_mass(in.mass[n]);
-      const uint8_t cons = in.constrained ? in.constrained[n] : 0;
-      imx_[n] = (cons & 1) ? 0.0 : im;
-      imy_[n] = (cons & 2) ? 0.0 : im;
-      if (cons & 1)
-        wx_[n] = in.v_bc_x ? in.v_bc_x[n] : in.vx[n];
-      else
-        wx_[n] = in.vx[n] + dt * fx[n] * im;
-      if (cons & 2)
-        wy_[n] = in.v_bc_y ? in.v_bc_y[n] : in.vy[n];
-      else
-        wy_[n] = in.vy[n] + dt * fy[n] * im;
+      friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n], fy[n],
+                            in.v_bc_x, in.v_bc_y, n, dt, imx_[n], imy_[n], wx_[n], wy_[n]);
     }
   }
-  // Inverse effective mass of each pair along its tangent: the change of the
-  // tangential relative velocity per unit tangential force and unit dt.
   for (size_t i = 0; i < np; ++i) {
     const ContactPair& c = pairs_[i];
-    const double tx2 = c.ny * c.ny, ty2 = c.nx * c.nx;
-    double k = 0.0;
-    for (int j = 0; j < 3; ++j) {
-      const int32_t a = c.node[j], b = c.node[3 + j];
-      k += c.nc[j] * c.nc[j] * (tx2 * imx_[a] + ty2 * imy_[a]);
-      k += c.nt[j] * c.nt[j] * (tx2 * imx_[b] + ty2 * imy_[b]);
-    }
-    kinv_[i] = k;
+    kinv_[i] = friction_inverse_mass(c.node, c.nc, c.nt, c.nx, c.ny, imx_.data(), imy_.data());
     lambda_[i] = 0.0;
   }
-
-  auto tangential_slip = [&](const ContactPair& c) {
-    double ux = 0.0, uy = 0.0;
-    for (int j = 0; j < 3; ++j) {
-      ux += c.nc[j] * wx_[c.node[j]] - c.nt[j] * wx_[c.node[3 + j]];
-      uy += c.nc[j] * wy_[c.node[j]] - c.nt[j] * wy_[c.node[3 + j]];
-    }
-    return -c.ny * ux + c.nx * uy;  // along the tangent (-ny, nx)
-  };
-
-  // Adds the change d of pair i's tangential force to the predicted velocities.
-  auto push = [&](size_t i, double d) {
-    const ContactPair& c = pairs_[i];
-    const double tx = -c.ny, ty = c.nx;
-    for (int j = 0; j < 3; ++j) {
-      const int32_t a = c.node[j], b = c.node[3 + j];
-      const double ia = dt * d * c.nc[j], ib = dt * d * c.nt[j];
-      wx_[a] += ia * imx_[a] * tx;
-      wy_[a] += ia * imy_[a] * ty;
-      wx_[b] -= ib * imx_[b] * tx;
-      wy_[b] -= ib * imy_[b] * ty;
-    }
-  };
+  order_nodes_.resize(6 * np);
+  order_keys_.resize(np);
+  for (size_t i = 0; i < np; ++i) {
+    std::copy(pairs_[i].node, pairs_[i].node + 6, order_nodes_.begin() + 6 * i);
+    order_keys_[i] = friction_pair_key(pairs_[i].contactor, pairs_[i].target);
+  }
+  engine::friction_order(int32_t(np), order_nodes_.data(), order_keys_.data(), in.n_nodes, order_, order_used_);
+  double* wx = wx_.data();
+  double* wy = wy_.data();
+  const double* imx = imx_.data();
+  const double* imy = imy_.data();
 
   // Warm start from the force the same triangle pair carried last step: a
   // resting block needs nearly the same friction every step, so the sweeps
   // only correct it, and the iteration keeps converging across steps instead
   // of leaving a residual slip (creep) at a fixed sweep count.
-  for (size_t i = 0; i < np; ++i) {
+  for (const int32_t i : order_.pair) {
     const ContactPair& c = pairs_[i];
-    const uint64_t key = pair_key(c);
-    const auto it = std::lower_bound(prev_key_.begin(), prev_key_.end(), key);
-    if (it == prev_key_.end() || *it != key || kinv_[i] == 0.0) continue;
-    const double limit = p.mu * c.fn;
-    const double lam = std::clamp(prev_lambda_[it - prev_key_.begin()], -limit, limit);
+    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[i]);
+    if (at < 0 || kinv_[i] == 0.0) continue;
+    const double lam = clamp_to_cone(prev_lambda_[at], p.mu * c.fn);
     lambda_[i] = lam;
-    push(i, lam);
+    friction_push(c.node, c.nc, c.nt, c.nx, c.ny, lam, dt, imx, imy, wx, wy);
   }
 
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
-    for (size_t i = 0; i < np; ++i) {
+    for (const int32_t i : order_.pair) {
       const ContactPair& c = pairs_[i];
       if (kinv_[i] == 0.0 || c.fn == 0.0) continue;
-      const double limit = p.mu * c.fn;
-      const double wt = tangential_slip(c);
-      const double lam = std::clamp(lambda_[i] - wt / (dt * kinv_[i]), -limit, limit);
-      const double d = lam - lambda_[i];
-      if (d == 0.0) continue;
-      lambda_[i] = lam;
-      push(i, d);
+      const double d = friction_update(c.node, c.nc, c.nt, c.nx, c.ny, p.mu * c.fn, kinv_[i], dt, wx, wy, lambda_[i]);
+      if (d != 0.0) friction_push(c.node, c.nc, c.nt, c.nx, c.ny, d, dt, imx, imy, wx, wy);
     }
   }
 
-  // Remember the forces by pair for the next step's warm start.
-  order_.resize(np);
-  for (size_t i = 0; i < np; ++i) order_[i] = {pair_key(pairs_[i]), lambda_[i]};
-  std::sort(order_.begin(), order_.end());
-  prev_key_.resize(np);
-  prev_lambda_.resize(np);
-  for (size_t i = 0; i < np; ++i) {
-    prev_key_[i] = order_[i].first;
-    prev_lambda_[i] = order_[i].second;
-  }
+  // Remember the forces by pair for the next step's warm start: the pairs
+  // come in (contactor, target) order, i.e. with ascending keys.
+  prev_key_.assign(order_keys_.begin(), order_keys_.end());
+  prev_lambda_.assign(lambda_.begin(), lambda_.begin() + np);
 
   // Apply, and measure the power of friction with the velocities the nodes
   // will move with over this step (what the energy balance integrates).
@@ -172,9 +129,10 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       fx[c.node[3 + j]] -= c.nt[j] * tx;
       fy[c.node[3 + j]] -= c.nt[j] * ty;
     }
-    dissipation -= lam * tangential_slip(c);
+    dissipation -= lam * friction_slip(c.node, c.nc, c.nt, c.nx, c.ny, wx, wy);
   }
   timings_.forces_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  friction_power_ = dissipation;
   return dissipation;
 }
 

@@ -199,4 +199,19 @@ ICERUBBLE_HD bool contact_candidate(const double xa[3], const double ya[3], cons
   return potential_contact_pair(xa, ya, xb, yb, s, out);
 }
 
+// The resultant of a touching pair's normal force on the contactor: its
+// magnitude |f_c| and unit direction (friction's input, eq 4; 0 and (0, 0)
+// where the forces cancel). A square root of the sum, not hypot: the C
+// library's and CUDA's hypot differ in the last bits (docs/gpu.md).
+ICERUBBLE_HD void contact_resultant(const PairContact& r, double& fn, double& nx, double& ny) {
+  double rx = 0.0, ry = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    rx += r.fx[k];
+    ry += r.fy[k];
+  }
+  fn = sqrt(rx * rx + ry * ry);
+  nx = fn > 0.0 ? rx / fn : 0.0;
+  ny = fn > 0.0 ? ry / fn : 0.0;
+}
+
 }  // namespace engine

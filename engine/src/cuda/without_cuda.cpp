@@ -6,6 +6,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 
 namespace engine {
@@ -59,5 +60,13 @@ void DeviceContactNormal::run() { no_gpu(); }
 double DeviceContactNormal::time_per_run(int) { no_gpu(); }
 ContactNormalFields DeviceContactNormal::fields() { no_gpu(); }
 int64_t DeviceContactNormal::candidates() const { no_gpu(); }
+
+struct DeviceFriction::Impl {};
+DeviceFriction::DeviceFriction(const Model&) { no_gpu(); }
+DeviceFriction::~DeviceFriction() = default;
+void DeviceFriction::run() { no_gpu(); }
+double DeviceFriction::time_per_run(int) { no_gpu(); }
+FrictionFields DeviceFriction::fields() { no_gpu(); }
+int32_t DeviceFriction::pairs() const { no_gpu(); }
 
 }  // namespace engine

@@ -1,0 +1,296 @@
+// Friction on the GPU (cuda/friction.hpp). One block colours the touching
+// pairs as the CPU does (contact/friction_order.cpp), in parallel rounds: a
+// pair takes its colour once every neighbour that comes before it has one
+// (Jones-Plassmann), which gives the greedy colouring's colours exactly. One
+// block then solves the sweeps: the pairs of a colour share no node, so its
+// lanes update them at once and a barrier closes the colour; a pair's updates
+// see exactly what they see in the CPU's serial sweep (contact/friction.cpp),
+// so the tangential forces are the CPU's bits. Then a lane per node adds its
+// pairs' friction in the CPU's order.
+#include "cuda/friction.hpp"
+
+#include "contact/friction_kernel.hpp"
+#include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
+#include "cuda/stream.cuh"
+#include "model/model.hpp"
+
+namespace engine {
+
+namespace {
+
+constexpr int kBlock = 128;
+constexpr int kSolveThreads = 1024;
+constexpr int kSweeps = 4;  // contact/friction.cpp's
+
+struct PairArrays {
+  const int32_t* node;  // 6 per pair
+  const double* nc;     // 3 per pair
+  const double* nt;     // 3 per pair
+  const double* nx;
+  const double* ny;
+  const double* fn;
+  const uint64_t* key;
+};
+
+__global__ void predict_kernel(const double* mass, const uint8_t* constrained, const double* vx, const double* vy,
+                               const double* f_pre_x, const double* f_pre_y, int32_t n, double dt, double* imx,
+                               double* imy, double* wx, double* wy) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  friction_predict_node(mass[i], constrained[i], vx[i], vy[i], f_pre_x[i], f_pre_y[i], nullptr, nullptr, i, dt,
+                        imx[i], imy[i], wx[i], wy[i]);
+}
+
+// Pair p's neighbours are the pairs of the entries of its six nodes (entry
+// 6 q + k: pair q). colour[p] < 0 until p is coloured; a colour, once
+// written, is final, so a lane that reads a neighbour's colour in the round
+// it is written sees either -1 (and waits a round) or the final value.
+__global__ void __launch_bounds__(kSolveThreads)
+    colour_kernel(const int32_t* node, const uint64_t* key, const int32_t* start, const int32_t* entry,
+                  int32_t n_pairs, int32_t* colour_out, int32_t* counts) {
+  __shared__ int32_t most[kSolveThreads];
+  volatile int32_t* colour = colour_out;
+  for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) colour[p] = -1;
+  __syncthreads();
+  int32_t rounds = 0;
+  for (;;) {
+    ++rounds;
+    int waiting = 0;
+    for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) {
+      if (colour[p] >= 0) continue;
+      const uint64_t pp = friction_priority(key[p]);
+      bool ready = true;
+      // the smallest colour no neighbour before p has, 64 colours at a time
+      for (int32_t base = 0; ready; base += 64) {
+        uint64_t taken = 0;
+        for (int k = 0; k < 6 && ready; ++k) {
+          const int32_t n = node[6 * p + k];
+          for (int32_t j = start[n]; j < start[n + 1]; ++j) {
+            const int32_t q = entry[j] / 6;
+            if (q == p) continue;
+            const int32_t c = colour[q];
+            if (c < 0) {
+              if (coloured_before(friction_priority(key[q]), q, pp, p)) {
+                ready = false;
+                break;
+              }
+            } else if (c >= base && c < base + 64) {
+              taken |= uint64_t(1) << (c - base);
+            }
+          }
+        }
+        if (ready && ~taken) {
+          colour[p] = base + __ffsll((long long)~taken) - 1;
+          break;
+        }
+      }
+      if (!ready) waiting = 1;
+    }
+    if (!__syncthreads_or(waiting)) break;
+  }
+  int32_t m = -1;
+  for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) m = max(m, int32_t(colour[p]));
+  most[threadIdx.x] = m;
+  __syncthreads();
+  for (int w = kSolveThreads / 2; w > 0; w /= 2) {
+    if (int(threadIdx.x) < w) most[threadIdx.x] = max(most[threadIdx.x], most[threadIdx.x + w]);
+    __syncthreads();
+  }
+  if (threadIdx.x == 0) {
+    counts[0] = most[0] + 1;  // colours
+    counts[1] = n_pairs ? rounds : 0;
+  }
+}
+
+__global__ void __launch_bounds__(kSolveThreads)
+    solve_kernel(PairArrays P, int32_t n_pairs, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu, double dt,
+                 const double* imx, const double* imy, double* wx, double* wy, double* kinv, double* lambda,
+                 double* power) {
+  __shared__ double shared[kSolveThreads];
+  const int32_t colours = counts[0];
+  for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+    kinv[i] = friction_inverse_mass(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], imx, imy);
+    lambda[i] = 0.0;
+  }
+  __syncthreads();
+  // the warm start, colour by colour as the CPU pushes it
+  for (int32_t c = 0; c < colours; ++c) {
+    for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+      if (colour[i] != c) continue;
+      const int64_t at = find_key(prev_key, n_prev, P.key[i]);
+      if (at < 0 || kinv[i] == 0.0) continue;
+      const double lam = clamp_to_cone(prev_lambda[at], mu * P.fn[i]);
+      lambda[i] = lam;
+      friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], lam, dt, imx, imy, wx, wy);
+    }
+    __syncthreads();
+  }
+  for (int sweep = 0; sweep < kSweeps; ++sweep) {
+    for (int32_t c = 0; c < colours; ++c) {
+      for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+        if (colour[i] != c || kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
+        const int32_t* node = P.node + 6 * i;
+        const double* nc = P.nc + 3 * i;
+        const double* nt = P.nt + 3 * i;
+        const double d = friction_update(node, nc, nt, P.nx[i], P.ny[i], mu * P.fn[i], kinv[i], dt, wx, wy, lambda[i]);
+        if (d != 0.0) friction_push(node, nc, nt, P.nx[i], P.ny[i], d, dt, imx, imy, wx, wy);
+      }
+      __syncthreads();
+    }
+  }
+  // the power with the velocities the nodes will move with, summed in a fixed tree
+  double p = 0.0;
+  for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+    if (lambda[i] != 0.0)
+      p -= lambda[i] * friction_slip(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], wx, wy);
+  }
+  p = block_sum<kSolveThreads>(p, shared);
+  if (threadIdx.x == 0) *power = p;
+}
+
+// Node i's force with its pairs' friction added in the CPU's order: pairs
+// ascending, a pair's corners as the CPU visits them (contactor's j, then
+// target's j, j = 0, 1, 2); entry 6 p + k names pair p's node slot k.
+__global__ void apply_kernel(PairArrays P, const int32_t* start, const int32_t* entry, const double* lambda,
+                             const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x, double* f_y) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n) return;
+  double sx = f_pre_x[i], sy = f_pre_y[i];
+  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+    const int32_t e = entry[j], p = e / 6, k = e % 6;
+    const double lam = lambda[p];
+    if (lam == 0.0) continue;
+    const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
+    if (k < 3) {
+      sx += P.nc[3 * p + k] * tx;
+      sy += P.nc[3 * p + k] * ty;
+    } else {
+      sx -= P.nt[3 * p + k - 3] * tx;
+      sy -= P.nt[3 * p + k - 3] * ty;
+    }
+  }
+  f_x[i] = sx;
+  f_y[i] = sy;
+}
+
+int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
+
+}  // namespace
+
+struct DeviceFriction::Impl {
+  int32_t n_nodes = 0, n_pairs = 0;
+  int64_t n_prev = 0;
+  double mu = 0.0, dt = 0.0;
+  DeviceArray<double> mass, vx, vy, f_pre_x, f_pre_y, imx, imy, wx, wy, nc, nt, nx, ny, fn, kinv, lambda,
+      prev_lambda, f_x, f_y, power;
+  DeviceArray<uint8_t> constrained;
+  DeviceArray<int32_t> node, colour, counts, start, entry;
+  DeviceArray<uint64_t> key, prev_key;
+  cudaStream_t stream = nullptr;
+
+  PairArrays pairs() { return {node.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()}; }
+
+  void launch() {
+    predict_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(mass.data(), constrained.data(), vx.data(), vy.data(),
+                                                           f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(),
+                                                           imy.data(), wx.data(), wy.data());
+    colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), key.data(), start.data(), entry.data(), n_pairs,
+                                                   colour.data(), counts.data());
+    solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_pairs, colour.data(), counts.data(), prev_key.data(), prev_lambda.data(), n_prev, mu, dt, imx.data(),
+                                                  imy.data(), wx.data(), wy.data(), kinv.data(), lambda.data(),
+                                                  power.data());
+    apply_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(pairs(), start.data(), entry.data(), lambda.data(),
+                                                         f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(),
+                                                         f_y.data());
+    cuda_check(cudaGetLastError(), "kernel launch");
+  }
+};
+
+DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
+  Impl& d = *impl_;
+  d.stream = new_stream();
+  const Nodes& N = m.nodes();
+  const ContactSolver& C = m.contact();
+  const std::vector<ContactPair>& cp = C.pairs();
+  d.n_nodes = N.size();
+  d.n_pairs = int32_t(cp.size());
+  d.mu = m.contact_params().mu;
+  d.dt = m.dt();
+  std::vector<int32_t> node(6 * cp.size());
+  std::vector<double> nc(3 * cp.size()), nt(3 * cp.size()), nx(cp.size()), ny(cp.size()), fn(cp.size());
+  std::vector<uint64_t> key(cp.size());
+  for (size_t p = 0; p < cp.size(); ++p) {
+    for (int k = 0; k < 6; ++k) node[6 * p + k] = cp[p].node[k];
+    for (int k = 0; k < 3; ++k) {
+      nc[3 * p + k] = cp[p].nc[k];
+      nt[3 * p + k] = cp[p].nt[k];
+    }
+    nx[p] = cp[p].nx;
+    ny[p] = cp[p].ny;
+    fn[p] = cp[p].fn;
+    key[p] = friction_pair_key(cp[p].contactor, cp[p].target);
+  }
+  // each node's entries 6 p + k, pairs ascending, slots in the CPU's visiting order
+  std::vector<int32_t> start(size_t(d.n_nodes) + 1, 0), entry(6 * cp.size());
+  static constexpr int kVisit[6] = {0, 3, 1, 4, 2, 5};
+  for (size_t e = 0; e < node.size(); ++e) ++start[node[e] + 1];
+  for (int32_t i = 0; i < d.n_nodes; ++i) start[i + 1] += start[i];
+  std::vector<int32_t> fill(start.begin(), start.end() - 1);
+  for (size_t p = 0; p < cp.size(); ++p)
+    for (const int k : kVisit) entry[fill[node[6 * p + k]]++] = int32_t(6 * p + k);
+  d.mass.upload(N.mass);
+  d.constrained.upload(N.constrained);
+  d.vx.upload(N.vx);
+  d.vy.upload(N.vy);
+  d.f_pre_x.upload(N.f_pre_x);
+  d.f_pre_y.upload(N.f_pre_y);
+  for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
+  d.node.upload(node);
+  d.nc.upload(nc);
+  d.nt.upload(nt);
+  d.nx.upload(nx);
+  d.ny.upload(ny);
+  d.fn.upload(fn);
+  d.key.upload(key);
+  d.colour.resize(cp.size());
+  d.counts.resize(2);
+  d.start.upload(start);
+  d.entry.upload(entry);
+  d.prev_key.upload(C.warm_start_keys());
+  d.prev_lambda.upload(C.warm_start_forces());
+  d.n_prev = int64_t(C.warm_start_keys().size());
+  d.kinv.resize(cp.size());
+  d.lambda.resize(cp.size());
+  d.power.resize(1);
+}
+
+DeviceFriction::~DeviceFriction() {
+  if (impl_->stream) cudaStreamDestroy(impl_->stream);
+}
+
+void DeviceFriction::run() { impl_->launch(); }
+
+int32_t DeviceFriction::pairs() const { return impl_->n_pairs; }
+
+double DeviceFriction::time_per_run(int repeats) {
+  Impl& d = *impl_;
+  return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
+}
+
+FrictionFields DeviceFriction::fields() {
+  Impl& d = *impl_;
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU friction");
+  FrictionFields f;
+  f.f_x = d.f_x.download();
+  f.f_y = d.f_y.download();
+  f.lambda = d.lambda.download();
+  f.power = d.n_pairs ? d.power.download()[0] : 0.0;
+  f.colour = d.colour.download();
+  const std::vector<int32_t> counts = d.counts.download();
+  f.colours = counts[0];
+  f.rounds = counts[1];
+  return f;
+}
+
+}  // namespace engine
