@@ -1,12 +1,19 @@
 """Anatomy of the late force spikes of a punch-through run (issue 26, item 6).
 
+    /usr/bin/python3 tools/spike_anatomy.py table RESULT.h5 [...]
+        one markdown row per run: the cohesive peak (max F over 0-2 mm), the
+        events beyond 2 mm above it (count, the largest as a multiple of the
+        peak), the record maximum, the lowest F beyond 2 mm, the ledger's
+        largest |residual| and contact term against the boundary work, and
+        the bond points that split in the 5 ms before the record maximum.
+
     /usr/bin/python3 tools/spike_anatomy.py summary RESULT.h5 [...]
         first peak (max F over 0-5 mm), record maximum beyond 5 mm, the events
         beyond 5 mm above the first peak, and the energy ledger and bond
         failures around the record maximum.
 
     OMP_NUM_THREADS=1 /usr/bin/python3 tools/spike_anatomy.py run --ridge 1 --mu 0.05 --tau 1e5 \\
-            --out DIR [--scene small] [--penalty P] [--every-mm 1]
+            --out DIR [--scene small] [--penalty P] [--every-mm 1] [--settle-bonds checked]
         one run as `icerubble study run` makes it (run_one: same scene,
         numerics, shared rest state), which also keeps a copy of the
         checkpoint every --every-mm of travel (DIR/<name>_ckpts/y<mm>.h5) and
@@ -99,6 +106,42 @@ def summarize(path, window_mm=1.0):
             print(f"    failed at {yf[k] * 1e3:.3f} mm: point {k} at ({bonds['position'][k][0]:.2f}, "
                   f"{bonds['position'][k][1]:.2f}) m, bodies {tuple(bonds['bodies'][k])}, mode {bonds['mode'][k]}")
     return out
+
+
+# ---------------------------------------------------------------- table
+COHESIVE_TRAVEL = 2e-3  # docs/force_spikes.md: the cohesive peak is the max over 0-2 mm
+BEFORE_MAX_S = 5e-3     # bond splits this long before the record maximum (the ledger's sampling)
+
+TABLE_HEAD = ("| run | cohesive peak (kN/m at mm) | events beyond 2 mm above it | largest / peak | "
+              "record max (kN/m at mm) | lowest F beyond 2 mm | max abs(residual) / boundary work | "
+              "max abs(contact term) / boundary work | splits in the 5 ms before the record max (x, y extent, m) | "
+              "kinetic energy across it (J/m) |\n|" + "---|" * 10)
+
+
+def table_row(path):
+    with h5py.File(path, "r") as f:
+        fr = {k: f["force"][k][...] for k in f["force"]}
+        en = {k: f["energy"][k][...] for k in f["energy"]}
+        bonds = {k: f["bonds"][k][...] for k in ("t_split", "position")}
+    y, F, t = fr["y_I"], fr["F"], fr["t"]
+    early = y <= COHESIVE_TRAVEL
+    i1 = int(np.argmax(np.where(early, F, -np.inf)))
+    im = int(np.argmax(F))
+    late = ~early
+    above = late & (F > F[i1])
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], above.astype(int), [0]))))
+    events = [F[a:b].max() for a, b in zip(edges[::2], edges[1::2])]
+    work = max(abs(en["work_boundary"][-1]), 1e-300)
+    ts, pos = bonds["t_split"], bonds["position"]
+    near = np.flatnonzero((ts > t[im] - BEFORE_MAX_S) & (ts <= t[im]))
+    extent = (f"{len(near)} ({np.ptp(pos[near, 0]):.2f} × {np.ptp(pos[near, 1]):.2f} m)" if len(near) else "0")
+    te = en["t"]
+    kb, ka = np.searchsorted(te, t[im]) - 1, np.searchsorted(te, t[im] + BEFORE_MAX_S)
+    kinetic = (f"{en['kinetic'][max(kb, 0)]:.3g} → {en['kinetic'][min(ka, len(te) - 1)]:.3g}")
+    return (f"| {os.path.basename(path).replace('.h5', '')} | {F[i1] / 1e3:.1f} at {y[i1] * 1e3:.2f} | {len(events)} | "
+            f"{(max(events) / F[i1]) if events else float('nan'):.2f} | {F[im] / 1e3:.1f} at {y[im] * 1e3:.2f} | "
+            f"{F[late].min() / 1e3:.1f} | {np.abs(en['residual']).max() / work:.1e} | "
+            f"{np.abs(en['contact']).max() / work:.1e} | {extent} | {kinetic} |")
 
 
 # ---------------------------------------------------------------- diagnostics
@@ -214,6 +257,8 @@ def make_run(scene_name, ridge, overrides, out_dir, description=None, numerics_n
 
 def cmd_run(a):
     overrides = dict(mu=a.mu, tau_cr=a.tau, target_travel=a.travel_mm * 1e-3)
+    if a.settle_bonds:
+        overrides["settle_bonds"] = a.settle_bonds
     if a.penalty:
         overrides["penalty"] = a.penalty
     run, out = make_run(a.scene, a.ridge, overrides, a.out, a.description)
@@ -297,6 +342,8 @@ def cmd_window(a):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
+    tb = sub.add_parser("table")
+    tb.add_argument("results", nargs="+")
     s = sub.add_parser("summary")
     s.add_argument("results", nargs="+")
     s.add_argument("--window-mm", type=float, default=1.0)
@@ -306,6 +353,8 @@ def main(argv=None):
     r.add_argument("--mu", type=float, required=True)
     r.add_argument("--tau", type=float, required=True)
     r.add_argument("--penalty", type=float, default=None)
+    r.add_argument("--settle-bonds", choices=("held", "checked"), default=None,
+                   help="default: the scene's (the deep study's tables check them)")
     r.add_argument("--travel-mm", type=float, default=40.0)
     r.add_argument("--every-mm", type=float, default=1.0)
     r.add_argument("--contacts", action="store_true", help="the indenter's contacts per sample (slower)")
@@ -323,7 +372,11 @@ def main(argv=None):
     w.add_argument("--no-contacts", dest="contacts", action="store_false")
     w.add_argument("--out", required=True)
     a = ap.parse_args(argv)
-    if a.cmd == "summary":
+    if a.cmd == "table":
+        print(TABLE_HEAD)
+        for p in a.results:
+            print(table_row(p))
+    elif a.cmd == "summary":
         for p in a.results:
             summarize(p, a.window_mm)
     elif a.cmd == "run":
