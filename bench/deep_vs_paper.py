@@ -10,6 +10,7 @@ y_I = 1...20 mm (split bond points, docs/postproc.md), F(20 mm) and the cost.
 
     OMP_NUM_THREADS=2 /usr/bin/python3 bench/deep_vs_paper.py [--ridges 1 2]
         [--variants paper deep deep_h0.2 deep_w12 deep_w30 deep_w50_h0.2 deep_w50] [--settle-bonds checked|held]
+        [--side-walls free|held]
         [--out-dir runs/bench/deep_vs_paper] [--study-dir runs/deep]
 
 Variants (domain width, element size): paper (50 m, 0.085 m), deep (20 m,
@@ -22,6 +23,10 @@ scene takes hours, a deep variant tens of minutes. Runs are kept in --out-dir (t
 study's folder, --study-dir) and resumed from their
 checkpoints (run the script again); every row is written to
 bench/results/deep_vs_paper.json as soon as its run exists.
+
+--side-walls held holds the blocks where phase 1's walls stood in an uncropped
+scene (paper, deep_w50*), as a cropped scene's cut faces are held: ridge 2's
+paper scene was not at rest after 5 s with them free (docs/study_paper_depth.md).
 """
 import argparse
 import json
@@ -45,6 +50,7 @@ TRAVEL = 20e-3                      # m: the paper's "after the steep decrease" 
 FIRST_PEAK_TRAVEL = 1e-3            # m: the first peak, before a later event in the 5 mm window can replace it
 REFERENCE = dict(mu=0.3, tau_cr=50e3, target_travel=TRAVEL)   # as data/study_deep.table
 SETTLE_BONDS = P.REGISTRY["settle_bonds"].choices   # the study's tables check them ('checked')
+SIDE_WALLS = P.REGISTRY["side_walls"].choices
 # (domain width m, element size m) of the variants beside the two scenes
 EXTRA = {"deep_h0.2": (20.0, 0.2), "deep_w12": (12.0, 0.15), "deep_w30": (30.0, 0.15),
          # the whole domain, so no cut face at all: what the width costs, paid for by the mesh
@@ -72,6 +78,7 @@ def measures(path):
                 first_peak_kN_per_m=float(F[i_first]) / 1e3, y_I_first_peak_mm=float(y[i_first]) * 1e3,
                 n_split_settle=int(np.sum(r.bonds["t_split"] < 0)) if "t_split" in r.bonds else 0,
                 settle_bonds=str(r.parameters.get("settle_bonds", P.REGISTRY["settle_bonds"].default)),
+                side_walls=str(r.parameters.get("side_walls", P.REGISTRY["side_walls"].default)),
                 F_20mm_kN_per_m=loads.load_at(y, F, TRAVEL) / 1e3,
                 alpha_mean_1_20mm_deg=alpha_mean, alpha_sd_1_20mm_deg=alpha_sd,
                 A_p_mean_1_20mm_m2=failure_plane.mean_sd(areas)[0],
@@ -94,6 +101,9 @@ def main(argv=None):
     ap.add_argument("--settle-bonds", choices=SETTLE_BONDS, default="checked",
                     help="the bonds while settling: checked (the study's tables) or held (every bond "
                          "kept while settling, the earlier reference); a held run's name ends in _held")
+    ap.add_argument("--side-walls", choices=SIDE_WALLS, default="free",
+                    help="an uncropped scene's ends: free (no walls after phase 1) or held where phase 1's "
+                         "walls stood; a held run's name ends in _walls")
     ap.add_argument("--measure", nargs="+", metavar="VARIANT=RESULT.h5",
                     help="measure these finished runs (of --ridges' first ridge) instead of running "
                          "(runs made in another checkout)")
@@ -103,7 +113,8 @@ def main(argv=None):
     if os.path.exists(OUT_JSON):   # rows of other ridges and variants measured before
         with open(OUT_JSON) as f:
             rows = [r for r in json.load(f)["runs"]
-                    if a.measure or key(r) not in {(g, v, a.settle_bonds) for g in a.ridges for v in a.variants}]
+                    if a.measure or key(r) not in {(g, v, a.settle_bonds, a.side_walls)
+                                                   for g in a.ridges for v in a.variants}]
     if a.measure:
         for item in a.measure:
             name, path = item.split("=", 1)
@@ -116,26 +127,29 @@ def main(argv=None):
         report(rows)
         return
     held = a.settle_bonds != "checked"
+    walls = a.side_walls != "free"
     for ridge in a.ridges:
         for name in [v for v in ORDER if v in a.variants]:
-            out = run_one(name, ridge, overrides=dict(REFERENCE, settle_bonds=a.settle_bonds), numerics_name="fast",
-                          out_dir=a.study_dir if name == "deep" and not held else a.out_dir,
+            out = run_one(name, ridge, overrides=dict(REFERENCE, settle_bonds=a.settle_bonds, side_walls=a.side_walls),
+                          numerics_name="fast",
+                          out_dir=a.study_dir if name == "deep" and not (held or walls) else a.out_dir,
                           # data/study_deep.table's name, for the study's settling
-                          description=f"{name}_ridge{ridge}_mu0.3_tau50k" + ("_held" if held else ""))
+                          description=(f"{name}_ridge{ridge}_mu0.3_tau50k" + ("_held" if held else "")
+                                       + ("_walls" if walls else "")))
             rows.append(dict(ridge=ridge, variant=name, file=os.path.relpath(out, ROOT), **measures(out)))
             write(rows)
     report(rows)
 
 
 def key(row):
-    """A row's run: ridge, variant and the bonds while settling (rows measured
-    before the column: checked, as the study's tables)."""
-    return row["ridge"], row["variant"], row.get("settle_bonds", "checked")
+    """A row's run: ridge, variant, the bonds while settling and the side
+    walls (rows measured before a column: checked, free, as the study's tables)."""
+    return row["ridge"], row["variant"], row.get("settle_bonds", "checked"), row.get("side_walls", "free")
 
 
 def order(row):
-    ridge, variant, bonds = key(row)
-    return ridge, ORDER.index(variant), SETTLE_BONDS.index(bonds)
+    ridge, variant, bonds, walls = key(row)
+    return ridge, ORDER.index(variant), SETTLE_BONDS.index(bonds), SIDE_WALLS.index(walls)
 
 
 def write(rows):
@@ -150,10 +164,10 @@ def write(rows):
 def report(rows):
     keys = ("F_m_kN_per_m", "y_I_peak_mm", "alpha_mean_1_20mm_deg", "A_p_mean_1_20mm_m2", "F_20mm_kN_per_m")
     for r in sorted(rows, key=order):
-        ref = next((q for q in rows if key(q) == (r["ridge"], "paper", "checked")), None)
+        ref = next((q for q in rows if key(q)[:3] == (r["ridge"], "paper", "checked")), None)
         vals = "  ".join(f"{k.split('_')[0]} {r[k]:8.3f}" + (f" ({100 * (r[k] / ref[k] - 1):+5.1f} %)" if ref else "")
                          for k in keys)
-        print(f"ridge {r['ridge']} {r['variant']:10s} {key(r)[2]:7s} {vals}  "
+        print(f"ridge {r['ridge']} {r['variant']:10s} {key(r)[2]:7s} {key(r)[3]:5s} {vals}  "
               f"{r['n_triangles']} triangles, "
               f"load {r['wall_load_s'] / 60:.1f} min")
 

@@ -245,7 +245,8 @@ def gpu_body_forces(d):
 
 def deep_vs_paper(d):
     u = d["set_up"]
-    rows = [[r["ridge"], r["variant"], r.get("settle_bonds", "checked"), f"{r['n_triangles']:,}",
+    rows = [[r["ridge"], r["variant"], r.get("settle_bonds", "checked"), r.get("side_walls", "free"),
+             f"{r['n_triangles']:,}",
              f"{r['first_peak_kN_per_m']:.1f} at {r['y_I_first_peak_mm']:.2f}" if "first_peak_kN_per_m" in r else "",
              f"{r['F_m_kN_per_m']:.1f} at {r['y_I_peak_mm']:.2f}",
              f"{r['alpha_mean_1_20mm_deg']:.1f} ± {r['alpha_sd_1_20mm_deg']:.1f}", f"{r['A_p_mean_1_20mm_m2']:.0f}",
@@ -259,7 +260,7 @@ def deep_vs_paper(d):
              f"`{u['numerics']}` numerics, to {u['target_travel'] * 1e3:g} mm. First peak: the largest F before "
              "1 mm; F^m: the largest F over the first 5 mm (postproc/loads.py). α and A_p: means over y_I = "
              "1-20 mm through the split points. Wall times on one or two shared cores (the run's own record).", ""]
-            + table(["ridge", "variant", "bonds while settling", "triangles", "first peak (kN/m at mm)", "F^m (kN/m at mm)", "α (°)",
+            + table(["ridge", "variant", "bonds while settling", "side walls", "triangles", "first peak (kN/m at mm)", "F^m (kN/m at mm)", "α (°)",
                      "A_p (m²)", "F(20 mm) (kN/m)", "points split settling", "settle (simulated, wall)",
                      "load 20 mm (wall)", "code"], rows))
 

@@ -200,6 +200,13 @@ REGISTRY = {
                                   "shared by runs that differ in bond strength) or 'checked' (eq 5 is "
                                   "checked from the first step, so the loading starts from a balance "
                                   "the bonds can carry; points that split then belong to the initial state)"),
+    # the ends of a scene that its crop did not cut: phase 1's walls stood there
+    # (issue 26: the paper scene's ridge 2 was not at rest after 5 s, the blocks
+    # against both walls sliding out and up at 0.1-0.2 m/s)
+    "side_walls": Parameter("free", "-", choices=("free", "held"), group="settle",
+                            doc="the pile's ends where phase 1's walls stood (an uncropped scene's |x| = W/2): "
+                                "'free' (no walls in the punch-through phase) or 'held' (each block node within "
+                                "1 cm of a wall held in x, free in y, as a cropped scene's cut faces are)"),
     "settle_max_time": Parameter(5.0, "s", **POS, group="settle", **NOT_TABLE,
                                  doc="the settle stops, saying so, if not at rest after this simulated time"),
     "settle_min_time": Parameter(0.05, "s", **NONNEG, group="settle", **NOT_TABLE,

@@ -13,8 +13,11 @@ import math
 import numpy as np
 
 from .. import engine
-from ..files.mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER, mesh_geometry  # noqa: F401 (KIND_BLOCK)
+from ..files.mesh_file import KIND_BLOCK, KIND_INDENTER, KIND_LAYER, mesh_geometry
 from ..geometry.bond_points import find_bond_points
+
+# How far from a phase-1 wall a block node counts as leaning on it (side_walls='held').
+WALL_REACH = 0.01
 
 
 def element_damping_time(params, element_size):
@@ -66,6 +69,9 @@ class Scene:
         cut = np.asarray(mesh.get("cut_sides", np.zeros(0, np.int32)))
         if cut.size:
             sets["cut_sides"] = cut
+        walls = self._wall_nodes(nodes, tri, body, float(a["domain_width"])) if not cut.size else cut[:0]
+        if params["side_walls"] == "held" and walls.size:
+            sets["wall_sides"] = walls
         self.model = engine.Model(nodes, tri, body, materials=self.material, node_sets=sets)
         self._configure(self.model)
         # bonds hold while the scene settles; the driver switches failure on
@@ -87,13 +93,23 @@ class Scene:
         self.model = m
         return m
 
+    def _wall_nodes(self, nodes, tri, body, domain_width):
+        """The block nodes where phase 1's walls stood: within WALL_REACH of
+        |x| = W/2 (a block that leaned on a wall has a corner or a face there,
+        within the overlap of phase 1's contacts, a few mm)."""
+        block_nodes = np.unique(tri[self.body_kind[body] == KIND_BLOCK])
+        near = np.abs(np.abs(nodes[block_nodes, 0]) - 0.5 * domain_width) < WALL_REACH
+        return block_nodes[near].astype(np.int32)
+
     def hold_boundaries(self, m):
         """The scene's held nodes: the consolidated layer's top, and the faces
         a cropped scene's crop cut, held in x as the rest of the pile held them
-        (a roller: they slide up and down)."""
+        (a roller: they slide up and down); with side_walls='held', the block
+        nodes where an uncropped scene's phase-1 walls stood, likewise."""
         m.fix("layer_top")
-        if "cut_sides" in m.node_sets:
-            m.fix("cut_sides", x=True, y=False)
+        for ends in ("cut_sides", "wall_sides"):
+            if ends in m.node_sets:
+                m.fix(ends, x=True, y=False)
 
     def _cut_pairs(self):
         """Indenter and consolidated layer are cut apart, never frozen together."""
