@@ -101,12 +101,13 @@ def main(argv=None):
         m.evaluate()   # the friction's input: the forces before it, the touching pairs, the warm start
         friction = gpu.Friction(m)
         friction_us = 1e6 * friction.seconds_per_run(a.repeats)
-        friction_colours = int(friction.fields()["colours"])
+        friction_fields = friction.fields()
+        friction_colours, friction_pairs = int(friction_fields["colours"]), len(friction_fields["lambda"])
         out["gpu"] = dict(device=gpu.device_name(), body_forces_us=1e6 * s, stages_us=parts, compare=cmp,
                           node_update_us=update_us, contact_normal_us=contact_us,
                           contact_candidates=contact.candidates, bond_check_us=bond_us,
                           bond_points_intact=int(m.bonds.counts["points"] - m.bonds.counts["split"]),
-                          friction_us=friction_us, friction_pairs=int(friction.pairs),
+                          friction_us=friction_us, friction_pairs=friction_pairs,
                           friction_colours=friction_colours)
         print(f"GPU {gpu.device_name()}: body-force stage {1e6 * s:.1f} us per evaluation "
               f"({m.n_triangles / s / 1e9:.2f} G triangles/s); launched one by one: "
@@ -115,7 +116,8 @@ def main(argv=None):
               f"threads' integration part {rows[-1]['integration_ms']:.3f} ms")
         print(f"  normal contact ({contact.candidates} candidates) {contact_us:.1f} us; against {a.threads[-1]} "
               f"threads' contact forces part {rows[-1]['contact_forces_ms']:.3f} ms (friction included)")
-        print(f"  friction ({friction.pairs} touching pairs in {friction_colours} colours) {friction_us:.1f} us")
+        print(f"  friction ({friction_pairs} touching pairs of {friction.candidates} candidates, in "
+              f"{friction_colours} colours) {friction_us:.1f} us")
         print(f"  bond check ({out['gpu']['bond_points_intact']} intact points, all of them) {bond_us:.1f} us; "
               f"against {a.threads[-1]} threads' bonds part {rows[-1]['bonds_ms']:.3f} ms (screened, and the "
               f"cohesive forces)")

@@ -19,10 +19,10 @@ Checks, each printed with its outcome:
      round-off;
   6. the bond check (eqs 5-7) of every intact point on a bonded square and
      each mesh: ratios and tractions the CPU's bits, the same split plan.
-  7. friction (eq 4): the touching pairs coloured on the GPU, the sweeps
-     colour by colour from the CPU's warm start, on rubbing blocks and each
-     mesh: the CPU's colour for every pair, tangential forces and node forces
-     bit for bit, the power to round-off;
+  7. friction (eq 4) over the CPU's candidate list: the touching pairs found,
+     coloured and solved on the GPU from the CPU's warm start, on rubbing
+     blocks and each mesh: the CPU's touching pairs and colour for every pair,
+     tangential forces and node forces bit for bit, the power to round-off;
   8. the cohesive forces (eqs 8-12) of the opened pairs of a bonded square,
      for both force directions, just split (rigid phase), softening and failing,
      and of each mesh 20 steps after its points at the criterion split: per
@@ -84,7 +84,7 @@ def report_friction(name, cmp):
     differ = {k: cmp[k][0] for k in ("lambda", "f_x", "f_y") if cmp[k][0]}
     detail = "tangential forces and node forces the CPU's bits" if not differ else f"entries differing: {differ}"
     colours = "the CPU's colours" if cmp["colour"] == 0 else f"{cmp['colour']} pairs in another colour"
-    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, friction: {detail}; {cmp['pairs']} pairs, {colours} "
+    print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, friction: {detail}; touching pairs {cmp['pairs']}, {colours} "
           f"({cmp['colours']}, coloured in {cmp['rounds']} rounds); power {cmp['power_rel']:.1e} relative", flush=True)
     return cmp["ok"]
 

@@ -268,24 +268,26 @@ def compare_cohesive(model):
 
 
 class Friction(_Stage):
-    """Coulomb friction (eq 4) of `model`'s touching pairs on the GPU: the
-    sweeps colour by colour from the warm start the model holds, on the forces
-    its last evaluation assembled before friction."""
+    """Coulomb friction (eq 4) on the GPU over the candidate list of `model`'s
+    last contact pass: which candidates touch (the pair kernel), their
+    colouring, the sweeps colour by colour from the warm start the model
+    holds, on the forces its last evaluation assembled before friction."""
     DEVICE = "DeviceFriction"
 
     @property
-    def pairs(self):
-        return self._d.pairs
+    def candidates(self):
+        return self._d.candidates
 
 
 def compare_friction(model):
     """Evaluate `model` on the CPU (which leaves the friction's warm start as
-    it was), then solve the same friction on the GPU from the same warm start.
+    it was), then solve the same friction on the GPU from the same candidate
+    list and warm start (the GPU finds the touching pairs itself).
     Returns {'lambda', 'f_x', 'f_y': (entries whose bits differ, largest
     relative difference)} (f_x, f_y where a component is not prescribed: the
     boundary conditions overwrite the others after friction), 'power_rel'
     (summed in another order: relative to the power's scale, sum |lambda| times
-    the largest node speed), 'pairs', 'colours' (CPU, GPU), 'colour' (pairs
+    the largest node speed), 'pairs' (touching: CPU, GPU), 'colours' (CPU, GPU), 'colour' (pairs
     the GPU's colouring put in another colour than the CPU's), 'rounds' (the
     GPU colouring's parallel rounds) and 'ok'."""
     model.evaluate()
@@ -299,13 +301,15 @@ def compare_friction(model):
                       dict(lambda_=gpu["lambda"], f_x=gpu["f_x"][free_x], f_y=gpu["f_y"][free_y]),
                       ("lambda_", "f_x", "f_y"))
     out["lambda"] = out.pop("lambda_")
-    out["colour"] = int(np.count_nonzero(np.asarray(cpu["colour"]) != np.asarray(gpu["colour"])))
+    c_cpu, c_gpu = np.asarray(cpu["colour"]), np.asarray(gpu["colour"])
+    out["colour"] = int(np.count_nonzero(c_cpu != c_gpu)) if c_cpu.shape == c_gpu.shape else -1
     out["rounds"] = int(gpu["rounds"])
     speed = float(np.abs(model.velocities).max(initial=0.0))
     scale = max(float(np.abs(cpu["lambda"]).sum()) * speed, abs(cpu["power"]), 1e-300)
     out["power_rel"] = abs(gpu["power"] - cpu["power"]) / scale
-    out["pairs"] = len(cpu["lambda"])
+    out["pairs"] = (len(cpu["lambda"]), len(gpu["lambda"]))
     out["colours"] = (int(cpu["colours"]), int(gpu["colours"]))
     out["ok"] = (all(out[k][0] == 0 for k in ("lambda", "f_x", "f_y")) and out["power_rel"] <= ROUND_OFF
-                 and out["colours"][0] == out["colours"][1] and out["colour"] == 0)
+                 and out["pairs"][0] == out["pairs"][1] and out["colours"][0] == out["colours"][1]
+                 and out["colour"] == 0)
     return out

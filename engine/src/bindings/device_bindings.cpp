@@ -208,7 +208,7 @@ void bind_device(py::module_& m) {
       .def("run", &DeviceFriction::run)
       .def("time_per_run", &DeviceFriction::time_per_run, py::arg("repeats"),
            py::call_guard<py::gil_scoped_release>())
-      .def_property_readonly("pairs", &DeviceFriction::pairs)
+      .def_property_readonly("candidates", &DeviceFriction::candidates)
       .def("fields", [](DeviceFriction& d) {
         const FrictionFields f = d.fields();
         py::dict out;

@@ -1,15 +1,24 @@
-// Friction on the GPU (cuda/friction.hpp). One block colours the touching
-// pairs as the CPU does (contact/friction_order.cpp), in parallel rounds: a
-// pair takes its colour once every neighbour that comes before it has one
-// (Jones-Plassmann), which gives the greedy colouring's colours exactly. One
-// block then solves the sweeps: the pairs of a colour share no node, so its
-// lanes update them at once and a barrier closes the colour; a pair's updates
-// see exactly what they see in the CPU's serial sweep (contact/friction.cpp),
-// so the tangential forces are the CPU's bits. Then a lane per node adds its
-// pairs' friction in the CPU's order.
+// Friction on the GPU (cuda/friction.hpp), in the candidate list's index space
+// as a whole GPU step will run it: the candidates in the CPU's pair order
+// ((contactor, target)), a lane per candidate finding whether it touches and,
+// if so, its contact point's shape functions and its normal force's resultant
+// with the pair kernel of contact/potential_contact_kernel.hpp (the CPU's
+// touching pairs are these, in this order). One block colours the touching
+// candidates as the CPU colours its pairs (contact/friction_order.cpp), in
+// parallel rounds: a pair takes its colour once every neighbour that comes
+// before it has one (Jones-Plassmann), which gives the greedy colouring's
+// colours exactly. One block then solves the sweeps: the pairs of a colour
+// share no node, so its lanes update them at once and a barrier closes the
+// colour; a pair's updates see exactly what they see in the CPU's serial sweep
+// (contact/friction.cpp), so the tangential forces are the CPU's bits. Then a
+// lane per node adds its pairs' friction in the CPU's order.
 #include "cuda/friction.hpp"
 
+#include <algorithm>
+#include <numeric>
+
 #include "contact/friction_kernel.hpp"
+#include "contact/potential_contact_kernel.hpp"
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
@@ -21,17 +30,40 @@ namespace {
 
 constexpr int kBlock = 128;
 constexpr int kSolveThreads = 1024;
-constexpr int kSweeps = 4;  // contact/friction.cpp's
+constexpr int kSweeps = 4;           // contact/friction.cpp's
+constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
 
+// Per candidate (index c, the CPU's pair order), what friction reads.
 struct PairArrays {
-  const int32_t* node;  // 6 per pair
-  const double* nc;     // 3 per pair
-  const double* nt;     // 3 per pair
+  const int32_t* node;  // 6 per candidate: contactor's nodes, then target's
+  const uint8_t* hit;   // touching
+  const double* nc;     // 3 per candidate, where it touches
+  const double* nt;
   const double* nx;
   const double* ny;
   const double* fn;
   const uint64_t* key;
 };
+
+// Whether candidate c touches, and its contact point and normal force's
+// resultant: the CPU's ContactPair of that pair, bit for bit.
+__global__ void pair_kernel(const double* x, const double* y, const int32_t* node, int64_t n, double penalty,
+                            uint8_t* hit, double* nc, double* nt, double* nx, double* ny, double* fn) {
+  const int64_t c = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  if (c >= n) return;
+  const int32_t* v = node + 6 * c;
+  const double xa[3] = {x[v[0]], x[v[1]], x[v[2]]}, ya[3] = {y[v[0]], y[v[1]], y[v[2]]};
+  const double xb[3] = {x[v[3]], x[v[4]], x[v[5]]}, yb[3] = {y[v[3]], y[v[4]], y[v[5]]};
+  PairContact r;
+  const bool h = contact_candidate(xa, ya, xb, yb, penalty, r);
+  hit[c] = h ? 1 : 0;
+  if (!h) return;
+  for (int k = 0; k < 3; ++k) {
+    nc[3 * c + k] = r.nc[k];
+    nt[3 * c + k] = r.nt[k];
+  }
+  contact_resultant(r, fn[c], nx[c], ny[c]);
+}
 
 __global__ void predict_kernel(const double* mass, const uint8_t* constrained, const double* vx, const double* vy,
                                const double* f_pre_x, const double* f_pre_y, int32_t n, double dt, double* imx,
@@ -42,34 +74,36 @@ __global__ void predict_kernel(const double* mass, const uint8_t* constrained, c
                         imx[i], imy[i], wx[i], wy[i]);
 }
 
-// Pair p's neighbours are the pairs of the entries of its six nodes (entry
-// 6 q + k: pair q). colour[p] < 0 until p is coloured; a colour, once
-// written, is final, so a lane that reads a neighbour's colour in the round
-// it is written sees either -1 (and waits a round) or the final value.
+// A touching candidate's neighbours are the touching candidates of the
+// entries of its six nodes (entry 6 q + k: candidate q). colour[p] is -1
+// until p is coloured; a colour, once written, is final, so a lane that reads
+// a neighbour's colour in the round it is written sees either -1 (and waits a
+// round) or the final value.
 __global__ void __launch_bounds__(kSolveThreads)
-    colour_kernel(const int32_t* node, const uint64_t* key, const int32_t* start, const int32_t* entry,
-                  int32_t n_pairs, int32_t* colour_out, int32_t* counts) {
+    colour_kernel(const int32_t* node, const uint8_t* hit, const uint64_t* key, const int32_t* start,
+                  const int32_t* entry, int32_t n, int32_t* colour_out, int32_t* counts) {
   __shared__ int32_t most[kSolveThreads];
   volatile int32_t* colour = colour_out;
-  for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) colour[p] = -1;
+  for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) colour[p] = hit[p] ? -1 : kNotTouching;
   __syncthreads();
   int32_t rounds = 0;
   for (;;) {
     ++rounds;
     int waiting = 0;
-    for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) {
-      if (colour[p] >= 0) continue;
+    for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) {
+      if (colour[p] != -1) continue;
       const uint64_t pp = friction_priority(key[p]);
       bool ready = true;
       // the smallest colour no neighbour before p has, 64 colours at a time
       for (int32_t base = 0; ready; base += 64) {
         uint64_t taken = 0;
         for (int k = 0; k < 6 && ready; ++k) {
-          const int32_t n = node[6 * p + k];
-          for (int32_t j = start[n]; j < start[n + 1]; ++j) {
+          const int32_t v = node[6 * p + k];
+          for (int32_t j = start[v]; j < start[v + 1]; ++j) {
             const int32_t q = entry[j] / 6;
             if (q == p) continue;
             const int32_t c = colour[q];
+            if (c == kNotTouching) continue;
             if (c < 0) {
               if (coloured_before(friction_priority(key[q]), q, pp, p)) {
                 ready = false;
@@ -90,7 +124,7 @@ __global__ void __launch_bounds__(kSolveThreads)
     if (!__syncthreads_or(waiting)) break;
   }
   int32_t m = -1;
-  for (int32_t p = threadIdx.x; p < n_pairs; p += kSolveThreads) m = max(m, int32_t(colour[p]));
+  for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) m = max(m, int32_t(colour[p]));
   most[threadIdx.x] = m;
   __syncthreads();
   for (int w = kSolveThreads / 2; w > 0; w /= 2) {
@@ -99,24 +133,25 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   if (threadIdx.x == 0) {
     counts[0] = most[0] + 1;  // colours
-    counts[1] = n_pairs ? rounds : 0;
+    counts[1] = rounds;
   }
 }
 
 __global__ void __launch_bounds__(kSolveThreads)
-    solve_kernel(PairArrays P, int32_t n_pairs, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu, double dt,
-                 const double* imx, const double* imy, double* wx, double* wy, double* kinv, double* lambda,
-                 double* power) {
+    solve_kernel(PairArrays P, int32_t n, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key,
+                 const double* prev_lambda, int64_t n_prev, double mu, double dt, const double* imx,
+                 const double* imy, double* wx, double* wy, double* kinv, double* lambda, double* power) {
   __shared__ double shared[kSolveThreads];
   const int32_t colours = counts[0];
-  for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
-    kinv[i] = friction_inverse_mass(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], imx, imy);
+  for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
+    kinv[i] = P.hit[i] ? friction_inverse_mass(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], imx, imy)
+                       : 0.0;
     lambda[i] = 0.0;
   }
   __syncthreads();
   // the warm start, colour by colour as the CPU pushes it
   for (int32_t c = 0; c < colours; ++c) {
-    for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+    for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
       if (colour[i] != c) continue;
       const int64_t at = find_key(prev_key, n_prev, P.key[i]);
       if (at < 0 || kinv[i] == 0.0) continue;
@@ -128,7 +163,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (int32_t c = 0; c < colours; ++c) {
-      for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+      for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
         if (colour[i] != c || kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
         const int32_t* node = P.node + 6 * i;
         const double* nc = P.nc + 3 * i;
@@ -141,7 +176,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   // the power with the velocities the nodes will move with, summed in a fixed tree
   double p = 0.0;
-  for (int32_t i = threadIdx.x; i < n_pairs; i += kSolveThreads) {
+  for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
     if (lambda[i] != 0.0)
       p -= lambda[i] * friction_slip(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], wx, wy);
   }
@@ -151,7 +186,7 @@ __global__ void __launch_bounds__(kSolveThreads)
 
 // Node i's force with its pairs' friction added in the CPU's order: pairs
 // ascending, a pair's corners as the CPU visits them (contactor's j, then
-// target's j, j = 0, 1, 2); entry 6 p + k names pair p's node slot k.
+// target's j, j = 0, 1, 2); entry 6 c + k names candidate c's node slot k.
 __global__ void apply_kernel(PairArrays P, const int32_t* start, const int32_t* entry, const double* lambda,
                              const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x, double* f_y) {
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -160,7 +195,7 @@ __global__ void apply_kernel(PairArrays P, const int32_t* start, const int32_t* 
   for (int32_t j = start[i]; j < start[i + 1]; ++j) {
     const int32_t e = entry[j], p = e / 6, k = e % 6;
     const double lam = lambda[p];
-    if (lam == 0.0) continue;
+    if (lam == 0.0) continue;  // a candidate that does not touch has none
     const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
     if (k < 3) {
       sx += P.nc[3 * p + k] * tx;
@@ -179,27 +214,34 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 }  // namespace
 
 struct DeviceFriction::Impl {
-  int32_t n_nodes = 0, n_pairs = 0;
+  int32_t n_nodes = 0, n_cand = 0;
   int64_t n_prev = 0;
-  double mu = 0.0, dt = 0.0;
-  DeviceArray<double> mass, vx, vy, f_pre_x, f_pre_y, imx, imy, wx, wy, nc, nt, nx, ny, fn, kinv, lambda,
+  double mu = 0.0, dt = 0.0, penalty = 0.0;
+  DeviceArray<double> x, y, mass, vx, vy, f_pre_x, f_pre_y, imx, imy, wx, wy, nc, nt, nx, ny, fn, kinv, lambda,
       prev_lambda, f_x, f_y, power;
-  DeviceArray<uint8_t> constrained;
+  DeviceArray<uint8_t> constrained, hit;
   DeviceArray<int32_t> node, colour, counts, start, entry;
   DeviceArray<uint64_t> key, prev_key;
   cudaStream_t stream = nullptr;
 
-  PairArrays pairs() { return {node.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()}; }
+  PairArrays pairs() {
+    return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
+  }
 
   void launch() {
+    if (n_cand) {
+      pair_kernel<<<blocks(n_cand), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_cand, penalty,
+                                                         hit.data(), nc.data(), nt.data(), nx.data(), ny.data(),
+                                                         fn.data());
+    }
     predict_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(mass.data(), constrained.data(), vx.data(), vy.data(),
                                                            f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(),
                                                            imy.data(), wx.data(), wy.data());
-    colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), key.data(), start.data(), entry.data(), n_pairs,
-                                                   colour.data(), counts.data());
-    solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_pairs, colour.data(), counts.data(), prev_key.data(), prev_lambda.data(), n_prev, mu, dt, imx.data(),
-                                                  imy.data(), wx.data(), wy.data(), kinv.data(), lambda.data(),
-                                                  power.data());
+    colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), hit.data(), key.data(), start.data(), entry.data(),
+                                                   n_cand, colour.data(), counts.data());
+    solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
+                                                  prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(),
+                                                  wx.data(), wy.data(), kinv.data(), lambda.data(), power.data());
     apply_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(pairs(), start.data(), entry.data(), lambda.data(),
                                                          f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(),
                                                          f_y.data());
@@ -212,33 +254,39 @@ DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   d.stream = new_stream();
   const Nodes& N = m.nodes();
   const ContactSolver& C = m.contact();
-  const std::vector<ContactPair>& cp = C.pairs();
+  const std::vector<CandidatePair>& cand = C.candidates();
+  const std::vector<int32_t>& T = m.triangles().node;
   d.n_nodes = N.size();
-  d.n_pairs = int32_t(cp.size());
+  d.n_cand = int32_t(cand.size());
   d.mu = m.contact_params().mu;
+  d.penalty = m.contact_params().penalty;
   d.dt = m.dt();
-  std::vector<int32_t> node(6 * cp.size());
-  std::vector<double> nc(3 * cp.size()), nt(3 * cp.size()), nx(cp.size()), ny(cp.size()), fn(cp.size());
-  std::vector<uint64_t> key(cp.size());
-  for (size_t p = 0; p < cp.size(); ++p) {
-    for (int k = 0; k < 6; ++k) node[6 * p + k] = cp[p].node[k];
+  // the CPU's pair order: by (contactor, target)
+  std::vector<int64_t> order(cand.size());
+  std::iota(order.begin(), order.end(), int64_t(0));
+  std::sort(order.begin(), order.end(), [&](int64_t u, int64_t v) {
+    return cand[u].a != cand[v].a ? cand[u].a < cand[v].a : cand[u].b < cand[v].b;
+  });
+  std::vector<int32_t> node(6 * cand.size());
+  std::vector<uint64_t> key(cand.size());
+  for (size_t c = 0; c < order.size(); ++c) {
+    const CandidatePair& p = cand[order[c]];
     for (int k = 0; k < 3; ++k) {
-      nc[3 * p + k] = cp[p].nc[k];
-      nt[3 * p + k] = cp[p].nt[k];
+      node[6 * c + k] = T[3 * size_t(p.a) + k];
+      node[6 * c + 3 + k] = T[3 * size_t(p.b) + k];
     }
-    nx[p] = cp[p].nx;
-    ny[p] = cp[p].ny;
-    fn[p] = cp[p].fn;
-    key[p] = friction_pair_key(cp[p].contactor, cp[p].target);
+    key[c] = friction_pair_key(p.a, p.b);
   }
-  // each node's entries 6 p + k, pairs ascending, slots in the CPU's visiting order
-  std::vector<int32_t> start(size_t(d.n_nodes) + 1, 0), entry(6 * cp.size());
+  // each node's entries 6 c + k, candidates ascending, slots in the CPU's visiting order
+  std::vector<int32_t> start(size_t(d.n_nodes) + 1, 0), entry(node.size());
   static constexpr int kVisit[6] = {0, 3, 1, 4, 2, 5};
   for (size_t e = 0; e < node.size(); ++e) ++start[node[e] + 1];
   for (int32_t i = 0; i < d.n_nodes; ++i) start[i + 1] += start[i];
   std::vector<int32_t> fill(start.begin(), start.end() - 1);
-  for (size_t p = 0; p < cp.size(); ++p)
-    for (const int k : kVisit) entry[fill[node[6 * p + k]]++] = int32_t(6 * p + k);
+  for (size_t c = 0; c < order.size(); ++c)
+    for (const int k : kVisit) entry[fill[node[6 * c + k]]++] = int32_t(6 * c + k);
+  d.x.upload(N.x);
+  d.y.upload(N.y);
   d.mass.upload(N.mass);
   d.constrained.upload(N.constrained);
   d.vx.upload(N.vx);
@@ -247,21 +295,18 @@ DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
   d.node.upload(node);
-  d.nc.upload(nc);
-  d.nt.upload(nt);
-  d.nx.upload(nx);
-  d.ny.upload(ny);
-  d.fn.upload(fn);
   d.key.upload(key);
-  d.colour.resize(cp.size());
-  d.counts.resize(2);
   d.start.upload(start);
   d.entry.upload(entry);
+  d.hit.resize(cand.size());
+  for (auto* a : {&d.nx, &d.ny, &d.fn, &d.kinv, &d.lambda}) a->resize(cand.size());
+  d.nc.resize(3 * cand.size());
+  d.nt.resize(3 * cand.size());
+  d.colour.resize(cand.size());
+  d.counts.resize(2);
   d.prev_key.upload(C.warm_start_keys());
   d.prev_lambda.upload(C.warm_start_forces());
   d.n_prev = int64_t(C.warm_start_keys().size());
-  d.kinv.resize(cp.size());
-  d.lambda.resize(cp.size());
   d.power.resize(1);
 }
 
@@ -271,7 +316,7 @@ DeviceFriction::~DeviceFriction() {
 
 void DeviceFriction::run() { impl_->launch(); }
 
-int32_t DeviceFriction::pairs() const { return impl_->n_pairs; }
+int32_t DeviceFriction::candidates() const { return impl_->n_cand; }
 
 double DeviceFriction::time_per_run(int repeats) {
   Impl& d = *impl_;
@@ -284,9 +329,16 @@ FrictionFields DeviceFriction::fields() {
   FrictionFields f;
   f.f_x = d.f_x.download();
   f.f_y = d.f_y.download();
-  f.lambda = d.lambda.download();
-  f.power = d.n_pairs ? d.power.download()[0] : 0.0;
-  f.colour = d.colour.download();
+  // the touching candidates, in order: the CPU's pairs
+  const std::vector<uint8_t> hit = d.hit.download();
+  const std::vector<double> lambda = d.lambda.download();
+  const std::vector<int32_t> colour = d.colour.download();
+  for (size_t c = 0; c < hit.size(); ++c) {
+    if (!hit[c]) continue;
+    f.lambda.push_back(lambda[c]);
+    f.colour.push_back(colour[c]);
+  }
+  f.power = d.power.download()[0];
   const std::vector<int32_t> counts = d.counts.download();
   f.colours = counts[0];
   f.rounds = counts[1];

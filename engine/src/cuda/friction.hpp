@@ -1,5 +1,7 @@
-// Coulomb friction of a step on the GPU (docs/gpu.md): the touching pairs
-// coloured as contact/friction_order.hpp colours them, in parallel rounds;
+// Coulomb friction of a step on the GPU (docs/gpu.md), over the candidate
+// list as the whole step will run it: which candidates touch, where and how
+// hard (the pair kernel of contact/potential_contact_kernel.hpp); the touching
+// pairs coloured as contact/friction_order.hpp colours them, in parallel rounds;
 // the projected Gauss-Seidel sweeps of contact/friction.cpp colour by colour,
 // a lane per pair of a colour in one block, with the per-pair physics of contact/friction_kernel.hpp; then each
 // node's sum of its pairs' friction in the CPU's order. A plain C++ header (no
@@ -15,9 +17,9 @@ class Model;
 
 struct FrictionFields {
   std::vector<double> f_x, f_y;  // every force of the step, friction included [N/m]
-  std::vector<double> lambda;    // tangential force per touching pair [N/m], pair order
+  std::vector<double> lambda;    // tangential force per touching pair [N/m], the CPU's pair order
   double power = 0.0;            // friction's dissipation rate [W/m]
-  std::vector<int32_t> colour;   // the sweeps' colour per pair, coloured on the GPU
+  std::vector<int32_t> colour;   // the sweeps' colour per touching pair, coloured on the GPU
   int32_t colours = 0;
   int32_t rounds = 0;            // the colouring's parallel rounds
 };
@@ -25,7 +27,7 @@ struct FrictionFields {
 class DeviceFriction {
  public:
   // Copies the model's node state, the forces its last evaluation assembled
-  // before friction (f_pre), the touching pairs of its last contact pass and
+  // before friction (f_pre), the candidate list of its last contact pass and
   // the friction warm start it holds now (after Model::evaluate: the one that
   // evaluation started from).
   explicit DeviceFriction(const Model& model);
@@ -36,7 +38,7 @@ class DeviceFriction {
   void run();                        // asynchronous; `fields` waits for it
   double time_per_run(int repeats);  // [s], device events
   FrictionFields fields();
-  int32_t pairs() const;
+  int32_t candidates() const;
 
  private:
   struct Impl;

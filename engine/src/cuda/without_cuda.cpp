@@ -67,6 +67,6 @@ DeviceFriction::~DeviceFriction() = default;
 void DeviceFriction::run() { no_gpu(); }
 double DeviceFriction::time_per_run(int) { no_gpu(); }
 FrictionFields DeviceFriction::fields() { no_gpu(); }
-int32_t DeviceFriction::pairs() const { no_gpu(); }
+int32_t DeviceFriction::candidates() const { no_gpu(); }
 
 }  // namespace engine
