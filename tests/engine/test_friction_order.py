@@ -77,3 +77,44 @@ def test_friction_does_not_depend_on_when_the_candidate_list_was_built():
     assert np.array_equal(fa, fb)
     assert pa == pb
     assert np.any(a.friction_forces != 0.0)
+
+
+def priority(key):
+    """friction_priority (contact/friction_kernel.hpp): splitmix64's finaliser."""
+    m = 0xFFFFFFFFFFFFFFFF
+    key ^= key >> 30
+    key = (key * 0xBF58476D1CE4E5B9) & m
+    key ^= key >> 27
+    key = (key * 0x94D049BB133111EB) & m
+    return key ^ (key >> 31)
+
+
+def test_parallel_rounds_give_the_greedy_colours():
+    # The GPU colours the pairs in rounds (cuda/friction.cu): a pair takes the
+    # smallest colour its neighbours before it (by priority) do not have, once
+    # they all have one. Emulated here round by round, it must give the CPU's
+    # greedy colouring (friction_order.cpp) exactly, in few rounds.
+    rng = np.random.default_rng(5)
+    pts, tri, body = wall_of_squares(rng, rows=6, cols=10)
+    v = rng.normal(0.0, 1e-3, pts.shape)
+    solver, touching, _, _ = friction_step(pts, tri, body, v, rng.normal(0.0, 1e3, pts.shape), 0.1)
+    order = solver.sweep_order
+    greedy = np.empty(touching, int)
+    for c in range(len(order["colour_start"]) - 1):
+        greedy[order["pair"][order["colour_start"][c]:order["colour_start"][c + 1]]] = c
+    pairs = solver.pairs["tris"]
+    nodes = np.concatenate([tri[pairs[:, 0]], tri[pairs[:, 1]]], axis=1)
+    prio = [(priority((int(a) << 32) | int(b)), p) for p, (a, b) in enumerate(pairs)]
+    neighbours = [[q for q in range(touching) if q != p and set(nodes[p]) & set(nodes[q])] for p in range(touching)]
+    colour = np.full(touching, -1)
+    rounds = 0
+    while (colour < 0).any():
+        rounds += 1
+        start = colour.copy()
+        for p in np.flatnonzero(start < 0):
+            before = [q for q in neighbours[p] if prio[q] < prio[p]]
+            if all(start[q] >= 0 for q in before):
+                taken = {start[q] for q in before}
+                colour[p] = min(set(range(len(taken) + 1)) - taken)
+    assert np.array_equal(colour, greedy)
+    assert rounds < touching / 4, f"{rounds} rounds for {touching} pairs"
