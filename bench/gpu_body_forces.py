@@ -1,7 +1,7 @@
 """The engine's step cost by thread count, and its body-force stage on the
 GPU (not a test; docs/gpu.md). Writes bench/results/gpu_body_forces.json.
 
-    python3 bench/gpu_body_forces.py --mesh MESH.h5 [--scene paper] [--threads 1 2 4 8 16]
+    python3 bench/gpu_body_forces.py [--mesh MESH.h5] [--scene paper] [--threads 1 2 4 8 16]
 
 For each thread count: the ms per step of the load phase (water, drag,
 contact, held layer top, driven indenter; the `fast` preset's numerics) and
@@ -27,6 +27,7 @@ from icerubble.code_identity import code_version, source_hash
 from icerubble.machine import processor
 from icerubble.files.mesh_file import read_mesh
 from icerubble.run.presets import NUMERICS, scene
+from icerubble.run.scene_cache import scene_files
 from icerubble.run.loading import smooth_ramp_table
 from icerubble.run.scene import Scene
 
@@ -59,7 +60,9 @@ def per_step(m, steps):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--mesh", required=True, help="a scene's mesh file (runs/scenes/*_mesh.h5)")
+    ap.add_argument("--mesh", default=None,
+                    help="a scene's mesh file (runs/scenes/*_mesh.h5); default: the paper scene's ridge 1, "
+                         "meshed from its shipped pile into runs/scenes if it is not there (minutes)")
     ap.add_argument("--scene", default="paper", help="the scene whose parameters it runs with")
     ap.add_argument("--preset", default="fast")
     ap.add_argument("--threads", type=int, nargs="+", default=[1, 2])
@@ -68,7 +71,12 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=2000, help="GPU evaluations timed")
     ap.add_argument("--triad", help="a compiled bench/stream_triad.cpp: the memory bandwidth by thread count")
     ap.add_argument("--out", default=OUT)
+    ap.add_argument("--quick", action="store_true", help="100 steps and 200 GPU evaluations timed")
     a = ap.parse_args(argv)
+    if a.quick:
+        a.steps, a.repeats = 100, 200
+    if a.mesh is None:
+        a.mesh = scene_files("paper", 1, root=os.path.join(ROOT, "runs"))[1]
     mesh = read_mesh(a.mesh)
     m = load_phase_model(mesh, a.scene, a.preset, a.threads[0])
     m.step(a.warmup)

@@ -9,12 +9,15 @@ import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+sys.path[:0] = [HERE, os.path.dirname(HERE)]
 import stamps  # noqa: E402
 
 # Benchmarks of many hours, run alone (each says how in its docstring).
 LONG = {"paper_peak.py": "the paper scene's cohesive peak under each preset: ~0.7-1 h for `fast` "
                          "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle"}
+# The GPU backend's benchmarks, run where a GPU is visible (make gpu-check runs
+# them too): elsewhere they would replace a GPU machine's figures with none.
+GPU_ONLY = {"gpu_body_forces.py", "gpu_friction.py"}
 # Not benchmarks: the stamps and the measured figures' page.
 HELPERS = {"run_all.py", "stamps.py", "make_readme.py"}
 RESULTS = os.path.join(HERE, "results")
@@ -30,8 +33,13 @@ def main():
     for name, what in LONG.items():
         print(f"=== {name}: not run by make bench ({what}); /usr/bin/python3 bench/{name}", flush=True)
     failed = []
+    from icerubble.engine import gpu
     for path in scripts:
         name = os.path.basename(path)
+        if name in GPU_ONLY and not gpu.available():
+            print(f"=== {name}: not run here ({gpu.why_unavailable()}; its figures are a GPU machine's)\n",
+                  flush=True)
+            continue
         print(f"=== {name}", flush=True)
         start, before = time.time(), result_times()
         rc = subprocess.call([sys.executable, path] + sys.argv[1:])
