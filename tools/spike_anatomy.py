@@ -13,7 +13,7 @@
         failures around the record maximum.
 
     OMP_NUM_THREADS=1 /usr/bin/python3 tools/spike_anatomy.py run --ridge 1 --mu 0.05 --tau 1e5 \\
-            --out DIR [--scene small] [--penalty P] [--every-mm 1] [--settle-bonds checked]
+            --out DIR [--scene small] [--penalty P] [--every-mm 1] [--settle-bonds checked] [--numerics fast]
         one run as `icerubble study run` makes it (run_one: same scene,
         numerics, shared rest state), which also keeps a copy of the
         checkpoint every --every-mm of travel (DIR/<name>_ckpts/y<mm>.h5) and
@@ -261,7 +261,7 @@ def cmd_run(a):
         overrides["settle_bonds"] = a.settle_bonds
     if a.penalty:
         overrides["penalty"] = a.penalty
-    run, out = make_run(a.scene, a.ridge, overrides, a.out, a.description)
+    run, out = make_run(a.scene, a.ridge, overrides, a.out, a.description, numerics_name=a.numerics)
     probe = Probe(run)
     kept = out[:-3] + "_ckpts"
     os.makedirs(kept, exist_ok=True)
@@ -293,9 +293,9 @@ def cmd_window(a):
     scratch = os.path.join(os.path.dirname(os.path.abspath(a.out)), "window_tmp")
     os.makedirs(scratch, exist_ok=True)
     sc = scene(meta_scene)
-    settings = numerics(meta_scene, None)
+    settings = numerics(meta_scene, a.numerics)
     _, mesh_path = scene_files(meta_scene, ridge, root=a.scene_root)
-    options = RunOptions.from_numerics(settings, name=DEFAULT_NUMERICS, threads=1)
+    options = RunOptions.from_numerics(settings, name=a.numerics or DEFAULT_NUMERICS, threads=1)
     over = {k: v for k, v in params.items() if k in P.TABLE_1}
     run = PunchThrough(mesh_path, os.path.join(scratch, "w.h5"), params=dict(sc["params"], **over), options=options)
     ckpt.restore(run, a.checkpoint)
@@ -353,6 +353,8 @@ def main(argv=None):
     r.add_argument("--mu", type=float, required=True)
     r.add_argument("--tau", type=float, required=True)
     r.add_argument("--penalty", type=float, default=None)
+    r.add_argument("--numerics", default=None, help="a numerics preset (default: the scene's default; the deep "
+                                                   "study's tables run 'fast')")
     r.add_argument("--settle-bonds", choices=("held", "checked"), default=None,
                    help="default: the scene's (the deep study's tables check them)")
     r.add_argument("--travel-mm", type=float, default=40.0)
@@ -368,6 +370,7 @@ def main(argv=None):
     w.add_argument("--to-mm", type=float, required=True)
     w.add_argument("--every-steps", type=int, default=20)
     w.add_argument("--dt-factor", type=float, default=1.0)
+    w.add_argument("--numerics", default=None, help="the run's numerics preset (as its `run --numerics`)")
     w.add_argument("--penalty", type=float, default=None)
     w.add_argument("--no-contacts", dest="contacts", action="store_false")
     w.add_argument("--out", required=True)
