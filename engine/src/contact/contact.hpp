@@ -205,6 +205,12 @@ class ContactSolver {
   std::vector<ContactPair> pairs_;
   std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
   double friction_power_ = 0.0;
+  struct SweepPair {  // a pair as the sweeps read it, in sweep order (friction.cpp)
+    int32_t node[6];
+    double nc[3], nt[3], nx, ny, limit, kinv, lambda;
+    bool fn_zero;
+  };
+  std::vector<SweepPair> sweep_;
   FrictionOrder order_;              // the sweeps' order of the last friction call
   std::vector<int32_t> order_nodes_; // its input: six nodes per pair
   std::vector<uint64_t> order_keys_; // (contactor, target) per pair, ascending

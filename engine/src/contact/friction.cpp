@@ -88,27 +88,48 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   const double* imx = imx_.data();
   const double* imy = imy_.data();
 
+  // The pairs copied in sweep order: a colour's pairs are scattered over
+  // pairs_, and the sweeps visit every colour five times (warm start, four
+  // sweeps); packed, each visit reads the pairs in memory order. What the
+  // colour order still costs on the CPU: consecutive pairs of a colour share
+  // no node, so the velocities they update are rarely in cache
+  // (docs/gpu.md, "Friction").
+  sweep_.resize(np);
+  for (size_t k = 0; k < np; ++k) {
+    const int32_t i = order_.pair[k];
+    const ContactPair& c = pairs_[i];
+    SweepPair& q = sweep_[k];
+    std::copy(c.node, c.node + 6, q.node);
+    std::copy(c.nc, c.nc + 3, q.nc);
+    std::copy(c.nt, c.nt + 3, q.nt);
+    q.nx = c.nx;
+    q.ny = c.ny;
+    q.limit = p.mu * c.fn;
+    q.kinv = kinv_[i];
+    q.lambda = 0.0;
+    q.fn_zero = c.fn == 0.0;
+  }
+
   // Warm start from the force the same triangle pair carried last step: a
   // resting block needs nearly the same friction every step, so the sweeps
   // only correct it, and the iteration keeps converging across steps instead
   // of leaving a residual slip (creep) at a fixed sweep count.
-  for (const int32_t i : order_.pair) {
-    const ContactPair& c = pairs_[i];
-    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[i]);
-    if (at < 0 || kinv_[i] == 0.0) continue;
-    const double lam = clamp_to_cone(prev_lambda_[at], p.mu * c.fn);
-    lambda_[i] = lam;
-    friction_push(c.node, c.nc, c.nt, c.nx, c.ny, lam, dt, imx, imy, wx, wy);
+  for (size_t k = 0; k < np; ++k) {
+    SweepPair& q = sweep_[k];
+    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[order_.pair[k]]);
+    if (at < 0 || q.kinv == 0.0) continue;
+    q.lambda = clamp_to_cone(prev_lambda_[at], q.limit);
+    friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, imx, imy, wx, wy);
   }
 
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
-    for (const int32_t i : order_.pair) {
-      const ContactPair& c = pairs_[i];
-      if (kinv_[i] == 0.0 || c.fn == 0.0) continue;
-      const double d = friction_update(c.node, c.nc, c.nt, c.nx, c.ny, p.mu * c.fn, kinv_[i], dt, wx, wy, lambda_[i]);
-      if (d != 0.0) friction_push(c.node, c.nc, c.nt, c.nx, c.ny, d, dt, imx, imy, wx, wy);
+    for (SweepPair& q : sweep_) {
+      if (q.kinv == 0.0 || q.fn_zero) continue;
+      const double d = friction_update(q.node, q.nc, q.nt, q.nx, q.ny, q.limit, q.kinv, dt, wx, wy, q.lambda);
+      if (d != 0.0) friction_push(q.node, q.nc, q.nt, q.nx, q.ny, d, dt, imx, imy, wx, wy);
     }
   }
+  for (size_t k = 0; k < np; ++k) lambda_[order_.pair[k]] = sweep_[k].lambda;
 
   // Remember the forces by pair for the next step's warm start: the pairs
   // come in (contactor, target) order, i.e. with ascending keys.

@@ -2,7 +2,6 @@
 #include "contact/friction_order.hpp"
 
 #include <algorithm>
-#include <numeric>
 
 namespace engine {
 
@@ -11,12 +10,22 @@ void friction_order(int32_t n_pairs, const int32_t* node, const uint64_t* key, i
   out.pair.resize(n_pairs);
   out.colour_start.assign(1, 0);
   if (n_pairs == 0) return;
-  std::vector<int32_t> by_priority(n_pairs);
-  std::iota(by_priority.begin(), by_priority.end(), 0);
-  std::vector<uint64_t> priority(n_pairs);
-  for (int32_t p = 0; p < n_pairs; ++p) priority[p] = friction_priority(key[p]);
-  std::sort(by_priority.begin(), by_priority.end(),
-            [&](int32_t a, int32_t b) { return coloured_before(priority[a], a, priority[b], b); });
+  // the pairs by priority, each with its nodes alongside: the greedy pass
+  // then reads them in memory order, not through an index
+  struct Ranked {
+    uint64_t priority;
+    int32_t pair;
+    int32_t node[6];
+  };
+  std::vector<Ranked> ranked(n_pairs);
+  for (int32_t p = 0; p < n_pairs; ++p) {
+    ranked[p].priority = friction_priority(key[p]);
+    ranked[p].pair = p;
+    std::copy(node + 6 * int64_t(p), node + 6 * int64_t(p) + 6, ranked[p].node);
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+    return coloured_before(a.priority, a.pair, b.priority, b.pair);
+  });
   // used[words * n + w]: the colours taken at node n (bit c of word w is
   // colour 64 w + c). One word holds 64 colours; a pile's pairs need ~10.
   std::vector<int32_t> colour(n_pairs);
@@ -24,8 +33,9 @@ void friction_order(int32_t n_pairs, const int32_t* node, const uint64_t* key, i
   for (;;) {
     if (used.size() < size_t(words) * n_nodes) used.assign(size_t(words) * n_nodes, 0);
     bool full = false;
-    for (const int32_t p : by_priority) {
-      const int32_t* v = node + 6 * int64_t(p);
+    for (const Ranked& r : ranked) {
+      const int32_t p = r.pair;
+      const int32_t* v = r.node;
       int32_t c = -1;
       for (int32_t w = 0; w < words && c < 0; ++w) {
         uint64_t taken = 0;
