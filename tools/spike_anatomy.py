@@ -56,6 +56,13 @@ FIRST_PEAK_TRAVEL = 5e-3
 
 
 # ---------------------------------------------------------------- summary
+def events_above(y, F, late, peak):
+    """Runs of `late` samples whose F lies above `peak`: (first y, last y, max F) each."""
+    above = late & (F > peak)
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], above.astype(int), [0]))))
+    return [(y[a], y[b - 1], F[a:b].max()) for a, b in zip(edges[::2], edges[1::2])]
+
+
 def summarize(path, window_mm=1.0):
     with h5py.File(path, "r") as f:
         fr = {k: f["force"][k][...] for k in f["force"]}
@@ -70,10 +77,7 @@ def summarize(path, window_mm=1.0):
         i2 = int(np.argmax(np.where(late, F, -np.inf)))
         out.update(late_max=F[i2], y_late=y[i2], late_min=F[late].min(),
                    y_late_min=y[late][np.argmin(F[late])])
-        # events: runs of late samples above the first peak
-        above = late & (F > F[i1])
-        edges = np.flatnonzero(np.diff(np.concatenate(([0], above.astype(int), [0]))))
-        out["events"] = [(y[a], y[b - 1], F[a:b].max()) for a, b in zip(edges[::2], edges[1::2])]
+        out["events"] = events_above(y, F, late, F[i1])
     else:
         i2 = i1
     print(f"{out['file']}: first peak {out['first_peak'] / 1e3:.1f} kN/m at {out['y_first'] * 1e3:.2f} mm; "
@@ -128,9 +132,7 @@ def table_row(path):
     i1 = int(np.argmax(np.where(early, F, -np.inf)))
     im = int(np.argmax(F))
     late = ~early
-    above = late & (F > F[i1])
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], above.astype(int), [0]))))
-    events = [F[a:b].max() for a, b in zip(edges[::2], edges[1::2])]
+    events = [m for _, _, m in events_above(y, F, late, F[i1])]
     work = max(abs(en["work_boundary"][-1]), 1e-300)
     ts, pos = bonds["t_split"], bonds["position"]
     near = np.flatnonzero((ts > t[im] - BEFORE_MAX_S) & (ts <= t[im]))

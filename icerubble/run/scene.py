@@ -69,9 +69,10 @@ class Scene:
         cut = np.asarray(mesh.get("cut_sides", np.zeros(0, np.int32)))
         if cut.size:
             sets["cut_sides"] = cut
-        walls = self._wall_nodes(nodes, tri, body, float(a["domain_width"])) if not cut.size else cut[:0]
-        if params["side_walls"] == "held" and walls.size:
-            sets["wall_sides"] = walls
+        if params["side_walls"] == "held" and not cut.size:
+            walls = self._wall_nodes(nodes, tri, body, float(a["domain_width"]))
+            if walls.size:
+                sets["wall_sides"] = walls
         self.model = engine.Model(nodes, tri, body, materials=self.material, node_sets=sets)
         self._configure(self.model)
         # bonds hold while the scene settles; the driver switches failure on

@@ -203,7 +203,7 @@ class ContactSolver {
   std::vector<PairContact> results_;
   std::vector<uint8_t> hit_;
   std::vector<ContactPair> pairs_;
-  std::vector<double> wx_, wy_, imx_, imy_, lambda_, kinv_;  // friction workspace
+  std::vector<double> wx_, wy_, imx_, imy_, lambda_;  // friction workspace
   double friction_power_ = 0.0;
   struct SweepPair {  // a pair as the sweeps read it, in sweep order (friction.cpp)
     int32_t node[6];

@@ -57,10 +57,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     imx_.resize(in.n_nodes);
     imy_.resize(in.n_nodes);
   }
-  if (lambda_.size() < np) {
-    lambda_.resize(np);
-    kinv_.resize(np);
-  }
+  if (lambda_.size() < np) lambda_.resize(np);
 
   // Per-component inverse masses (0 for an immovable or prescribed component)
   // and end-of-step velocities without friction, for the nodes that touch.
@@ -70,11 +67,6 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n], fy[n],
                             in.v_bc_x, in.v_bc_y, n, dt, imx_[n], imy_[n], wx_[n], wy_[n]);
     }
-  }
-  for (size_t i = 0; i < np; ++i) {
-    const ContactPair& c = pairs_[i];
-    kinv_[i] = friction_inverse_mass(c.node, c.nc, c.nt, c.nx, c.ny, imx_.data(), imy_.data());
-    lambda_[i] = 0.0;
   }
   order_nodes_.resize(6 * np);
   order_keys_.resize(np);
@@ -105,7 +97,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     q.nx = c.nx;
     q.ny = c.ny;
     q.limit = p.mu * c.fn;
-    q.kinv = kinv_[i];
+    q.kinv = friction_inverse_mass(c.node, c.nc, c.nt, c.nx, c.ny, imx, imy);
     q.lambda = 0.0;
     q.fn_zero = c.fn == 0.0;
   }
