@@ -186,15 +186,26 @@ ICERUBBLE_HD bool potential_contact_pair(const double xc[3], const double yc[3],
   return true;
 }
 
+// The largest and smallest of three corner coordinates. Plain comparisons,
+// not fmax/fmin: the C library's are calls (their NaN rule keeps the
+// compiler from inlining them): 4.5 % of the samples of a profile of the
+// deep scene's load-phase steps when each candidate's box test made 16. The positions are finite (the broad
+// phase and the stability guard stop a run otherwise), where both agree.
+ICERUBBLE_HD double max3(const double v[3]) {
+  const double m = v[0] > v[1] ? v[0] : v[1];
+  return m > v[2] ? m : v[2];
+}
+ICERUBBLE_HD double min3(const double v[3]) {
+  const double m = v[0] < v[1] ? v[0] : v[1];
+  return m < v[2] ? m : v[2];
+}
+
 // A candidate pair (contactor a, target b: their corner coordinates): false
 // when their current boxes are apart (candidates carry a skin) or they do not
 // overlap with positive area; else their pair contact in `out`.
 ICERUBBLE_HD bool contact_candidate(const double xa[3], const double ya[3], const double xb[3],
                                     const double yb[3], double s, PairContact& out) {
-  if (fmax(xa[0], fmax(xa[1], xa[2])) < fmin(xb[0], fmin(xb[1], xb[2])) ||
-      fmax(xb[0], fmax(xb[1], xb[2])) < fmin(xa[0], fmin(xa[1], xa[2])) ||
-      fmax(ya[0], fmax(ya[1], ya[2])) < fmin(yb[0], fmin(yb[1], yb[2])) ||
-      fmax(yb[0], fmax(yb[1], yb[2])) < fmin(ya[0], fmin(ya[1], ya[2])))
+  if (max3(xa) < min3(xb) || max3(xb) < min3(xa) || max3(ya) < min3(yb) || max3(yb) < min3(ya))
     return false;
   return potential_contact_pair(xa, ya, xb, yb, s, out);
 }
