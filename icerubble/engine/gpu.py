@@ -313,3 +313,63 @@ def compare_friction(model):
                  and out["pairs"][0] == out["pairs"][1] and out["colours"][0] == out["colours"][1]
                  and out["colour"] == 0)
     return out
+
+
+class Steps:
+    """Whole steps of `model` (an engine.Model) on the GPU, as far as they are
+    built (cuda/device_step.hpp): models of one body without freeze bonds or
+    sleeping (contact comes next). Copies the model's mesh, state, boundary
+    conditions, clock and ledger; `step(n)` runs n steps of Model.step on the
+    GPU, `download()` puts the state back into the model, which continues
+    from there."""
+
+    def __init__(self, model):
+        reason = why_unavailable()
+        if reason:
+            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        self._model = model
+        self._d = _engine.DeviceStep(model._m)
+
+    def step(self, n=1):
+        self._d.step(int(n))
+
+    def download(self):
+        self._d.download(self._model._m)
+
+    def reaction(self, nodes):
+        """As engine.Model.reaction, from the last GPU step."""
+        return np.array(self._d.reaction(self._model._set(nodes)))
+
+    @property
+    def time(self):
+        return self._d.time
+
+
+def compare_steps(make_model, n, nodes=None):
+    """`n` steps of make_model() on the CPU against n steps of another
+    make_model() on the GPU (Steps): returns {field: (entries whose bits
+    differ, largest difference relative to the field's largest entry)} for
+    x, y, vx, vy, 'ledger' (the ledger's terms' largest difference relative
+    to the largest of them: the GPU sums in another fixed order), 'reaction'
+    on node set `nodes` (the same, when given), 'time' (equal) and 'ok'."""
+    cpu_model, gpu_model = make_model(), make_model()
+    cpu_model.step(n)
+    steps = Steps(gpu_model)
+    steps.step(n)
+    out = {}
+    if nodes is not None:
+        r_cpu, r_gpu = cpu_model.reaction(nodes), steps.reaction(nodes)
+        out["reaction"] = float(np.abs(r_gpu - r_cpu).max() / max(np.abs(r_cpu).max(), 1e-300))
+    steps.download()
+    def state(m):
+        xy, v = m.positions, m.velocities
+        return dict(x=xy[:, 0], y=xy[:, 1], vx=v[:, 0], vy=v[:, 1])
+    out.update(differences(state(cpu_model), state(gpu_model), ("x", "y", "vx", "vy")))
+    e_cpu, e_gpu = cpu_model.energies(), gpu_model.energies()
+    terms = [k for k, v in e_cpu.items() if isinstance(v, float)]
+    scale = max(max(abs(e_cpu[k]) for k in terms), 1e-300)
+    out["ledger"] = max(abs(e_gpu[k] - e_cpu[k]) for k in terms) / scale
+    out["time"] = cpu_model.time == gpu_model.time
+    out["ok"] = (all(out[k][0] == 0 for k in ("x", "y", "vx", "vy")) and out["ledger"] <= ROUND_OFF
+                 and out.get("reaction", 0.0) <= ROUND_OFF and out["time"])
+    return out

@@ -26,6 +26,27 @@ def floating_blocks(rng, drag_model):
     return m
 
 
+
+def driven_block(rng, drag_model, nx=16, ny=8, h=0.05):
+    """One 0.8 m x 0.4 m block of 0.05 m cells across the water line y = 0
+    (damping, viscosity, `drag_model`), its nodes nudged and moving at random:
+    its left side held in x ('left') and its top pushed down at a speed that
+    rises smoothly to 5 mm/s over 2 ms ('top'), so whole steps run every
+    stage of a step without contact: elements, water, both kinds of boundary
+    condition, the update and the ledger."""
+    nodes, tris = engine.rectangle_mesh(nx, ny, h, origin=(0.0, -0.25))
+    m = engine.Model(nodes, tris, np.zeros(len(tris), dtype=np.int32),
+                     materials={0: dict(E=5e9, nu=0.3, rho=920.0, damping=1e-5, viscosity=2e3)})
+    m.set(buoyancy=True, drag=drag_model != "none", drag_model=drag_model, y_w=0.0, dt_fraction=0.8)
+    m.set_positions(nodes + rng.uniform(-0.002, 0.002, nodes.shape))
+    m.set_velocities(rng.normal(0.0, 0.02, nodes.shape))
+    ids = np.arange(len(nodes))
+    m.add_node_set("left", ids[ids % (nx + 1) == 0])
+    m.add_node_set("top", ids[ids // (nx + 1) == ny])
+    m.fix("left", y=False)
+    m.prescribe_velocity("top", direction=(0.0, -1.0), v_final=5e-3, ramp_time=2e-3, x=False)
+    return m
+
 def pressed_blocks(rng):
     """A 1.2 m x 0.3 m block on a wider one, 20 um into it, tilted and nudged
     so that every contact pair is cut differently: many touching pairs."""

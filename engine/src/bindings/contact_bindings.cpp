@@ -1,6 +1,7 @@
 // Python access to the contact module alone (pair kernel tests, diagnostics):
 //   contact_pair(...)      the force between two triangles;
-//   ContactSolver          the two contact passes on flat node/element arrays.
+//   ContactSolver          the two contact passes on flat node/element arrays;
+//   candidate_layout(...)  a candidate list as the GPU's contact stages read it.
 #include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "bindings/bindings.hpp"
+#include "contact/candidate_layout.hpp"
 #include "contact/contact.hpp"
 
 namespace py = pybind11;
@@ -135,6 +137,48 @@ void bind_contact(py::module_& m) {
       "xc, xt: 3x2 vertex coordinates. Returns None without overlap, else a dict:\n"
       "forces (6x2: contactor nodes then target nodes), energy = s int (phi_c+phi_t),\n"
       "area and point (centroid) of the overlap, nc/nt shape functions there.");
+
+  m.def(
+      "candidate_layout",
+      [](IArr candidates, IArr tri, int32_t n_nodes) {
+        if (candidates.ndim() != 2 || candidates.shape(1) != 2)
+          throw std::invalid_argument("candidates must be an (n, 2) array of triangle ids (contactor, target)");
+        if (tri.ndim() != 2 || tri.shape(1) != 3) throw std::invalid_argument("tri must be an (m, 3) array of node ids");
+        if (n_nodes < 0) throw std::invalid_argument("n_nodes must be >= 0");
+        const int32_t* t = tri.data();
+        for (py::ssize_t k = 0; k < tri.size(); ++k)
+          if (t[k] < 0 || t[k] >= n_nodes)
+            throw std::invalid_argument("tri holds node " + std::to_string(t[k]) + ", outside 0.." +
+                                        std::to_string(n_nodes - 1));
+        std::vector<CandidatePair> cand(size_t(candidates.shape(0)));
+        const int32_t* c = candidates.data();
+        for (size_t k = 0; k < cand.size(); ++k) {
+          cand[k] = {c[2 * k], c[2 * k + 1]};
+          for (const int32_t v : {cand[k].a, cand[k].b})
+            if (v < 0 || v >= tri.shape(0))
+              throw std::invalid_argument("candidates hold triangle " + std::to_string(v) + ", outside 0.." +
+                                          std::to_string(tri.shape(0) - 1));
+        }
+        CandidateLayout L;
+        lay_out_candidates(cand, t, n_nodes, L);
+        const auto arr = [](const auto& v) {
+          using T = typename std::decay_t<decltype(v)>::value_type;
+          return py::array_t<T>(py::ssize_t(v.size()), v.data());
+        };
+        py::dict d;
+        d["contactor"] = arr(L.contactor);
+        d["target"] = arr(L.target);
+        d["node"] = arr(L.node);
+        d["key"] = arr(L.key);
+        d["start"] = arr(L.start);
+        d["entry"] = arr(L.entry);
+        return d;
+      },
+      py::arg("candidates"), py::arg("tri"), py::arg("n_nodes"),
+      "A candidate list as the GPU's contact stages read it (contact/candidate_layout.hpp): the\n"
+      "candidates in the CPU's pair order ('contactor', 'target'), six nodes each ('node'), their\n"
+      "friction keys ('key'), and node i's entries 6 c + k in candidate order\n"
+      "('entry'[start[i]:start[i + 1]]).");
 
   m.def(
       "contact_critical_dt",

@@ -10,6 +10,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/device_step.hpp"
 #include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
@@ -221,6 +222,17 @@ void bind_device(py::module_& m) {
         out["rounds"] = f.rounds;
         return out;
       });
+  py::class_<DeviceStep>(m, "DeviceStep")
+      .def(py::init<Model&>(), py::arg("model"))
+      .def("step", &DeviceStep::step, py::arg("n"), py::call_guard<py::gil_scoped_release>())
+      .def("download", &DeviceStep::download, py::arg("model"))
+      .def("reaction", [](DeviceStep& d, const std::vector<int32_t>& nodes) {
+             double rx = 0.0, ry = 0.0;
+             d.reaction(nodes, rx, ry);
+             return py::make_tuple(rx, ry);
+           }, py::arg("nodes"))
+      .def_property_readonly("time", &DeviceStep::time)
+      .def_property_readonly("step_count", &DeviceStep::step_count);
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceNodeUpdate::run)

@@ -2,6 +2,7 @@
 // CPU engine's per-triangle, per-body and per-node functions; this file holds
 // only memory, launches and the fixed-order energy sum.
 #include "cuda/body_forces.hpp"
+#include "cuda/body_forces_impl.cuh"
 
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
@@ -116,61 +117,37 @@ std::string cuda_device_name() {
   return p.name;
 }
 
-struct DeviceBodyForces::Impl {
-  int32_t n_nodes = 0, n_tri = 0, n_bodies = 0;
-  bool damping = false, water = false, quadratic = false;
-  ExternalParams ext;
-  // mesh
-  DeviceArray<int32_t> node, body, start, slot, body_start, body_tri, surf_start, surf_tri;
-  DeviceArray<double> binv00, binv01, binv10, binv11, area0, body_area0, mass_phys;
-  DeviceArray<ElementMaterial> material;
-  // state and outputs
-  DeviceArray<double> x, y, vx, vy, c_b, term_x, term_y, stress, corner_load, energy;
-  DeviceArray<double> f_int_x, f_int_y, f_visc_x, f_visc_y, f_buoy_y, drag_k, f_x, f_y, f_coh_x, f_coh_y;
-  DeviceArray<double> total, partial;
-  // events after each stage when the stages are timed apart (kernel_times)
-  cudaEvent_t stage_end[4] = {nullptr, nullptr, nullptr, nullptr};
-  bool timing_stages = false;
-
-  void mark(int k) {
-    if (timing_stages) cuda_check(cudaEventRecord(stage_end[k], stream), "event");
+void DeviceBodyForces::Impl::launch() {
+  const CstArrays e{x.data(), y.data(), vx.data(), vy.data(), node.data(), body.data(),
+                    binv00.data(), binv01.data(), binv10.data(), binv11.data(), area0.data(),
+                    material.data(), stress.data(), energy.data()};
+  const WaterArrays w{x.data(), y.data(), node.data(), body.data(), area0.data(), body_area0.data(),
+                      c_b.data(), ext.y_w, ext.rho_w * ext.g, ext.buoyancy,
+                      ext.drag_on()};
+  const CornerFields load{corner_load.data(), 3 * size_t(n_tri)};
+  const GatherArrays g{start.data(), slot.data(), vx.data(), vy.data(),
+                       mass_phys.data(), f_int_x.data(), f_int_y.data(), f_visc_x.data(),
+                       f_visc_y.data(), f_buoy_y.data(), drag_k.data(), f_x.data(), f_y.data(),
+                       f_coh_x.data(), f_coh_y.data(), damping, water, ext.buoyancy, ext.drag_on(),
+                       ext.gravity ? ext.g : 0.0};
+  if (quadratic) {
+    const BodyDragArrays d{x.data(), y.data(), vx.data(), vy.data(), node.data(), area0.data(),
+                           body_area0.data(), body_start.data(), body_tri.data(), surf_start.data(),
+                           surf_tri.data(), 0.5 * ext.rho_w * ext.C_d};
+    drag_terms_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(d, n_tri, term_x.data(), term_y.data());
+    if (n_bodies) drag_kernel<<<n_bodies, kBodyBlock, 0, stream>>>(d, term_x.data(), term_y.data(), c_b.data());
   }
-  DeviceArray<int32_t> inverted;
-  cudaStream_t stream = nullptr;
-  cudaGraphExec_t graph = nullptr;
-
-  void launch() {
-    const CstArrays e{x.data(), y.data(), vx.data(), vy.data(), node.data(), body.data(),
-                      binv00.data(), binv01.data(), binv10.data(), binv11.data(), area0.data(),
-                      material.data(), stress.data(), energy.data()};
-    const WaterArrays w{x.data(), y.data(), node.data(), body.data(), area0.data(), body_area0.data(),
-                        c_b.data(), ext.y_w, ext.rho_w * ext.g, ext.buoyancy,
-                        ext.drag_on()};
-    const CornerFields load{corner_load.data(), 3 * size_t(n_tri)};
-    const GatherArrays g{start.data(), slot.data(), vx.data(), vy.data(),
-                         mass_phys.data(), f_int_x.data(), f_int_y.data(), f_visc_x.data(),
-                         f_visc_y.data(), f_buoy_y.data(), drag_k.data(), f_x.data(), f_y.data(),
-                         f_coh_x.data(), f_coh_y.data(), damping, water, ext.buoyancy, ext.drag_on(),
-                         ext.gravity ? ext.g : 0.0};
-    if (quadratic) {
-      const BodyDragArrays d{x.data(), y.data(), vx.data(), vy.data(), node.data(), area0.data(),
-                             body_area0.data(), body_start.data(), body_tri.data(), surf_start.data(),
-                             surf_tri.data(), 0.5 * ext.rho_w * ext.C_d};
-      drag_terms_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(d, n_tri, term_x.data(), term_y.data());
-      if (n_bodies) drag_kernel<<<n_bodies, kBodyBlock, 0, stream>>>(d, term_x.data(), term_y.data(), c_b.data());
-    }
-    mark(0);
-    cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
-    triangle_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(e, w, load, damping, water, n_tri, inverted.data(),
-                                                          partial.data());
-    mark(1);
-    gather_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(g, load, n_nodes);
-    mark(2);
-    energy_sum_kernel<<<1, kSumThreads, 0, stream>>>(partial.data(), blocks(n_tri), total.data());
-    mark(3);
-    cuda_check(cudaGetLastError(), "kernel launch");
-  }
-};
+  mark(0);
+  cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
+  triangle_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(e, w, load, damping, water, n_tri, inverted.data(),
+                                                        partial.data());
+  mark(1);
+  gather_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(g, load, n_nodes);
+  mark(2);
+  energy_sum_kernel<<<1, kSumThreads, 0, stream>>>(partial.data(), blocks(n_tri), total.data());
+  mark(3);
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
 
 DeviceBodyForces::DeviceBodyForces(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;

@@ -1,13 +1,11 @@
 // The normal contact pass on the GPU (cuda/contact_normal.hpp). The host
-// orders the candidates as the CPU orders touching pairs, by (contactor,
-// target), and lists each node's (pair, corner) entries in that order; a
-// lane per candidate evaluates the pair kernel, a lane per node adds its
-// touching entries in list order: the CPU's sums, bit for bit.
+// lays the candidates out as friction does (contact/candidate_layout.hpp: the
+// CPU's pair order, each node's entries in it); a lane per candidate
+// evaluates the pair kernel, a lane per node adds its touching entries in
+// list order: the CPU's sums, bit for bit.
 #include "cuda/contact_normal.hpp"
 
-#include <algorithm>
-#include <numeric>
-
+#include "contact/candidate_layout.hpp"
 #include "contact/potential_contact_kernel.hpp"
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
@@ -21,15 +19,13 @@ namespace {
 constexpr int kBlock = 128;
 constexpr int kSumThreads = 1024;
 
-__global__ void pair_kernel(const double* x, const double* y, const int32_t* tri, const int32_t* pa,
-                            const int32_t* pb, int64_t n, double s, double* fx, double* fy, uint8_t* hit,
-                            double* energy) {
+__global__ void pair_kernel(const double* x, const double* y, const int32_t* node, int64_t n, double s,
+                            double* fx, double* fy, uint8_t* hit, double* energy) {
   const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
   if (p >= n) return;
-  const int32_t* va = tri + 3 * int64_t(pa[p]);
-  const int32_t* vb = tri + 3 * int64_t(pb[p]);
-  const double xa[3] = {x[va[0]], x[va[1]], x[va[2]]}, ya[3] = {y[va[0]], y[va[1]], y[va[2]]};
-  const double xb[3] = {x[vb[0]], x[vb[1]], x[vb[2]]}, yb[3] = {y[vb[0]], y[vb[1]], y[vb[2]]};
+  const int32_t* v = node + 6 * p;  // the contactor's nodes, then the target's
+  const double xa[3] = {x[v[0]], x[v[1]], x[v[2]]}, ya[3] = {y[v[0]], y[v[1]], y[v[2]]};
+  const double xb[3] = {x[v[3]], x[v[4]], x[v[5]]}, yb[3] = {y[v[3]], y[v[4]], y[v[5]]};
   PairContact r;
   const bool h = contact_candidate(xa, ya, xb, yb, s, r);
   hit[p] = h ? 1 : 0;
@@ -43,13 +39,13 @@ __global__ void pair_kernel(const double* x, const double* y, const int32_t* tri
 
 // Node i's normal contact force: its entries (6 p + k) in the CPU's order,
 // the touching ones only (the CPU adds nothing for the others).
-__global__ void node_sum_kernel(const int64_t* start, const int64_t* entry, const uint8_t* hit, const double* fx,
+__global__ void node_sum_kernel(const int32_t* start, const int32_t* entry, const uint8_t* hit, const double* fx,
                                 const double* fy, int32_t n_nodes, double* f_con_x, double* f_con_y) {
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n_nodes) return;
   double sx = 0.0, sy = 0.0;
-  for (int64_t j = start[i]; j < start[i + 1]; ++j) {
-    const int64_t e = entry[j];
+  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+    const int32_t e = entry[j];
     if (!hit[e / 6]) continue;
     sx += fx[e];
     sy += fy[e];
@@ -83,16 +79,14 @@ struct DeviceContactNormal::Impl {
   int64_t n_pairs = 0;
   double penalty = 0.0;
   DeviceArray<double> x, y, fx, fy, pair_energy, f_con_x, f_con_y, total;
-  DeviceArray<int32_t> tri, pa, pb, touching;
-  DeviceArray<int64_t> start, entry;
+  DeviceArray<int32_t> node, start, entry, touching;
   DeviceArray<uint8_t> hit;
   cudaStream_t stream = nullptr;
 
   void launch() {
     if (n_pairs) {
-      pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), tri.data(), pa.data(), pb.data(),
-                                                           n_pairs, penalty, fx.data(), fy.data(), hit.data(),
-                                                           pair_energy.data());
+      pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_pairs, penalty,
+                                                           fx.data(), fy.data(), hit.data(), pair_energy.data());
     }
     node_sum_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(start.data(), entry.data(), hit.data(), fx.data(),
                                                             fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
@@ -106,40 +100,17 @@ DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
   d.stream = new_stream();
   const Nodes& N = m.nodes();
-  const std::vector<int32_t>& T = m.triangles().node;
   const std::vector<CandidatePair>& cand = m.contact().candidates();
   d.n_nodes = N.size();
   d.n_pairs = int64_t(cand.size());
   d.penalty = m.contact_params().penalty;
-  // the CPU's pair order: by (contactor, target)
-  std::vector<int64_t> order(cand.size());
-  std::iota(order.begin(), order.end(), int64_t(0));
-  std::sort(order.begin(), order.end(), [&](int64_t u, int64_t v) {
-    return cand[u].a != cand[v].a ? cand[u].a < cand[v].a : cand[u].b < cand[v].b;
-  });
-  std::vector<int32_t> pa(cand.size()), pb(cand.size());
-  for (size_t p = 0; p < order.size(); ++p) {
-    pa[p] = cand[order[p]].a;
-    pb[p] = cand[order[p]].b;
-  }
-  // each node's entries 6 p + k in (p, k) order: a counting sort by node
-  std::vector<int64_t> start(size_t(d.n_nodes) + 1, 0), entry(6 * cand.size());
-  const auto node_of = [&](int64_t e) {
-    const int64_t p = e / 6;
-    const int k = int(e % 6);
-    return k < 3 ? T[3 * size_t(pa[p]) + k] : T[3 * size_t(pb[p]) + k - 3];
-  };
-  for (int64_t e = 0; e < int64_t(entry.size()); ++e) ++start[node_of(e) + 1];
-  for (int32_t i = 0; i < d.n_nodes; ++i) start[i + 1] += start[i];
-  std::vector<int64_t> fill(start.begin(), start.end() - 1);
-  for (int64_t e = 0; e < int64_t(entry.size()); ++e) entry[fill[node_of(e)]++] = e;
+  CandidateLayout L;
+  lay_out_candidates(cand, m.triangles().node.data(), d.n_nodes, L);
   d.x.upload(N.x);
   d.y.upload(N.y);
-  d.tri.upload(T);
-  d.pa.upload(pa);
-  d.pb.upload(pb);
-  d.start.upload(start);
-  d.entry.upload(entry);
+  d.node.upload(L.node);
+  d.start.upload(L.start);
+  d.entry.upload(L.entry);
   d.fx.resize(6 * cand.size());
   d.fy.resize(6 * cand.size());
   d.hit.resize(cand.size());

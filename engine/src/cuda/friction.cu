@@ -14,9 +14,7 @@
 // lane per node adds its pairs' friction in the CPU's order.
 #include "cuda/friction.hpp"
 
-#include <algorithm>
-#include <numeric>
-
+#include "contact/candidate_layout.hpp"
 #include "contact/friction_kernel.hpp"
 #include "contact/potential_contact_kernel.hpp"
 #include "cuda/device_array.cuh"
@@ -255,36 +253,13 @@ DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   const Nodes& N = m.nodes();
   const ContactSolver& C = m.contact();
   const std::vector<CandidatePair>& cand = C.candidates();
-  const std::vector<int32_t>& T = m.triangles().node;
   d.n_nodes = N.size();
   d.n_cand = int32_t(cand.size());
   d.mu = m.contact_params().mu;
   d.penalty = m.contact_params().penalty;
   d.dt = m.dt();
-  // the CPU's pair order: by (contactor, target)
-  std::vector<int64_t> order(cand.size());
-  std::iota(order.begin(), order.end(), int64_t(0));
-  std::sort(order.begin(), order.end(), [&](int64_t u, int64_t v) {
-    return cand[u].a != cand[v].a ? cand[u].a < cand[v].a : cand[u].b < cand[v].b;
-  });
-  std::vector<int32_t> node(6 * cand.size());
-  std::vector<uint64_t> key(cand.size());
-  for (size_t c = 0; c < order.size(); ++c) {
-    const CandidatePair& p = cand[order[c]];
-    for (int k = 0; k < 3; ++k) {
-      node[6 * c + k] = T[3 * size_t(p.a) + k];
-      node[6 * c + 3 + k] = T[3 * size_t(p.b) + k];
-    }
-    key[c] = friction_pair_key(p.a, p.b);
-  }
-  // each node's entries 6 c + k, candidates ascending, slots in the CPU's visiting order
-  std::vector<int32_t> start(size_t(d.n_nodes) + 1, 0), entry(node.size());
-  static constexpr int kVisit[6] = {0, 3, 1, 4, 2, 5};
-  for (size_t e = 0; e < node.size(); ++e) ++start[node[e] + 1];
-  for (int32_t i = 0; i < d.n_nodes; ++i) start[i + 1] += start[i];
-  std::vector<int32_t> fill(start.begin(), start.end() - 1);
-  for (size_t c = 0; c < order.size(); ++c)
-    for (const int k : kVisit) entry[fill[node[6 * c + k]]++] = int32_t(6 * c + k);
+  CandidateLayout L;  // the CPU's pair order, each node's entries in it
+  lay_out_candidates(cand, m.triangles().node.data(), d.n_nodes, L);
   d.x.upload(N.x);
   d.y.upload(N.y);
   d.mass.upload(N.mass);
@@ -294,10 +269,10 @@ DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   d.f_pre_x.upload(N.f_pre_x);
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
-  d.node.upload(node);
-  d.key.upload(key);
-  d.start.upload(start);
-  d.entry.upload(entry);
+  d.node.upload(L.node);
+  d.key.upload(L.key);
+  d.start.upload(L.start);
+  d.entry.upload(L.entry);
   d.hit.resize(cand.size());
   for (auto* a : {&d.nx, &d.ny, &d.fn, &d.kinv, &d.lambda}) a->resize(cand.size());
   d.nc.resize(3 * cand.size());

@@ -2,6 +2,7 @@
 // each block's NodeWork terms summed in a fixed tree, then the blocks'
 // partial sums in a fixed order.
 #include "cuda/node_update.hpp"
+#include "cuda/node_update_impl.cuh"
 
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
@@ -34,28 +35,19 @@ __global__ void __launch_bounds__(kBlock) update_kernel(UpdateArrays a, int32_t 
 
 }  // namespace
 
-struct DeviceNodeUpdate::Impl {
-  int32_t n = 0;
-  double dt = 0.0, g = 0.0, alpha = 0.0;
-  DeviceArray<double> x, y, vx, vy, mass, mass_phys, f_x, f_y, f_pre_x, f_pre_y, f_int_x, f_int_y, f_visc_x,
-      f_visc_y, f_con_x, f_con_y, f_coh_x, f_coh_y, f_buoy_y, drag_k, r_x, r_y, v_bc_x, v_bc_y, partial, sums;
-  DeviceArray<uint8_t> constrained;
-  cudaStream_t stream = nullptr;
+int DeviceNodeUpdate::Impl::n_blocks() const { return (n + kBlock - 1) / kBlock; }
 
-  int n_blocks() const { return (n + kBlock - 1) / kBlock; }
-
-  void launch() {
-    const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
-                         mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
-                         f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
-                         f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
-                         r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
-                         dt,             g,              alpha};
-    update_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, n, partial.data(), n_blocks());
-    term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
-    cuda_check(cudaGetLastError(), "kernel launch");
-  }
-};
+void DeviceNodeUpdate::Impl::launch() {
+  const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
+                       mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
+                       f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
+                       f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
+                       r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
+                       dt,             g,              alpha};
+  update_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, n, partial.data(), n_blocks());
+  term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
 
 DeviceNodeUpdate::DeviceNodeUpdate(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;

@@ -6,6 +6,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/device_step.hpp"
 #include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 
@@ -68,5 +69,15 @@ void DeviceFriction::run() { no_gpu(); }
 double DeviceFriction::time_per_run(int) { no_gpu(); }
 FrictionFields DeviceFriction::fields() { no_gpu(); }
 int32_t DeviceFriction::candidates() const { no_gpu(); }
+
+struct DeviceStep::Impl {};
+DeviceStep::DeviceStep(Model&) { no_gpu(); }
+DeviceStep::~DeviceStep() = default;
+void DeviceStep::step(int64_t) { no_gpu(); }
+void DeviceStep::download(Model&) { no_gpu(); }
+void DeviceStep::reaction(const std::vector<int32_t>&, double&, double&) { no_gpu(); }
+double DeviceStep::time() const { no_gpu(); }
+int64_t DeviceStep::step_count() const { no_gpu(); }
+const EnergyLedger& DeviceStep::energy() const { no_gpu(); }
 
 }  // namespace engine

@@ -2,6 +2,7 @@
 // the node arrays in a fixed order (bit-reproducible at a fixed thread count).
 #include "common/input_errors.hpp"
 #include "model/model.hpp"
+#include "model/assemble_kernel.hpp"
 
 #include <omp.h>
 
@@ -204,13 +205,10 @@ void Model::assemble_forces() {
   Stopwatch sw(timings_.integration);
   Nodes& N = nodes_;
   const int32_t n = N.size();
+  const AssembleArrays a{N.f_x.data(),     N.f_y.data(),     N.f_con_x.data(), N.f_con_y.data(),
+                         N.f_coh_x.data(), N.f_coh_y.data(), N.f_pre_x.data(), N.f_pre_y.data()};
   #pragma omp parallel for schedule(static) num_threads(int(partial_.size())) if (use_threads())
-  for (int32_t i = 0; i < n; ++i) {
-    N.f_x[i] += N.f_con_x[i] + N.f_coh_x[i];
-    N.f_y[i] += N.f_con_y[i] + N.f_coh_y[i];
-    N.f_pre_x[i] = N.f_x[i];
-    N.f_pre_y[i] = N.f_y[i];
-  }
+  for (int32_t i = 0; i < n; ++i) assemble_node(a, i);  // model/assemble_kernel.hpp
 }
 
 void Model::apply_friction(History history) {

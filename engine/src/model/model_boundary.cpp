@@ -2,6 +2,7 @@
 // the per-step reaction that lands a node on its prescribed velocity.
 #include "common/input_errors.hpp"
 #include "model/model.hpp"
+#include "loads/boundary_kernel.hpp"
 
 #include <cmath>
 
@@ -63,23 +64,18 @@ void Model::reaction(const std::vector<int32_t>& ids, double& rx, double& ry) co
 }
 
 void Model::apply_boundary_conditions() {
-  // The boundary adds r = m (v_bc - v)/dt - f so that the update lands exactly
-  // on the prescribed velocity; r is what the boundary pushes with.
+  // loads/boundary_kernel.hpp, per node of each condition
   const double inv_dt = dt_ > 0.0 ? 1.0 / dt_ : 0.0;
   const double t_half = time_ + 0.5 * dt_;
   Nodes& N = nodes_;
+  const BoundaryComponent cx{N.mass.data(), N.vx.data(), N.f_x.data(), N.v_bc_x.data(), N.r_x.data()};
+  const BoundaryComponent cy{N.mass.data(), N.vy.data(), N.f_y.data(), N.v_bc_y.data(), N.r_y.data()};
   for (const BoundaryCondition& bc : bcs_) {
     const double s = bc.history.at(t_half);
     const double ux = bc.dir_x * s, uy = bc.dir_y * s;
     for (int32_t i : bc.nodes) {
-      if (bc.x) {
-        N.v_bc_x[i] = ux;
-        N.r_x[i] = N.mass[i] * (ux - N.vx[i]) * inv_dt - N.f_x[i];
-      }
-      if (bc.y) {
-        N.v_bc_y[i] = uy;
-        N.r_y[i] = N.mass[i] * (uy - N.vy[i]) * inv_dt - N.f_y[i];
-      }
+      if (bc.x) prescribe_component(cx, i, ux, inv_dt);
+      if (bc.y) prescribe_component(cy, i, uy, inv_dt);
     }
   }
 }

@@ -1,0 +1,53 @@
+// Whole time steps on the GPU (docs/gpu.md), as far as they are built: the
+// step of Model::step for a model of one body, i.e. without contact (the
+// contact stages, bond splits and the sleeping far field come next). The
+// stages are the backend's (cuda/body_forces.cu, cuda/node_update.cu) on one
+// stream, chained on the GPU, with the boundary conditions and the force
+// assembly of the CPU's per-node functions (loads/boundary_kernel.hpp,
+// model/assemble_kernel.hpp). Each step copies back its ledger sums, its
+// strain energy and whether an element inverted (the host books the ledger
+// and guards the run); the state stays on the GPU until `download`.
+// A plain C++ header (no CUDA types); in a build without CUDA every call
+// says so.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "model/energy.hpp"
+
+namespace engine {
+
+class Model;
+
+class DeviceStep {
+ public:
+  // Prepares the model as Model::step does (its dt checked against the
+  // stable step) and copies its mesh, state, boundary conditions, clock and
+  // ledger to the GPU. Throws std::invalid_argument naming what the GPU step
+  // does not run yet: contact between bodies, freeze bonds, sleeping.
+  explicit DeviceStep(Model& model);
+  ~DeviceStep();
+  DeviceStep(const DeviceStep&) = delete;
+  DeviceStep& operator=(const DeviceStep&) = delete;
+
+  // n steps. Throws InstabilityError (model.hpp) when the energies stop
+  // being finite or an element inverts; the state is then that step's.
+  void step(int64_t n);
+  // The state on the GPU into `model` (the one it was made from): positions,
+  // velocities, clock and ledger; the model continues from there.
+  void download(Model& model);
+  // Sum of the boundary reactions on these nodes from the last step [N/m],
+  // as Model::reaction sums them.
+  void reaction(const std::vector<int32_t>& nodes, double& rx, double& ry);
+
+  double time() const;
+  int64_t step_count() const;
+  const EnergyLedger& energy() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace engine
