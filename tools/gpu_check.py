@@ -27,8 +27,10 @@ Checks, each printed with its outcome:
      for both force directions, just split (rigid phase), softening and failing,
      and of each mesh 20 steps after its points at the criterion split: per
      pair and per node the CPU's bits, the energy sums to round-off;
-  9. whole steps on the GPU (gpu.Steps) of a driven block (one body: no
-     contact yet), each drag model, 2,000 steps against the CPU's: positions,
+  9. whole steps on the GPU (gpu.Steps) of a driven block (one body), each
+     drag model, 2,000 steps, and of a block sliding on a slab (contact and
+     friction; its candidate list rebuilt in steps the model takes itself),
+     4,000 steps, against the CPU's: positions,
      velocities and the clock the CPU's bits (quadratic drag: its per-body
      sums to round-off, so the trajectory within 1e-9 of the largest entry of
      each field), the ledger and the
@@ -46,7 +48,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square,  # noqa: E402
-                                    pressed_blocks, rubbing_blocks)
+                                    pressed_blocks, rubbing_blocks, sliding_block)
 
 
 
@@ -109,7 +111,8 @@ def report_steps(name, cmp, exact):
     detail = "positions and velocities the CPU's bits" if not differ else f"differing (entries, relative): {differ}"
     ok = cmp["ok"] if exact else (max(cmp[k][1] for k in ("x", "y", "vx", "vy")) <= 1e-9 and cmp["time"])
     print(f"[{'ok' if ok else 'FAIL'}] {name}: {detail}; ledger {cmp['ledger']:.1e}, reaction {cmp['reaction']:.1e} "
-          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}", flush=True)
+          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}; {cmp['host_steps']} steps taken by the model",
+          flush=True)
     return ok
 
 
@@ -143,6 +146,10 @@ def main(argv=None):
         make = lambda: driven_block(np.random.default_rng(seed_m), drag_model)  # noqa: E731
         ok &= report_steps(f"driven block, {drag_model} drag, 2,000 whole GPU steps",
                            gpu.compare_steps(make, 2000, nodes="top"), exact=drag_model != "quadratic")
+    seed_m = int(rng.integers(1 << 30))
+    ok &= report_steps("block sliding on a slab, 4,000 whole GPU steps",
+                       gpu.compare_steps(lambda: sliding_block(np.random.default_rng(seed_m)), 4000,
+                                         nodes="slab_bottom"), exact=True)
     steps = gpu.Steps(driven_block(rng, "linear"))
     steps.step(100)
     t0 = time.perf_counter()

@@ -317,11 +317,13 @@ def compare_friction(model):
 
 class Steps:
     """Whole steps of `model` (an engine.Model) on the GPU, as far as they are
-    built (cuda/device_step.hpp): models of one body without freeze bonds or
-    sleeping (contact comes next). Copies the model's mesh, state, boundary
-    conditions, clock and ledger; `step(n)` runs n steps of Model.step on the
-    GPU, `download()` puts the state back into the model, which continues
-    from there."""
+    built (cuda/device_step.hpp): models without freeze bonds or sleeping,
+    with contact_reach infinite. Copies the model's mesh, state, boundary
+    conditions, clock, ledger and friction warm start; `step(n)` runs n steps
+    of Model.step, on the GPU but for the steps whose candidate list is
+    rebuilt, which the model takes itself (`host_steps` counts them);
+    `download()` puts the state back into the model, which continues from
+    there."""
 
     def __init__(self, model):
         reason = why_unavailable()
@@ -344,6 +346,10 @@ class Steps:
     def time(self):
         return self._d.time
 
+    @property
+    def host_steps(self):
+        return self._d.host_steps
+
 
 def compare_steps(make_model, n, nodes=None):
     """`n` steps of make_model() on the CPU against n steps of another
@@ -351,7 +357,8 @@ def compare_steps(make_model, n, nodes=None):
     differ, largest difference relative to the field's largest entry)} for
     x, y, vx, vy, 'ledger' (the ledger's terms' largest difference relative
     to the largest of them: the GPU sums in another fixed order), 'reaction'
-    on node set `nodes` (the same, when given), 'time' (equal) and 'ok'."""
+    on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
+    (steps the model took itself: candidate list rebuilt) and 'ok'."""
     cpu_model, gpu_model = make_model(), make_model()
     cpu_model.step(n)
     steps = Steps(gpu_model)
@@ -361,6 +368,8 @@ def compare_steps(make_model, n, nodes=None):
         r_cpu, r_gpu = cpu_model.reaction(nodes), steps.reaction(nodes)
         out["reaction"] = float(np.abs(r_gpu - r_cpu).max() / max(np.abs(r_cpu).max(), 1e-300))
     steps.download()
+    out["host_steps"] = steps.host_steps
+
     def state(m):
         xy, v = m.positions, m.velocities
         return dict(x=xy[:, 0], y=xy[:, 1], vx=v[:, 0], vy=v[:, 1])

@@ -47,6 +47,31 @@ def driven_block(rng, drag_model, nx=16, ny=8, h=0.05):
     m.prescribe_velocity("top", direction=(0.0, -1.0), v_final=5e-3, ramp_time=2e-3, x=False)
     return m
 
+
+def sliding_block(rng, speed=3.0):
+    """A 0.3 m x 0.15 m block set 1 um above a 1 m x 0.2 m slab whose bottom
+    is held, sliding along it at `speed` [m/s] under gravity (no water), its
+    nodes nudged: it lands within a millisecond and slides on, its touching
+    pairs sticking and slipping, and within a few thousand steps its nodes
+    move past the candidate list's skin (5 mm on these 0.05 m cells), so the
+    list is rebuilt."""
+    h = 0.05
+    a_nodes, a_tri = engine.rectangle_mesh(20, 4, h, origin=(0.0, 0.0))
+    b_nodes, b_tri = engine.rectangle_mesh(6, 3, h, origin=(0.1, 0.2 + 1e-6))
+    nodes = np.vstack((a_nodes, b_nodes))
+    tri = np.vstack((a_tri, b_tri + len(a_nodes)))
+    body = np.repeat([0, 1], [len(a_tri), len(b_tri)])
+    m = engine.Model(nodes, tri, body, materials={b: dict(E=5e9, nu=0.3, rho=920.0, damping=1e-5) for b in (0, 1)})
+    m.set(gravity=True, water=False, mu=0.3, dt_fraction=0.8)
+    m.set_positions(nodes + rng.uniform(-4e-7, 4e-7, nodes.shape))
+    v = np.zeros(nodes.shape)
+    v[len(a_nodes):, 0] = speed
+    m.set_velocities(v + rng.normal(0.0, 1e-4, nodes.shape))
+    ids = np.arange(len(a_nodes))
+    m.add_node_set("slab_bottom", ids[ids // 21 == 0])
+    m.fix("slab_bottom")
+    return m
+
 def pressed_blocks(rng):
     """A 1.2 m x 0.3 m block on a wider one, 20 um into it, tilted and nudged
     so that every contact pair is cut differently: many touching pairs."""

@@ -9,7 +9,7 @@ import pytest
 
 from icerubble.engine import gpu
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square, pressed_blocks,
-                                     rubbing_blocks)
+                                     rubbing_blocks, sliding_block)
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -109,6 +109,16 @@ def test_whole_gpu_steps_are_the_cpus_steps(drag_model):
 
 
 @needs_gpu
+def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
+    # 4,000 steps of a block sliding on a slab: normal contact and friction on
+    # the GPU, and the steps whose candidate list is rebuilt taken by the model
+    cmp = gpu.compare_steps(lambda: sliding_block(np.random.default_rng(9)), 4000, nodes="slab_bottom")
+    assert cmp["host_steps"] >= 1, cmp  # the block moved past the skin
+    assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {k: 0 for k in ("x", "y", "vx", "vy")}, cmp
+    assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
+
+
+@needs_gpu
 def test_the_gpu_step_says_what_it_does_not_run_yet():
-    with pytest.raises(ValueError, match="one body so far: this one has 3 bodies"):
-        gpu.Steps(floating_blocks(np.random.default_rng(0), "linear"))
+    with pytest.raises(ValueError, match="without freeze bonds so far: this one has"):
+        gpu.Steps(bonded_square(np.random.default_rng(0)))

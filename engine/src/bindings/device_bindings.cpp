@@ -232,7 +232,8 @@ void bind_device(py::module_& m) {
              return py::make_tuple(rx, ry);
            }, py::arg("nodes"))
       .def_property_readonly("time", &DeviceStep::time)
-      .def_property_readonly("step_count", &DeviceStep::step_count);
+      .def_property_readonly("step_count", &DeviceStep::step_count)
+      .def_property_readonly("host_steps", &DeviceStep::host_steps);
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceNodeUpdate::run)

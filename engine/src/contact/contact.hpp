@@ -184,6 +184,12 @@ class ContactSolver {
   void set_skin_fraction(double f);
   double skin_fraction() const { return skin_fraction_; }
   int64_t rebuilds() const { return rebuilds_; }  // broad-phase builds so far
+  // The candidate list's validity as list_still_valid tests it (the GPU
+  // step tests it on the GPU): the node positions it was built at and its
+  // skin [m] (0 without a list: no move keeps it).
+  const std::vector<double>& list_origin_x() const { return xref_; }
+  const std::vector<double>& list_origin_y() const { return yref_; }
+  double list_skin() const { return have_list_ && skin_fraction_ > 0.0 ? broad_.skin() : 0.0; }
 
  private:
   bool list_still_valid(const ContactInput& in) const;

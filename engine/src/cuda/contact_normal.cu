@@ -4,6 +4,7 @@
 // evaluates the pair kernel, a lane per node adds its touching entries in
 // list order: the CPU's sums, bit for bit.
 #include "cuda/contact_normal.hpp"
+#include "cuda/contact_normal_impl.cuh"
 
 #include "contact/candidate_layout.hpp"
 #include "contact/potential_contact_kernel.hpp"
@@ -74,27 +75,18 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 }  // namespace
 
-struct DeviceContactNormal::Impl {
-  int32_t n_nodes = 0;
-  int64_t n_pairs = 0;
-  double penalty = 0.0;
-  DeviceArray<double> x, y, fx, fy, pair_energy, f_con_x, f_con_y, total;
-  DeviceArray<int32_t> node, start, entry, touching;
-  DeviceArray<uint8_t> hit;
-  cudaStream_t stream = nullptr;
-
-  void launch() {
-    if (n_pairs) {
-      pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_pairs, penalty,
-                                                           fx.data(), fy.data(), hit.data(), pair_energy.data());
-    }
-    node_sum_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(start.data(), entry.data(), hit.data(), fx.data(),
-                                                            fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
-    pair_sums_kernel<<<1, kSumThreads, 0, stream>>>(pair_energy.data(), hit.data(), n_pairs, total.data(),
-                                                    touching.data());
-    cuda_check(cudaGetLastError(), "kernel launch");
+void DeviceContactNormal::Impl::launch() {
+  if (n_pairs) {
+    pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_pairs, penalty,
+                                                         fx.data(), fy.data(), hit.data(), pair_energy.data());
   }
-};
+  node_sum_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(start.data(), entry.data(), hit.data(), fx.data(),
+                                                          fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
+  pair_sums_kernel<<<1, kSumThreads, 0, stream>>>(pair_energy.data(), hit.data(), n_pairs, total.data(),
+                                                  touching.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
+
 
 DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;

@@ -33,6 +33,7 @@ class DeviceContactNormal {
   int64_t candidates() const;
 
  private:
+  friend class DeviceStep;  // the whole step runs the stage on its state (cuda/device_step.cu)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -1,10 +1,17 @@
-// Whole steps on the GPU (cuda/device_step.hpp): the body-force stage, the
-// force assembly, the boundary conditions and the update, in Model::advance's
-// order, on one stream. The two stages keep their own arrays for now (the
-// comparisons of docs/gpu.md make them from a model one at a time), so the
-// step copies the gathered forces into the update's arrays and the updated
-// state back, on the GPU; one set of arrays for every stage comes with the
-// contact stages.
+// Whole steps on the GPU (cuda/device_step.hpp): the body forces, the normal
+// contact, the force assembly, friction, the boundary conditions and the
+// update, in Model::advance's order, on one stream. The stages keep their own
+// arrays for now (the comparisons of docs/gpu.md make them from a model one
+// at a time), so a step copies each stage's results into the next one's
+// arrays and the new state back, on the GPU.
+//
+// The candidate list stays the one the model built until a node of a surface
+// triangle has moved past its skin (the test of ContactSolver::list_still_valid,
+// made on the GPU after each update). The next step is then the model's own:
+// the state goes back into the model, Model::step takes the step and builds a
+// new list, and the stages are made again from the model. Any complete list
+// gives the same touching pairs, so the same bits. Friction's warm start is
+// kept per candidate between rebuilds (NaN: did not touch in the step before).
 #include "cuda/device_step.hpp"
 
 #include <algorithm>
@@ -14,6 +21,8 @@
 
 #include "common/input_errors.hpp"
 #include "cuda/body_forces_impl.cuh"
+#include "cuda/contact_normal_impl.cuh"
+#include "cuda/friction_impl.cuh"
 #include "cuda/device_array.cuh"
 #include "cuda/node_update_impl.cuh"
 #include "cuda/stream.cuh"
@@ -40,38 +49,131 @@ __global__ void boundary_kernel(BoundaryComponent a, const int32_t* nodes, int32
   if (k < n) prescribe_component(a, nodes[k], v_bc, inv_dt);
 }
 
+// Whether a node of a surface triangle has moved past the skin since the
+// candidate list was built (ContactSolver::list_still_valid; a NaN moves).
+__global__ void moved_kernel(const double* x, const double* y, const double* x0, const double* y0,
+                             const int32_t* nodes, int32_t n, double skin, int32_t* moved) {
+  const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= n) return;
+  const int32_t i = nodes[k];
+  if (!(fabs(x[i] - x0[i]) <= skin && fabs(y[i] - y0[i]) <= skin)) *moved = 1;  // any lane: the same 1
+}
+
+// The next step's warm start, per candidate: its tangential force if it
+// touched, else NaN (absent, as a pair that did not touch is from the CPU's).
+__global__ void warm_start_kernel(const uint8_t* hit, const double* lambda, int32_t n, double* prev_lambda) {
+  const int32_t c = blockIdx.x * blockDim.x + threadIdx.x;
+  if (c < n) prev_lambda[c] = hit[c] ? lambda[c] : NAN;
+}
+
 // NodeWork's terms in the update's sums (cuda/node_update.cu), by name.
-enum Term { kinetic2_new, kinetic2_old, viscous, local_damping, contact, friction, cohesive, gravity, buoyancy,
-            drag, boundary, elastic_new, elastic_old, n_terms };
+enum Term { t_kinetic2_new, t_kinetic2_old, t_viscous, t_local_damping, t_contact, t_friction, t_cohesive,
+            t_gravity, t_buoyancy, t_drag, t_boundary, t_elastic_new, t_elastic_old, n_terms };
 
 }  // namespace
 
 struct DeviceStep::Impl {
+  Model* model = nullptr;  // the one it was made from: it takes the steps the GPU does not
+  bool contact = false;    // the model has two bodies or more
   std::unique_ptr<DeviceBodyForces> forces;
   std::unique_ptr<DeviceNodeUpdate> update;
+  std::unique_ptr<DeviceContactNormal> normal;
+  std::unique_ptr<DeviceFriction> friction;
   std::vector<BoundaryCondition> bcs;
   std::vector<std::unique_ptr<DeviceArray<int32_t>>> bc_nodes;
+  DeviceArray<int32_t> list_nodes, moved;  // the candidate list's test (moved_kernel)
+  DeviceArray<double> list_x, list_y;
+  double skin = 0.0;
+  bool list_valid = true;
   double dt = 0.0, time = 0.0;
-  int64_t step_count = 0;
+  int64_t step_count = 0, host_steps = 0;
   EnergyLedger energy;
-  cudaStream_t stream = nullptr;  // the body-force stage's; the update runs on it too
-  // what a step copies back: the update's sums, the strain energy, the first inverted element
-  double* host_sums = nullptr;  // pinned, n_terms + 1
-  int32_t* host_inverted = nullptr;
+  cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
+  // what a step copies back: the update's sums, the strain energy, the
+  // contact energy, the friction power; the first inverted element, moved
+  double* host_sums = nullptr;  // pinned, n_terms + 3
+  int32_t* host_flags = nullptr;  // pinned, 2
 
   DeviceBodyForces::Impl& f() { return *forces->impl_; }
   DeviceNodeUpdate::Impl& u() { return *update->impl_; }
+  DeviceContactNormal::Impl& cn() { return *normal->impl_; }
+  DeviceFriction::Impl& fr() { return *friction->impl_; }
 
   void copy(DeviceArray<double>& to, const DeviceArray<double>& from) {
     cuda_check(cudaMemcpyAsync(to.data(), from.data(), from.size() * sizeof(double), cudaMemcpyDeviceToDevice,
                                stream), "copy on the GPU");
   }
+  template <class T>
+  void fetch(T* host, const DeviceArray<T>& from, size_t n) {
+    cuda_check(cudaMemcpyAsync(host, from.data(), n * sizeof(T), cudaMemcpyDeviceToHost, stream), "copy from GPU");
+  }
+
+  // The stages made from the model as it is now (after a step of its own:
+  // a new candidate list), on one stream.
+  void make_stages() {
+    Model& m = *model;
+    const Model& cm = m;
+    // the old stages all run on the old body-force stage's stream, destroyed with it
+    if (update) u().stream = nullptr;
+    if (normal) cn().stream = nullptr;
+    if (friction) fr().stream = nullptr;
+    update.reset();
+    normal.reset();
+    friction.reset();
+    forces.reset(new DeviceBodyForces(cm));
+    update.reset(new DeviceNodeUpdate(cm));
+    stream = f().stream;
+    cuda_check(cudaStreamDestroy(u().stream), "cudaStreamDestroy");
+    u().stream = stream;
+    for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})
+      cuda_check(cudaMemset(a->data(), 0, a->size() * sizeof(double)), "memset");
+    list_valid = true;
+    if (!contact) return;
+    m.evaluate();  // the candidate list at this state (the warm start left as it was)
+    normal.reset(new DeviceContactNormal(cm));
+    friction.reset(new DeviceFriction(cm));
+    for (cudaStream_t* s : {&cn().stream, &fr().stream}) {
+      cuda_check(cudaStreamDestroy(*s), "cudaStreamDestroy");
+      *s = stream;
+    }
+    // the model's warm start (keys of the pairs of its last step, sorted) per candidate
+    DeviceFriction::Impl& F = fr();
+    const std::vector<uint64_t> keys = F.key.download();  // the candidates', ascending
+    const std::vector<uint64_t>& wk = cm.contact().warm_start_keys();
+    const std::vector<double>& wl = cm.contact().warm_start_forces();
+    std::vector<double> prev(keys.size(), NAN);
+    for (size_t c = 0, j = 0; c < keys.size(); ++c) {
+      while (j < wk.size() && wk[j] < keys[c]) ++j;
+      if (j < wk.size() && wk[j] == keys[c]) prev[c] = wl[j];
+    }
+    F.prev_key.upload(keys);
+    F.prev_lambda.upload(prev);
+    F.n_prev = int64_t(keys.size());
+    // the list's test: the nodes of the surface triangles, where the list was built, its skin
+    std::vector<uint8_t> on(size_t(cm.nodes().size()), 0);
+    for (const int32_t t : cm.surface_triangles())
+      for (int k = 0; k < 3; ++k) on[size_t(cm.triangles().node[3 * size_t(t) + k])] = 1;
+    std::vector<int32_t> ids;
+    for (size_t i = 0; i < on.size(); ++i)
+      if (on[i]) ids.push_back(int32_t(i));
+    list_nodes.upload(ids);
+    list_x.upload(cm.contact().list_origin_x());
+    list_y.upload(cm.contact().list_origin_y());
+    skin = cm.contact().list_skin();
+    moved.resize(1);
+  }
 
   void one_step() {
+    if (!list_valid) return host_step();
     DeviceBodyForces::Impl& F = f();
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
     F.launch();  // (1) elements, (6) gravity, buoyancy, drag, gathered onto the nodes
+    if (contact) {
+      cn().launch();  // (3) normal contact over the candidates
+      copy(U.f_con_x, cn().f_con_x);
+      copy(U.f_con_y, cn().f_con_y);
+    }
     copy(U.f_int_x, F.f_int_x);
     copy(U.f_int_y, F.f_int_y);
     copy(U.f_visc_x, F.f_visc_x);
@@ -82,10 +184,21 @@ struct DeviceStep::Impl {
     copy(U.f_y, F.f_y);
     copy(U.f_coh_x, F.f_coh_x);
     copy(U.f_coh_y, F.f_coh_y);
-    // the total before friction (no contact: f_con stays zero)
+    // the total before friction
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
     assemble_kernel<<<blocks(n), kBlock, 0, stream>>>(a, n);
+    if (contact) {  // (3b) friction, from the total before it
+      DeviceFriction::Impl& R = fr();
+      copy(R.f_pre_x, U.f_pre_x);
+      copy(R.f_pre_y, U.f_pre_y);
+      R.launch();
+      copy(U.f_x, R.f_x);
+      copy(U.f_y, R.f_y);
+      if (R.n_cand)
+        warm_start_kernel<<<blocks(R.n_cand), kBlock, 0, stream>>>(R.hit.data(), R.lambda.data(), R.n_cand,
+                                                                    R.prev_lambda.data());
+    }
     // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions
     const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
     const double t_half = time + 0.5 * dt;
@@ -100,43 +213,73 @@ struct DeviceStep::Impl {
       if (bc.y) boundary_kernel<<<blocks(m), kBlock, 0, stream>>>(cy, bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
     }
     U.launch();  // (7) the central difference and the ledger's sums
-    copy(F.x, U.x);  // the state the next step's forces read
+    copy(F.x, U.x);  // the state the next step's stages read
     copy(F.y, U.y);
     copy(F.vx, U.vx);
     copy(F.vy, U.vy);
-    cuda_check(cudaMemcpyAsync(host_sums, U.sums.data(), n_terms * sizeof(double), cudaMemcpyDeviceToHost, stream),
-               "copy from GPU");
-    cuda_check(cudaMemcpyAsync(host_sums + n_terms, F.total.data(), sizeof(double), cudaMemcpyDeviceToHost, stream),
-               "copy from GPU");
-    cuda_check(cudaMemcpyAsync(host_inverted, F.inverted.data(), sizeof(int32_t), cudaMemcpyDeviceToHost, stream),
-               "copy from GPU");
+    fetch(host_sums, U.sums, n_terms);
+    fetch(host_sums + n_terms, F.total, 1);
+    fetch(host_flags, F.inverted, 1);
+    host_sums[n_terms + 1] = host_sums[n_terms + 2] = 0.0;
+    host_flags[1] = 0;
+    if (contact) {
+      DeviceFriction::Impl& R = fr();
+      copy(cn().x, U.x);
+      copy(cn().y, U.y);
+      copy(R.x, U.x);
+      copy(R.y, U.y);
+      copy(R.vx, U.vx);
+      copy(R.vy, U.vy);
+      cuda_check(cudaMemsetAsync(moved.data(), 0, sizeof(int32_t), stream), "memset");
+      const int32_t m = int32_t(list_nodes.size());
+      if (m) moved_kernel<<<blocks(m), kBlock, 0, stream>>>(U.x.data(), U.y.data(), list_x.data(), list_y.data(),
+                                                             list_nodes.data(), m, skin, moved.data());
+      fetch(host_sums + n_terms + 1, cn().total, 1);
+      fetch(host_sums + n_terms + 2, R.power, 1);
+      fetch(host_flags + 1, moved, 1);
+    }
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
     book();
+    list_valid = host_flags[1] == 0;
+  }
+
+  // The model takes the step (the candidate list is rebuilt there), and the
+  // stages are made again from it.
+  void host_step() {
+    to_model();
+    model->step(1);
+    ++host_steps;
+    time = model->time();
+    step_count = model->step_count();
+    energy = model->energy();
+    make_stages();
   }
 
   // The ledger as Model::update_positions books it (the CPU's sums of
-  // gravity and drag are the negated sums of NodeWork's terms).
+  // gravity and drag are the negated sums of NodeWork's terms), with the
+  // contact module's accounts as Model::compute_forces keeps them.
   void book() {
     const double* t = host_sums;
     StepSums s;
-    s.kinetic2_new = t[kinetic2_new];
-    s.kinetic2_old = t[kinetic2_old];
-    s.viscous = t[viscous];
-    s.local_damping = t[local_damping];
-    s.contact = t[contact];
-    s.friction = t[friction];
-    s.cohesive = t[cohesive];
-    s.gravity = -t[gravity];
-    s.buoyancy = t[buoyancy];
-    s.drag = -t[drag];
-    s.boundary = t[boundary];
-    s.elastic_new = t[elastic_new];
-    s.elastic_old = t[elastic_old];
+    s.kinetic2_new = t[t_kinetic2_new];
+    s.kinetic2_old = t[t_kinetic2_old];
+    s.viscous = t[t_viscous];
+    s.local_damping = t[t_local_damping];
+    s.contact = t[t_contact];
+    s.friction = t[t_friction];
+    s.cohesive = t[t_cohesive];
+    s.gravity = -t[t_gravity];
+    s.buoyancy = t[t_buoyancy];
+    s.drag = -t[t_drag];
+    s.boundary = t[t_boundary];
+    s.elastic_new = t[t_elastic_new];
+    s.elastic_old = t[t_elastic_old];
     energy.elastic = t[n_terms];
-    energy.book_step(s, dt, 0.0);
+    energy.friction_solver += t[n_terms + 2] * dt;
+    energy.book_step(s, dt, t[n_terms + 1]);
     time += dt;
     ++step_count;
-    const int32_t inverted = *host_inverted == 0x7f7f7f7f ? -1 : *host_inverted;
+    const int32_t inverted = host_flags[0] == 0x7f7f7f7f ? -1 : host_flags[0];
     const std::string at = "GPU step: run stopped at step " + std::to_string(step_count) + " (t = " + num(time) + " s): ";
     if (!std::isfinite(energy.kinetic) || !std::isfinite(energy.elastic))
       throw InstabilityError(at + "non-finite " + (std::isfinite(energy.kinetic) ? "elastic" : "kinetic") +
@@ -145,30 +288,46 @@ struct DeviceStep::Impl {
       throw InstabilityError(at + "element " + std::to_string(inverted) +
                              " inverted (det F <= 0): the mesh has collapsed, usually a too large dt");
   }
+
+  // The state into the model: positions, velocities, clock, ledger and the
+  // friction warm start (the candidates that touched in the last step).
+  void to_model() {
+    cuda_check(cudaStreamSynchronize(stream), "GPU step");
+    Model& m = *model;
+    m.set_positions(u().x.download(), u().y.download());
+    m.set_velocities(u().vx.download(), u().vy.download());
+    m.restore_energy(energy);
+    m.restore_clock(time, step_count);
+    if (!contact) return;
+    const std::vector<uint64_t> keys = fr().prev_key.download();
+    const std::vector<double> prev = fr().prev_lambda.download();
+    std::vector<uint64_t> wk;
+    std::vector<double> wl;
+    for (size_t c = 0; c < keys.size(); ++c)
+      if (!std::isnan(prev[c])) {
+        wk.push_back(keys[c]);
+        wl.push_back(prev[c]);
+      }
+    m.set_contact_warm_start(wk, wl);
+  }
 };
 
 DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   m.step(0);  // prepared as Model::step prepares it: parameters, masses, dt against the stable step
   const Model& cm = m;  // the read access (a Model's writable views are its own)
-  const std::vector<int32_t>& body = cm.triangles().body;
-  if (std::set<int32_t>(body.begin(), body.end()).size() > 1)
-    bad("the GPU step runs models of one body so far: this one has " +
-        std::to_string(std::set<int32_t>(body.begin(), body.end()).size()) +
-        " bodies, and contact between bodies is not on the GPU yet (docs/gpu.md)");
   if (cm.bonds().n_points() > 0)
     bad("the GPU step runs models without freeze bonds so far: this one has " +
         std::to_string(cm.bonds().n_points()) + " bond points (docs/gpu.md)");
-  if (m.parameters().sleep.on) bad("the GPU step does not run the sleeping far field: set sleeping=False");
+  if (cm.parameters().sleep.on) bad("the GPU step does not run the sleeping far field: set sleeping=False");
+  const std::vector<int32_t>& body = cm.triangles().body;
   Impl& d = *impl_;
-  d.forces.reset(new DeviceBodyForces(m));
-  d.update.reset(new DeviceNodeUpdate(m));
-  // one stream for both stages
-  d.stream = d.f().stream;
-  cuda_check(cudaStreamDestroy(d.u().stream), "cudaStreamDestroy");
-  d.u().stream = d.stream;
-  for (DeviceArray<double>* a : {&d.u().f_con_x, &d.u().f_con_y})
-    cuda_check(cudaMemset(a->data(), 0, a->size() * sizeof(double)), "memset");
-  d.bcs = m.boundary_conditions();
+  d.contact = std::set<int32_t>(body.begin(), body.end()).size() > 1;
+  if (d.contact && std::isfinite(cm.parameters().contact_reach))
+    bad("the GPU step bounds the contact step over the whole mesh so far: set contact_reach=inf (got " +
+        num(cm.parameters().contact_reach) + " m; docs/gpu.md)");
+  d.model = &m;
+  d.make_stages();
+  d.bcs = cm.boundary_conditions();
   for (const BoundaryCondition& bc : d.bcs) {
     d.bc_nodes.emplace_back(new DeviceArray<int32_t>());
     d.bc_nodes.back()->upload(bc.nodes);
@@ -177,15 +336,22 @@ DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   d.time = m.time();
   d.step_count = m.step_count();
   d.energy = m.energy();
-  cuda_check(cudaMallocHost(&d.host_sums, (n_terms + 1) * sizeof(double)), "cudaMallocHost");
-  cuda_check(cudaMallocHost(&d.host_inverted, sizeof(int32_t)), "cudaMallocHost");
+  cuda_check(cudaMallocHost(&d.host_sums, (n_terms + 3) * sizeof(double)), "cudaMallocHost");
+  cuda_check(cudaMallocHost(&d.host_flags, 2 * sizeof(int32_t)), "cudaMallocHost");
 }
 
 DeviceStep::~DeviceStep() {
   Impl& d = *impl_;
-  if (d.update) d.u().stream = nullptr;  // the body-force stage's: destroyed with it
+  // every stage runs on the body-force stage's stream, destroyed with it
+  if (d.update) d.u().stream = nullptr;
+  if (d.normal) d.cn().stream = nullptr;
+  if (d.friction) d.fr().stream = nullptr;
+  d.normal.reset();
+  d.friction.reset();
+  d.update.reset();
+  d.forces.reset();
   if (d.host_sums) cudaFreeHost(d.host_sums);
-  if (d.host_inverted) cudaFreeHost(d.host_inverted);
+  if (d.host_flags) cudaFreeHost(d.host_flags);
 }
 
 void DeviceStep::step(int64_t n) {
@@ -194,18 +360,14 @@ void DeviceStep::step(int64_t n) {
 }
 
 void DeviceStep::download(Model& m) {
-  Impl& d = *impl_;
-  cuda_check(cudaStreamSynchronize(d.stream), "GPU step");
-  if (static_cast<const Model&>(m).nodes().size() != d.u().n) bad("download: the model has another mesh than the one the GPU step was made from");
-  m.set_positions(d.u().x.download(), d.u().y.download());
-  m.set_velocities(d.u().vx.download(), d.u().vy.download());
-  m.restore_energy(d.energy);
-  m.restore_clock(d.time, d.step_count);
+  if (&m != impl_->model) bad("download: not the model the GPU step was made from");
+  impl_->to_model();
 }
 
 void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double& ry) {
   Impl& d = *impl_;
   cuda_check(cudaStreamSynchronize(d.stream), "GPU step");
+  // after a step the model took, its reactions are the ones
   const std::vector<double> r_x = d.u().r_x.download(), r_y = d.u().r_y.download();
   rx = ry = 0.0;
   for (const int32_t i : nodes) {
@@ -218,6 +380,7 @@ void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double&
 
 double DeviceStep::time() const { return impl_->time; }
 int64_t DeviceStep::step_count() const { return impl_->step_count; }
+int64_t DeviceStep::host_steps() const { return impl_->host_steps; }
 const EnergyLedger& DeviceStep::energy() const { return impl_->energy; }
 
 }  // namespace engine

@@ -1,12 +1,14 @@
 // Whole time steps on the GPU (docs/gpu.md), as far as they are built: the
-// step of Model::step for a model of one body, i.e. without contact (the
-// contact stages, bond splits and the sleeping far field come next). The
-// stages are the backend's (cuda/body_forces.cu, cuda/node_update.cu) on one
-// stream, chained on the GPU, with the boundary conditions and the force
+// step of Model::step for a model without freeze bonds (bond splits and the
+// sleeping far field come next). The stages are the backend's
+// (cuda/body_forces.cu, contact_normal.cu, friction.cu, node_update.cu) on
+// one stream, chained on the GPU, with the boundary conditions and the force
 // assembly of the CPU's per-node functions (loads/boundary_kernel.hpp,
-// model/assemble_kernel.hpp). Each step copies back its ledger sums, its
-// strain energy and whether an element inverted (the host books the ledger
-// and guards the run); the state stays on the GPU until `download`.
+// model/assemble_kernel.hpp). A step whose candidate list would be rebuilt is
+// taken by the model itself (cuda/device_step.cu). Each step copies back its
+// ledger sums, its energies and two flags (an element inverted, the list
+// must be rebuilt): the host books the ledger and guards the run; the state
+// stays on the GPU until `download`.
 // A plain C++ header (no CUDA types); in a build without CUDA every call
 // says so.
 #pragma once
@@ -25,7 +27,8 @@ class DeviceStep {
   // Prepares the model as Model::step does (its dt checked against the
   // stable step) and copies its mesh, state, boundary conditions, clock and
   // ledger to the GPU. Throws std::invalid_argument naming what the GPU step
-  // does not run yet: contact between bodies, freeze bonds, sleeping.
+  // does not run yet: freeze bonds, sleeping, a finite contact_reach. The
+  // model must outlive this: it takes the steps the GPU does not.
   explicit DeviceStep(Model& model);
   ~DeviceStep();
   DeviceStep(const DeviceStep&) = delete;
@@ -43,6 +46,8 @@ class DeviceStep {
 
   double time() const;
   int64_t step_count() const;
+  // Steps the model took itself (its candidate list rebuilt there) since this was made.
+  int64_t host_steps() const;
   const EnergyLedger& energy() const;
 
  private:

@@ -13,6 +13,7 @@
 // (contact/friction.cpp), so the tangential forces are the CPU's bits. Then a
 // lane per node adds its pairs' friction in the CPU's order.
 #include "cuda/friction.hpp"
+#include "cuda/friction_impl.cuh"
 
 #include "contact/candidate_layout.hpp"
 #include "contact/friction_kernel.hpp"
@@ -31,17 +32,6 @@ constexpr int kSolveThreads = 1024;
 constexpr int kSweeps = 4;           // contact/friction.cpp's
 constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
 
-// Per candidate (index c, the CPU's pair order), what friction reads.
-struct PairArrays {
-  const int32_t* node;  // 6 per candidate: contactor's nodes, then target's
-  const uint8_t* hit;   // touching
-  const double* nc;     // 3 per candidate, where it touches
-  const double* nt;
-  const double* nx;
-  const double* ny;
-  const double* fn;
-  const uint64_t* key;
-};
 
 // Whether candidate c touches, and its contact point and normal force's
 // resultant: the CPU's ContactPair of that pair, bit for bit.
@@ -136,7 +126,7 @@ __global__ void __launch_bounds__(kSolveThreads)
 }
 
 __global__ void __launch_bounds__(kSolveThreads)
-    solve_kernel(PairArrays P, int32_t n, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key,
+    solve_kernel(FrictionPairArrays P, int32_t n, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key,
                  const double* prev_lambda, int64_t n_prev, double mu, double dt, const double* imx,
                  const double* imy, double* wx, double* wy, double* kinv, double* lambda, double* power) {
   __shared__ double shared[kSolveThreads];
@@ -152,7 +142,9 @@ __global__ void __launch_bounds__(kSolveThreads)
     for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
       if (colour[i] != c) continue;
       const int64_t at = find_key(prev_key, n_prev, P.key[i]);
-      if (at < 0 || kinv[i] == 0.0) continue;
+      // NaN: a candidate that did not touch in the step before (the whole
+      // step keeps the warm start per candidate, cuda/device_step.cu)
+      if (at < 0 || kinv[i] == 0.0 || isnan(prev_lambda[at])) continue;
       const double lam = clamp_to_cone(prev_lambda[at], mu * P.fn[i]);
       lambda[i] = lam;
       friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], lam, dt, imx, imy, wx, wy);
@@ -185,7 +177,7 @@ __global__ void __launch_bounds__(kSolveThreads)
 // Node i's force with its pairs' friction added in the CPU's order: pairs
 // ascending, a pair's corners as the CPU visits them (contactor's j, then
 // target's j, j = 0, 1, 2); entry 6 c + k names candidate c's node slot k.
-__global__ void apply_kernel(PairArrays P, const int32_t* start, const int32_t* entry, const double* lambda,
+__global__ void apply_kernel(FrictionPairArrays P, const int32_t* start, const int32_t* entry, const double* lambda,
                              const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x, double* f_y) {
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
@@ -211,41 +203,26 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 }  // namespace
 
-struct DeviceFriction::Impl {
-  int32_t n_nodes = 0, n_cand = 0;
-  int64_t n_prev = 0;
-  double mu = 0.0, dt = 0.0, penalty = 0.0;
-  DeviceArray<double> x, y, mass, vx, vy, f_pre_x, f_pre_y, imx, imy, wx, wy, nc, nt, nx, ny, fn, kinv, lambda,
-      prev_lambda, f_x, f_y, power;
-  DeviceArray<uint8_t> constrained, hit;
-  DeviceArray<int32_t> node, colour, counts, start, entry;
-  DeviceArray<uint64_t> key, prev_key;
-  cudaStream_t stream = nullptr;
-
-  PairArrays pairs() {
-    return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
+void DeviceFriction::Impl::launch() {
+  if (n_cand) {
+    pair_kernel<<<blocks(n_cand), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_cand, penalty,
+                                                       hit.data(), nc.data(), nt.data(), nx.data(), ny.data(),
+                                                       fn.data());
   }
+  predict_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(mass.data(), constrained.data(), vx.data(), vy.data(),
+                                                         f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(),
+                                                         imy.data(), wx.data(), wy.data());
+  colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), hit.data(), key.data(), start.data(), entry.data(),
+                                                 n_cand, colour.data(), counts.data());
+  solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
+                                                prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(),
+                                                wx.data(), wy.data(), kinv.data(), lambda.data(), power.data());
+  apply_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(pairs(), start.data(), entry.data(), lambda.data(),
+                                                       f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(),
+                                                       f_y.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
 
-  void launch() {
-    if (n_cand) {
-      pair_kernel<<<blocks(n_cand), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_cand, penalty,
-                                                         hit.data(), nc.data(), nt.data(), nx.data(), ny.data(),
-                                                         fn.data());
-    }
-    predict_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(mass.data(), constrained.data(), vx.data(), vy.data(),
-                                                           f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(),
-                                                           imy.data(), wx.data(), wy.data());
-    colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), hit.data(), key.data(), start.data(), entry.data(),
-                                                   n_cand, colour.data(), counts.data());
-    solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
-                                                  prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(),
-                                                  wx.data(), wy.data(), kinv.data(), lambda.data(), power.data());
-    apply_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(pairs(), start.data(), entry.data(), lambda.data(),
-                                                         f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(),
-                                                         f_y.data());
-    cuda_check(cudaGetLastError(), "kernel launch");
-  }
-};
 
 DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;

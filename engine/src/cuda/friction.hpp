@@ -41,6 +41,7 @@ class DeviceFriction {
   int32_t candidates() const;
 
  private:
+  friend class DeviceStep;  // the whole step runs the stage on its state (cuda/device_step.cu)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

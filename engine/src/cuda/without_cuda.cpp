@@ -78,6 +78,7 @@ void DeviceStep::download(Model&) { no_gpu(); }
 void DeviceStep::reaction(const std::vector<int32_t>&, double&, double&) { no_gpu(); }
 double DeviceStep::time() const { no_gpu(); }
 int64_t DeviceStep::step_count() const { no_gpu(); }
+int64_t DeviceStep::host_steps() const { no_gpu(); }
 const EnergyLedger& DeviceStep::energy() const { no_gpu(); }
 
 }  // namespace engine

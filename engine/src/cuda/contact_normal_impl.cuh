@@ -1,0 +1,22 @@
+// The normal contact stage's GPU state (cuda/contact_normal.cu), where the whole
+// step (cuda/device_step.cu) can reach it.
+#pragma once
+#include "cuda/contact_normal.hpp"
+#include "cuda/device_array.cuh"
+
+namespace engine {
+
+struct DeviceContactNormal::Impl {
+  int32_t n_nodes = 0;
+  int64_t n_pairs = 0;
+  double penalty = 0.0;
+  DeviceArray<double> x, y, fx, fy, pair_energy, f_con_x, f_con_y, total;
+  DeviceArray<int32_t> node, start, entry, touching;
+  DeviceArray<uint8_t> hit;
+  cudaStream_t stream = nullptr;
+
+  // the stage's launches on `stream` (asynchronous)
+  void launch();
+};
+
+}  // namespace engine

@@ -1,0 +1,40 @@
+// The friction stage's GPU state (cuda/friction.cu), where the whole step
+// (cuda/device_step.cu) can reach it.
+#pragma once
+#include "cuda/device_array.cuh"
+#include "cuda/friction.hpp"
+
+namespace engine {
+
+// Per candidate (index c, the CPU's pair order), what friction reads.
+struct FrictionPairArrays {
+  const int32_t* node;  // 6 per candidate: contactor's nodes, then target's
+  const uint8_t* hit;   // touching
+  const double* nc;     // 3 per candidate, where it touches
+  const double* nt;
+  const double* nx;
+  const double* ny;
+  const double* fn;
+  const uint64_t* key;
+};
+
+struct DeviceFriction::Impl {
+  int32_t n_nodes = 0, n_cand = 0;
+  int64_t n_prev = 0;
+  double mu = 0.0, dt = 0.0, penalty = 0.0;
+  DeviceArray<double> x, y, mass, vx, vy, f_pre_x, f_pre_y, imx, imy, wx, wy, nc, nt, nx, ny, fn, kinv, lambda,
+      prev_lambda, f_x, f_y, power;
+  DeviceArray<uint8_t> constrained, hit;
+  DeviceArray<int32_t> node, colour, counts, start, entry;
+  DeviceArray<uint64_t> key, prev_key;
+  cudaStream_t stream = nullptr;
+
+  FrictionPairArrays pairs() {
+    return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
+  }
+
+  // the stage's launches on `stream` (asynchronous)
+  void launch();
+};
+
+}  // namespace engine
