@@ -125,8 +125,8 @@ struct DeviceStep::Impl {
     stream = f().stream;
     cuda_check(cudaStreamDestroy(u().stream), "cudaStreamDestroy");
     u().stream = stream;
-    for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})
-      cuda_check(cudaMemset(a->data(), 0, a->size() * sizeof(double)), "memset");
+    for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})  // no contact: zero for good
+      cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
     if (!contact) return;
     m.evaluate();  // the candidate list at this state (the warm start left as it was)
