@@ -128,7 +128,7 @@ struct DeviceStep::Impl {
     for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})  // no contact: zero for good
       cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
-    if (!contact) return;
+    if (!contact) return settle_uploads();
     m.evaluate();  // the candidate list at this state (the warm start left as it was)
     normal.reset(new DeviceContactNormal(cm));
     friction.reset(new DeviceFriction(cm));
@@ -161,7 +161,13 @@ struct DeviceStep::Impl {
     list_y.upload(cm.contact().list_origin_y());
     skin = cm.contact().list_skin();
     moved.resize(1);
+    settle_uploads();
   }
+
+  // The uploads (cudaMemcpy, on the legacy stream) done before the first
+  // launch on the step's non-blocking stream, which does not wait for them:
+  // a copy from pageable memory may return before its transfer has ended.
+  static void settle_uploads() { cuda_check(cudaDeviceSynchronize(), "GPU uploads"); }
 
   void one_step() {
     if (!list_valid) return host_step();
@@ -336,6 +342,7 @@ DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   d.time = m.time();
   d.step_count = m.step_count();
   d.energy = m.energy();
+  Impl::settle_uploads();  // the boundary conditions' node lists
   cuda_check(cudaMallocHost(&d.host_sums, (n_terms + 3) * sizeof(double)), "cudaMallocHost");
   cuda_check(cudaMallocHost(&d.host_flags, 2 * sizeof(int32_t)), "cudaMallocHost");
 }
