@@ -11,7 +11,9 @@ def polygon_area(p):
     if len(p) < 3:
         return 0.0
     x, y = p[:, 0], p[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    # elementwise products and numpy's sums, not BLAS's dot, whose kernels the
+    # processor picks (geometry/plain_products.py)
+    return 0.5 * float(np.sum(x * np.roll(y, -1)) - np.sum(np.roll(x, -1) * y))
 
 
 def ccw(p):
@@ -30,6 +32,7 @@ def min_width(p):
         ln = np.hypot(*e)
         if ln == 0.0:
             continue
-        d = (p - p[k]) @ (np.array([-e[1], e[0]]) / ln)
+        q = p - p[k]
+        d = q[:, 0] * (-e[1] / ln) + q[:, 1] * (e[0] / ln)  # not BLAS (polygon_area)
         widths.append(d.max() - d.min())
     return float(min(widths)) if widths else 0.0

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import pile as _pile
+from .plain_products import dot2, norm2
 
 
 def _axes(p):
@@ -39,8 +40,8 @@ def contact_line(a, b):
     best = None
     for which, (t, k) in enumerate(((a, b), (b, a))):
         for n in _axes(t):
-            c = (t @ n).max()
-            depth = c - (k @ n).min()
+            c = (dot2(t, n)).max()
+            depth = c - (dot2(k, n)).min()
             if best is None or depth < best[3]:
                 best = (which, n, c, depth)
     return best
@@ -48,10 +49,10 @@ def contact_line(a, b):
 
 def _segment_on(p, n, c, tol):
     """Extent (s0, s1) along the line n.x = c of the corners of p lying on it, or None."""
-    on = np.abs(p @ n - c) <= tol
+    on = np.abs(dot2(p, n) - c) <= tol
     if on.sum() < 2:
         return None
-    s = p[on] @ np.array([-n[1], n[0]])
+    s = dot2(p[on], np.array([-n[1], n[0]]))
     return s.min(), s.max()
 
 
@@ -61,14 +62,14 @@ def _snap_face(p, n, c, gap_tol, own_lines=(), on_tol=1e-9):
     p lies in n.x <= c (the target beyond). Corners already on a bonded line of p
     stay unless the move is along that line, so earlier bonds stay exact.
     """
-    d = c - p @ n  # > 0: a gap to the line; < 0: past it (the cut that follows puts it on)
+    d = c - dot2(p, n)  # > 0: a gap to the line; < 0: past it (the cut that follows puts it on)
     near = d <= gap_tol  # corners past the line are cut onto it anyway
     if near.sum() < 2:
         return p
     move = near & (d > on_tol)
     for k in np.flatnonzero(move):
         # a corner on a bonded line may only slide along it (the bond stays exact)
-        if any(abs(p[k] @ m - cm) <= on_tol and abs(d[k] * (n @ m)) > on_tol
+        if any(abs(dot2(p[k], m) - cm) <= on_tol and abs(d[k] * (dot2(n, m))) > on_tol
                for m, cm in own_lines):
             move[k] = False
     if move.any():
@@ -186,7 +187,7 @@ def _same_line(n1, c1, n2, c2, on_tol):
     """True if n1.x = c1 and n2.x = c2 are one line (either orientation)."""
     if abs(n1[0] * n2[1] - n1[1] * n2[0]) > 1e-9:
         return False
-    return abs(c1 - c2) <= on_tol if n1 @ n2 > 0 else abs(c1 + c2) <= on_tol
+    return abs(c1 - c2) <= on_tol if dot2(n1, n2) > 0 else abs(c1 + c2) <= on_tol
 
 
 def _line_groups(bonds, on_tol):
@@ -214,7 +215,7 @@ def _line_groups(bonds, on_tol):
 
 def _on_other_line(v, own_lines, n, c, on_tol):
     """True if corner v lies on a bonded line of its block other than n.x = c."""
-    return any(abs(v @ m - cm) <= on_tol for m, cm in own_lines
+    return any(abs(dot2(v, m) - cm) <= on_tol for m, cm in own_lines
                if not _same_line(m, cm, n, c, on_tol))
 
 
@@ -227,10 +228,10 @@ def _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol):
     """
     p = polys[b]
     m = len(p)
-    nb_k = [j for j in ((k - 1) % m, (k + 1) % m) if abs(p[j] @ n - c) > on_tol]
+    nb_k = [j for j in ((k - 1) % m, (k + 1) % m) if abs(dot2(p[j], n) - c) > on_tol]
     if len(nb_k) != 1:
         return False
-    v_new = p[k] + (s_new - p[k] @ t) * t
+    v_new = p[k] + (s_new - dot2(p[k], t)) * t
     grown = p.copy()
     grown[k] = v_new
     e = np.roll(grown, -1, axis=0) - grown
@@ -242,11 +243,11 @@ def _clear_growth(polys, b, k, s_new, n, c, t, clearance, on_tol):
     if _pile.polygon_area(tri) < 0:
         tri = tri[::-1]
     lo, hi = tri.min(axis=0) - clearance, tri.max(axis=0) + clearance
-    side = np.sign(p.mean(axis=0) @ n - c)
+    side = np.sign(dot2(p.mean(axis=0), n) - c)
     for j, q in enumerate(polys):
         if j == b or np.any(q.max(axis=0) < lo) or np.any(q.min(axis=0) > hi):
             continue
-        if np.all(side * (q @ n - c) <= on_tol):
+        if np.all(side * (dot2(q, n) - c) <= on_tol):
             continue  # across the line: touches the gained triangle on the line at most
         if contact_line(tri, _dedupe(q, on_tol))[3] > -clearance:
             return False
@@ -283,19 +284,19 @@ def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_t
                 if b < 0:  # the layer: plates with fixed ends (cut: an indenter cut point)
                     lo_all, hi_all = np.inf, -np.inf
                     for pid, (p0, p1, cut0, cut1, centre) in enumerate(plates):
-                        side = 1 if centre @ n > c else -1
-                        (s0, c0), (s1, c1) = sorted(((p0 @ t, cut0), (p1 @ t, cut1)))
+                        side = 1 if dot2(centre, n) > c else -1
+                        (s0, c0), (s1, c1) = sorted(((dot2(p0, t), cut0), (dot2(p1, t), cut1)))
                         ends.append((s0, ("plate", pid), None, +1, side, c0))
                         ends.append((s1, ("plate", pid), None, -1, side, c1))
                         lo_all, hi_all = min(lo_all, s0), max(hi_all, s1)
                     seg[b] = (lo_all, hi_all)
                     continue
                 p = polys[b]
-                on = np.flatnonzero(np.abs(p @ n - c) <= on_tol)
+                on = np.flatnonzero(np.abs(dot2(p, n) - c) <= on_tol)
                 if len(on) < 2:
                     continue
-                s = p[on] @ t
-                side = 1 if p.mean(axis=0) @ n > c else -1
+                s = dot2(p[on], t)
+                side = 1 if dot2(p.mean(axis=0), n) > c else -1
                 k0, k1 = on[np.argmin(s)], on[np.argmax(s)]
                 seg[b] = (s.min(), s.max())
                 ends.append((s.min(), b, k0, +1, side, False))
@@ -321,7 +322,7 @@ def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_t
                     if (target - e[0]) * inward > 0:
                         options.append((abs(target - e[0]), b, k, target))
                 for _, b, k, s_new in sorted(options, key=lambda o: o[0]):
-                    s_old = polys[b][k] @ t
+                    s_old = dot2(polys[b][k], t)
                     low_end = abs(s_old - seg[b][0]) <= on_tol
                     lo, hi = (s_new, seg[b][1]) if low_end else (seg[b][0], s_new)
                     shrinks = (s_new - s_old) * (1 if low_end else -1) > 0
@@ -342,7 +343,7 @@ def _space_line_ends(polys, lines, bonds, plates, feature, min_bond_length, on_t
                 break
             b, k, s_new = fix
             polys[b] = polys[b].copy()
-            polys[b][k] += (s_new - polys[b][k] @ t) * t
+            polys[b][k] += (s_new - dot2(polys[b][k], t)) * t
             polys[b] = _dedupe(polys[b], on_tol)
             moves += 1
     return moves
@@ -407,7 +408,7 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
         while k < len(polys[b]):
             p = polys[b]
             C = p[k]
-            held = [(n, c) for n, c in lines[b] if abs(C @ n - c) <= on_tol]
+            held = [(n, c) for n, c in lines[b] if abs(dot2(C, n) - c) <= on_tol]
             if len(held) < 2:
                 k += 1
                 continue
@@ -415,9 +416,9 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
             for nb_k, other_k in (((k + 1) % len(p), (k - 1) % len(p)),
                                   ((k - 1) % len(p), (k + 1) % len(p))):
                 A, D = p[nb_k], p[other_k]  # A: along the face with E; D: along the other face
-                la, ld = np.linalg.norm(A - C), np.linalg.norm(D - C)
+                la, ld = norm2(A - C), norm2(D - C)
                 ua, ud = (A - C) / la, (D - C) / ld
-                on_bonded = any(abs(A @ n - c) <= on_tol for n, c in held)
+                on_bonded = any(abs(dot2(A, n) - c) <= on_tol for n, c in held)
                 if not on_bonded or ld < 2 * feature or la < 2 * feature:
                     continue
                 best = None
@@ -425,16 +426,16 @@ def _chamfer_held_corners(polys, lines, bonds, feature, min_bond_length, on_tol,
                     if owner[v] == b or owner[v] < 0:
                         continue
                     E = allpts[v]
-                    s = (E - C) @ ua
-                    if on_tol < s < feature and abs((E - C) @ np.array([-ua[1], ua[0]])) <= near_tol:
+                    s = dot2((E - C), ua)
+                    if on_tol < s < feature and abs(dot2((E - C), np.array([-ua[1], ua[0]]))) <= near_tol:
                         best = s if best is None else min(best, s)
                 if best is None:
                     continue
                 E = C + best * ua
                 P = C + feature * ud
                 # no other corner on the other face within feature of P (a new short curve)
-                if any(owner[v] != b and abs((allpts[v] - C) @ np.array([-ud[1], ud[0]])) <= near_tol
-                       and on_tol < abs((allpts[v] - P) @ ud) < feature - on_tol
+                if any(owner[v] != b and abs(dot2((allpts[v] - C), np.array([-ud[1], ud[0]]))) <= near_tol
+                       and on_tol < abs(dot2((allpts[v] - P), ud)) < feature - on_tol
                        for v in tree.query_ball_point(P, feature)):
                     continue
                 # P is exactly on its partner's face or clear of every block by 2 fuzzy:
@@ -471,7 +472,7 @@ def _collapse_short_edges(p, own_lines, min_feature, on_tol):
     between two bonded lines stays, so bonded faces stay exact.
     """
     def bonded(v):
-        return any(abs(v @ n - c) <= on_tol for n, c in own_lines)
+        return any(abs(dot2(v, n) - c) <= on_tol for n, c in own_lines)
 
     while len(p) > 3:
         e = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)

@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+
 from ..parameters import LAYER_THICKNESS, RHO_I, RHO_W, require_range
 from ..polygon import ccw, polygon_area  # noqa: F401 (pile.ccw, pile.polygon_area)
+from .plain_products import dot2, rotated
 
 # Paper section 2.4.
 BLOCK_THICKNESS = (0.2, 0.4)
@@ -40,7 +42,7 @@ def rectangle(center, length, thickness, angle):
     hx, hy = 0.5 * length, 0.5 * thickness
     local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
     rot = np.array([[c, -s], [s, c]])
-    return np.asarray(center, float) + local @ rot.T
+    return np.asarray(center, float) + rotated(local, rot)  # plain arithmetic, not BLAS (plain_products.py)
 
 
 def clip_halfplane(poly, n, c):
@@ -49,7 +51,7 @@ def clip_halfplane(poly, n, c):
     m = len(poly)
     for i in range(m):
         a, b = poly[i], poly[(i + 1) % m]
-        da, db = np.dot(n, a) - c, np.dot(n, b) - c
+        da, db = dot2(n, a) - c, dot2(n, b) - c
         if da <= 0:
             out.append(a)
         if (da < 0 < db) or (db < 0 < da):
