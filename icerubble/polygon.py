@@ -4,6 +4,8 @@
 """
 import numpy as np
 
+from .plain_products import dot2
+
 
 def polygon_area(p):
     """Signed area (shoelace); positive for counter-clockwise corners."""
@@ -12,7 +14,7 @@ def polygon_area(p):
         return 0.0
     x, y = p[:, 0], p[:, 1]
     # elementwise products and numpy's sums, not BLAS's dot, whose kernels the
-    # processor picks (geometry/plain_products.py)
+    # processor picks (plain_products.py)
     return 0.5 * float(np.sum(x * np.roll(y, -1)) - np.sum(np.roll(x, -1) * y))
 
 
@@ -32,7 +34,6 @@ def min_width(p):
         ln = np.hypot(*e)
         if ln == 0.0:
             continue
-        q = p - p[k]
-        d = q[:, 0] * (-e[1] / ln) + q[:, 1] * (e[0] / ln)  # not BLAS (polygon_area)
+        d = dot2(p - p[k], np.array([-e[1], e[0]]) / ln)
         widths.append(d.max() - d.min())
     return float(min(widths)) if widths else 0.0

@@ -19,7 +19,7 @@ from tests.paths import ROOT
 
 BASE = ("icerubble", "icerubble._engine", "icerubble._cohesive_law", "icerubble.parameters",
         "icerubble.exit_status", "icerubble.openmp_threads", "icerubble.code_identity",
-        "icerubble.machine", "icerubble.polygon", "icerubble.cohesive_law")
+        "icerubble.machine", "icerubble.polygon", "icerubble.plain_products", "icerubble.cohesive_law")
 # bottom to top; a part imports parts of lower layers (base modules: each other, without cycles)
 LAYERS = [BASE, ("icerubble.engine",), ("icerubble.files",), ("icerubble.geometry",), ("icerubble.run",),
           ("icerubble.rigid_dem",), ("icerubble.study",), ("icerubble.cli",), ("postproc",)]

@@ -51,15 +51,20 @@ def why_unavailable():
     return ""
 
 
+def _require():
+    """Raise RuntimeError saying why, unless the GPU backend can run here."""
+    reason = why_unavailable()
+    if reason:
+        raise RuntimeError(f"the GPU backend cannot run: {reason}")
+
+
 class _Stage:
     """One stage of the step on the GPU, made from `model` (an engine.Model):
     DEVICE names its class in the compiled module."""
     DEVICE = None
 
     def __init__(self, model):
-        reason = why_unavailable()
-        if reason:
-            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        _require()
         self._model = model
         self._d = getattr(_engine, self.DEVICE)(model._m)
 
@@ -326,9 +331,7 @@ class Steps:
     there."""
 
     def __init__(self, model):
-        reason = why_unavailable()
-        if reason:
-            raise RuntimeError(f"the GPU backend cannot run: {reason}")
+        _require()
         self._model = model
         self._d = _engine.DeviceStep(model._m)
 

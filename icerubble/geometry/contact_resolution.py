@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import pile as _pile
-from .plain_products import dot2, norm2
+from ..plain_products import dot2, norm2
 
 
 def _axes(p):

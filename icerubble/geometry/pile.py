@@ -11,7 +11,7 @@ import numpy as np
 
 from ..parameters import LAYER_THICKNESS, RHO_I, RHO_W, require_range
 from ..polygon import ccw, polygon_area  # noqa: F401 (pile.ccw, pile.polygon_area)
-from .plain_products import dot2, rotated
+from ..plain_products import dot2, rotated
 
 # Paper section 2.4.
 BLOCK_THICKNESS = (0.2, 0.4)

@@ -161,17 +161,13 @@ void bind_contact(py::module_& m) {
         }
         CandidateLayout L;
         lay_out_candidates(cand, t, n_nodes, L);
-        const auto arr = [](const auto& v) {
-          using T = typename std::decay_t<decltype(v)>::value_type;
-          return py::array_t<T>(py::ssize_t(v.size()), v.data());
-        };
         py::dict d;
-        d["contactor"] = arr(L.contactor);
-        d["target"] = arr(L.target);
-        d["node"] = arr(L.node);
-        d["key"] = arr(L.key);
-        d["start"] = arr(L.start);
-        d["entry"] = arr(L.entry);
+        d["contactor"] = as_array(L.contactor);
+        d["target"] = as_array(L.target);
+        d["node"] = as_array(L.node);
+        d["key"] = as_array(L.key);
+        d["start"] = as_array(L.start);
+        d["entry"] = as_array(L.entry);
         return d;
       },
       py::arg("candidates"), py::arg("tri"), py::arg("n_nodes"),
@@ -274,9 +270,8 @@ void bind_contact(py::module_& m) {
                              [](const ContactSolver& s) {
                                const FrictionOrder& o = s.sweep_order();
                                py::dict d;
-                               d["pair"] = py::array_t<int32_t>(py::ssize_t(o.pair.size()), o.pair.data());
-                               d["colour_start"] = py::array_t<int32_t>(py::ssize_t(o.colour_start.size()),
-                                                                        o.colour_start.data());
+                               d["pair"] = as_array(o.pair);
+                               d["colour_start"] = as_array(o.colour_start);
                                return d;
                              },
                              "The last friction call's sweep order: 'pair' (pair indices, colour by\n"
@@ -284,7 +279,7 @@ void bind_contact(py::module_& m) {
       .def_property_readonly("friction_forces",
                              [](const ContactSolver& s) {
                                const std::vector<double> f = s.friction_forces();
-                               return py::array_t<double>(py::ssize_t(f.size()), f.data());
+                               return as_array(f);
                              },
                              "The last friction call's tangential force per pair [N/m], pair order.")
       .def_property_readonly("pairs",

@@ -21,21 +21,16 @@ namespace engine {
 
 namespace {
 
-template <typename T>
-py::array_t<T> copy(const std::vector<T>& v) {
-  return py::array_t<T>(ssize_t(v.size()), v.data());
-}
-
 py::dict as_dict(const BodyForceFields& f) {
   py::dict d;
-  d["f_int_x"] = copy(f.f_int_x);
-  d["f_int_y"] = copy(f.f_int_y);
-  d["f_visc_x"] = copy(f.f_visc_x);
-  d["f_visc_y"] = copy(f.f_visc_y);
-  d["f_buoy_y"] = copy(f.f_buoy_y);
-  d["drag_k"] = copy(f.drag_k);
-  d["stress"] = copy(f.stress);
-  d["energy"] = copy(f.energy);
+  d["f_int_x"] = as_array(f.f_int_x);
+  d["f_int_y"] = as_array(f.f_int_y);
+  d["f_visc_x"] = as_array(f.f_visc_x);
+  d["f_visc_y"] = as_array(f.f_visc_y);
+  d["f_buoy_y"] = as_array(f.f_buoy_y);
+  d["drag_k"] = as_array(f.drag_k);
+  d["stress"] = as_array(f.stress);
+  d["energy"] = as_array(f.energy);
   d["elastic_energy"] = f.elastic_energy;
   d["first_inverted"] = f.first_inverted;
   return d;
@@ -60,10 +55,10 @@ BodyForceFields cpu_fields(const Model& m) {
 
 py::dict as_dict(const BondCheckFields& f) {
   py::dict d;
-  d["ratio"] = copy(f.ratio);
-  d["tn"] = copy(f.tn);
-  d["tt"] = copy(f.tt);
-  d["plan"] = py::array_t<int32_t>(ssize_t(f.plan.size()), f.plan.data());
+  d["ratio"] = as_array(f.ratio);
+  d["tn"] = as_array(f.tn);
+  d["tt"] = as_array(f.tt);
+  d["plan"] = as_array(f.plan);
   return d;
 }
 
@@ -89,13 +84,13 @@ BondCheckFields cpu_bond_check(const Model& model) {
 
 py::dict as_dict(const CohesiveForceFields& f) {
   py::dict d;
-  d["f_coh_x"] = copy(f.f_coh_x);
-  d["f_coh_y"] = copy(f.f_coh_y);
-  d["fpx"] = copy(f.fpx);
-  d["fpy"] = copy(f.fpy);
-  d["delta_m"] = copy(f.delta_m);
-  d["failed"] = py::array_t<int8_t>(ssize_t(f.failed.size()), f.failed.data());
-  d["mode"] = py::array_t<int8_t>(ssize_t(f.mode.size()), f.mode.data());
+  d["f_coh_x"] = as_array(f.f_coh_x);
+  d["f_coh_y"] = as_array(f.f_coh_y);
+  d["fpx"] = as_array(f.fpx);
+  d["fpy"] = as_array(f.fpy);
+  d["delta_m"] = as_array(f.delta_m);
+  d["failed"] = as_array(f.failed);
+  d["mode"] = as_array(f.mode);
   d["work"] = f.work;
   d["stored"] = f.stored;
   d["dissipation"] = f.dissipation;
@@ -139,8 +134,8 @@ void bind_device(py::module_& m) {
         "the CPU's body-force fields of the model's last evaluation (what DeviceBodyForces computes)");
   m.def("contact_fields", [](const Model& model) {
         py::dict d;
-        d["f_con_x"] = copy(model.nodes().f_con_x);
-        d["f_con_y"] = copy(model.nodes().f_con_y);
+        d["f_con_x"] = as_array(model.nodes().f_con_x);
+        d["f_con_y"] = as_array(model.nodes().f_con_y);
         d["energy"] = model.contact().stored_energy();
         d["touching"] = model.contact().touching_pairs();
         return d;
@@ -148,17 +143,17 @@ void bind_device(py::module_& m) {
   m.def("friction_fields", [](const Model& model) {
         const Nodes& N = model.nodes();
         py::dict d;
-        d["f_x"] = copy(N.f_x);
-        d["f_y"] = copy(N.f_y);
-        d["lambda"] = copy(model.contact().friction_forces());
+        d["f_x"] = as_array(N.f_x);
+        d["f_y"] = as_array(N.f_y);
+        d["lambda"] = as_array(model.contact().friction_forces());
         d["power"] = model.contact().friction_power();
         const FrictionOrder& o = model.contact().sweep_order();
         std::vector<int32_t> colour(o.pair.size());
         for (int32_t c = 0; c < o.colours(); ++c)
           for (int32_t k = o.colour_start[c]; k < o.colour_start[c + 1]; ++k) colour[size_t(o.pair[k])] = c;
-        d["colour"] = copy(colour);
+        d["colour"] = as_array(colour);
         d["colours"] = o.colours();
-        d["constrained"] = copy(N.constrained);
+        d["constrained"] = as_array(N.constrained);
         return d;
       }, "the CPU's friction of the model's last evaluation (what DeviceFriction computes); f_x, f_y after "
          "the boundary conditions, so compare the components that are not prescribed");
@@ -198,8 +193,8 @@ void bind_device(py::module_& m) {
       .def("fields", [](DeviceContactNormal& d) {
         const ContactNormalFields f = d.fields();
         py::dict out;
-        out["f_con_x"] = copy(f.f_con_x);
-        out["f_con_y"] = copy(f.f_con_y);
+        out["f_con_x"] = as_array(f.f_con_x);
+        out["f_con_y"] = as_array(f.f_con_y);
         out["energy"] = f.energy;
         out["touching"] = f.touching;
         return out;
@@ -213,11 +208,11 @@ void bind_device(py::module_& m) {
       .def("fields", [](DeviceFriction& d) {
         const FrictionFields f = d.fields();
         py::dict out;
-        out["f_x"] = copy(f.f_x);
-        out["f_y"] = copy(f.f_y);
-        out["lambda"] = copy(f.lambda);
+        out["f_x"] = as_array(f.f_x);
+        out["f_y"] = as_array(f.f_y);
+        out["lambda"] = as_array(f.lambda);
         out["power"] = f.power;
-        out["colour"] = copy(f.colour);
+        out["colour"] = as_array(f.colour);
         out["colours"] = f.colours;
         out["rounds"] = f.rounds;
         return out;
@@ -242,11 +237,11 @@ void bind_device(py::module_& m) {
       .def("fields", [](DeviceNodeUpdate& d) {
         const NodeUpdateFields f = d.fields();
         py::dict out;
-        out["x"] = copy(f.x);
-        out["y"] = copy(f.y);
-        out["vx"] = copy(f.vx);
-        out["vy"] = copy(f.vy);
-        out["sums"] = copy(f.sums);
+        out["x"] = as_array(f.x);
+        out["y"] = as_array(f.y);
+        out["vx"] = as_array(f.vx);
+        out["vy"] = as_array(f.vy);
+        out["sums"] = as_array(f.sums);
         return out;
       });
 }

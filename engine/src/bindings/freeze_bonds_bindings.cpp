@@ -26,12 +26,6 @@ std::vector<T> vec(const py::handle& h) {
   return std::vector<T>(a.data(), a.data() + a.size());
 }
 
-template <class T>
-py::array_t<T> arr(const std::vector<T>& v) {
-  py::array_t<T> a(v.size());
-  std::copy(v.begin(), v.end(), a.mutable_data());
-  return a;
-}
 
 template <class T, bool = std::is_enum_v<T>>
 struct StoredAs { using type = T; };
@@ -148,9 +142,9 @@ void bind_freeze_bonds(py::module_& m) {
       .def("bond_state", [](const Model& M) { return to_dict(M.bonds().state()); })
       .def("restore_bond_state",
            [](Model& M, const py::dict& d) { M.restore_bonds(from_dict<BondState>(d, "bond state")); })
-      .def("bond_parents", [](const Model& M) { return arr(M.bonds().parents()); })
+      .def("bond_parents", [](const Model& M) { return as_array(M.bonds().parents()); })
       .def("bond_tractions",
-           [](const Model& M) { return py::make_tuple(arr(M.bonds().last_tn()), arr(M.bonds().last_tt())); })
+           [](const Model& M) { return py::make_tuple(as_array(M.bonds().last_tn()), as_array(M.bonds().last_tt())); })
       .def("bond_counts",
            [](const Model& M) {
              const FreezeBonds& B = M.bonds();

@@ -24,12 +24,6 @@ std::vector<T> to_vector(const A& a) {
   return std::vector<T>(a.data(), a.data() + a.size());
 }
 
-// A numpy copy of an engine array.
-template <class T>
-py::array_t<T> as_array(const std::vector<T>& v) {
-  return py::array_t<T>(ssize_t(v.size()), v.data());
-}
-
 // A read-only numpy view on an engine array; keeps the model alive. Valid
 // until the array is reallocated (node splitting appends nodes). The state
 // changes only through the model's methods (set_positions, ...), never by
@@ -125,7 +119,6 @@ py::dict stable_dict(const StableStep& s, const Model& m) {
   d["message"] = s.describe(m.triangles().body);
   return d;
 }
-
 
 // The engine's parameters across the binding: a dict with exactly these
 // keys, the registry's names (icerubble/parameters.py, engine=True, less dt
@@ -320,7 +313,7 @@ void bind_model(py::module_& m) {
          py::arg("window_start_step"), py::arg("window_start_time"), py::arg("window_cx"),
          py::arg("window_cy"), py::arg("window_px"), py::arg("window_py"), py::arg("window_l"))
       .def("mass_floor", [](const Model& M) {
-        return py::array_t<double>(M.nodes().mass_floor.size(), M.nodes().mass_floor.data());
+        return as_array(M.nodes().mass_floor);
       })
       .def("set_mass_floor", &Model::set_mass_floor, py::arg("floor"))
       .def("reach_origin", [](const Model& M) {

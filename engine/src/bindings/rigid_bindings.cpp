@@ -71,11 +71,6 @@ py::tuple friction_step(FrictionHistory& h, IArray a, IArray b, DArray px, DArra
 
 }  // namespace
 
-template <class T>
-py::array_t<T> copy_of(const std::vector<T>& v) {
-  return py::array_t<T>(ssize_t(v.size()), v.data());
-}
-
 std::vector<double> column(const DArray& a2, int c, const char* name) {
   if (a2.ndim() != 2 || a2.shape(1) != 2) bad(std::string(name) + " must be an (n, 2) array");
   std::vector<double> out(size_t(a2.shape(0)));
@@ -142,21 +137,21 @@ void bind_rigid(py::module_& m) {
              return py::make_tuple(fx, fy, tz);
            }, py::arg("x"), py::arg("y"), py::arg("theta"), py::arg("time"),
            "One step to the body poses: (fx, fy, tz) per body [N/m, N/m, N m/m].")
-      .def_property_readonly("state", [](const RigidBondPoints& r) { return copy_of(r.state); })
-      .def_property_readonly("mode", [](const RigidBondPoints& r) { return copy_of(r.mode); })
-      .def_property_readonly("f_n", [](const RigidBondPoints& r) { return copy_of(r.f_n); })
-      .def_property_readonly("f_t", [](const RigidBondPoints& r) { return copy_of(r.f_t); })
-      .def_property_readonly("dissipated", [](const RigidBondPoints& r) { return copy_of(r.dissipated); })
-      .def_property_readonly("t_initiated", [](const RigidBondPoints& r) { return copy_of(r.t_initiated); })
-      .def_property_readonly("t_failed", [](const RigidBondPoints& r) { return copy_of(r.t_failed); })
+      .def_property_readonly("state", [](const RigidBondPoints& r) { return as_array(r.state); })
+      .def_property_readonly("mode", [](const RigidBondPoints& r) { return as_array(r.mode); })
+      .def_property_readonly("f_n", [](const RigidBondPoints& r) { return as_array(r.f_n); })
+      .def_property_readonly("f_t", [](const RigidBondPoints& r) { return as_array(r.f_t); })
+      .def_property_readonly("dissipated", [](const RigidBondPoints& r) { return as_array(r.dissipated); })
+      .def_property_readonly("t_initiated", [](const RigidBondPoints& r) { return as_array(r.t_initiated); })
+      .def_property_readonly("t_failed", [](const RigidBondPoints& r) { return as_array(r.t_failed); })
       .def_readwrite("failure", &RigidBondPoints::failure,
                      "False: intact points stay intact whatever their traction (settling)")
       .def("stored_energy", &RigidBondPoints::stored_energy)
       .def("history", [](const RigidBondPoints& r) {
              py::dict h;
-             h["state"] = copy_of(r.state);
-             h["mode"] = copy_of(r.mode);
-             for (auto [name, v] : history_doubles(const_cast<RigidBondPoints&>(r))) h[name] = copy_of(*v);
+             h["state"] = as_array(r.state);
+             h["mode"] = as_array(r.mode);
+             for (auto [name, v] : history_doubles(const_cast<RigidBondPoints&>(r))) h[name] = as_array(*v);
              h["failure"] = r.failure;
              h["failure_last_step"] = r.failure_last_step;
              return h;
@@ -197,13 +192,13 @@ void bind_rigid(py::module_& m) {
       }, py::arg("a"), py::arg("b"),
            "Make body pairs (a < b) stick at any tangential force from now on (no Coulomb cap).")
       .def_property_readonly("stuck", [](const FrictionHistory& h) {
-        return py::array_t<uint64_t>(ssize_t(h.stuck.size()), h.stuck.data());
+        return as_array(h.stuck);
       }, "The keys (a << 32 | b) of the pairs that stick, ascending.")
       .def_property_readonly("keys", [](const FrictionHistory& h) {
-        return py::array_t<uint64_t>(ssize_t(h.key.size()), h.key.data());
+        return as_array(h.key);
       })
       .def_property_readonly("forces", [](const FrictionHistory& h) {
-        return py::array_t<double>(ssize_t(h.ft.size()), h.ft.data());
+        return as_array(h.ft);
       })
       .def("restore", [](FrictionHistory& h, py::array_t<uint64_t, py::array::c_style | py::array::forcecast> keys,
                          DArray forces) {

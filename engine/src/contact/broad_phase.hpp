@@ -10,10 +10,20 @@
 // Boxes can be grown by a skin so that the list can be reused over many steps
 // (a Verlet list): detection then costs a displacement check per step.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "common/host_device.hpp"
+
 namespace engine {
+
+// Whether a node at (x, y) has moved past the skin from (x0, y0), where the
+// candidate list was built: the list is then rebuilt (ContactSolver on the
+// CPU, the GPU step on the GPU). Written so that a NaN position moves.
+ICERUBBLE_HD bool moved_past_skin(double x, double y, double x0, double y0, double skin) {
+  return !(fabs(x - x0) <= skin && fabs(y - y0) <= skin);
+}
 
 struct CandidatePair {
   int32_t a;  // triangle id, a < b; a acts as the contactor

@@ -88,8 +88,8 @@ bool ContactSolver::list_still_valid(const ContactInput& in) const {
     const int32_t* v = in.tri + 3 * static_cast<int64_t>(in.surface_tris[i]);
     for (int k = 0; k < 3; ++k) {
       const int32_t n = v[k];
-      // Written so that a NaN position forces a rebuild (which reports it).
-      if (!(std::fabs(in.x[n] - xr[n]) <= skin && std::fabs(in.y[n] - yr[n]) <= skin)) moved = 1;
+      // a NaN position forces a rebuild (which reports it)
+      if (moved_past_skin(in.x[n], in.y[n], xr[n], yr[n], skin)) moved = 1;
     }
   }
   return !moved;

@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "common/input_errors.hpp"
@@ -50,13 +49,13 @@ __global__ void boundary_kernel(BoundaryComponent a, const int32_t* nodes, int32
 }
 
 // Whether a node of a surface triangle has moved past the skin since the
-// candidate list was built (ContactSolver::list_still_valid; a NaN moves).
+// candidate list was built (ContactSolver::list_still_valid's test).
 __global__ void moved_kernel(const double* x, const double* y, const double* x0, const double* y0,
                              const int32_t* nodes, int32_t n, double skin, int32_t* moved) {
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= n) return;
   const int32_t i = nodes[k];
-  if (!(fabs(x[i] - x0[i]) <= skin && fabs(y[i] - y0[i]) <= skin)) *moved = 1;  // any lane: the same 1
+  if (moved_past_skin(x[i], y[i], x0[i], y0[i], skin)) *moved = 1;  // any lane: the same 1
 }
 
 // The next step's warm start, per candidate: its tangential force if it
@@ -108,11 +107,10 @@ struct DeviceStep::Impl {
     cuda_check(cudaMemcpyAsync(host, from.data(), n * sizeof(T), cudaMemcpyDeviceToHost, stream), "copy from GPU");
   }
 
-  // The stages made from the model as it is now (after a step of its own:
-  // a new candidate list), on one stream.
+  // The stages made from the model as it is now, with its candidate list
+  // (after a step of its own: the one that step built), on one stream.
   void make_stages() {
-    Model& m = *model;
-    const Model& cm = m;
+    const Model& cm = *model;
     // the old stages all run on the old body-force stage's stream, destroyed with it
     if (update) u().stream = nullptr;
     if (normal) cn().stream = nullptr;
@@ -129,7 +127,6 @@ struct DeviceStep::Impl {
       cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
     if (!contact) return settle_uploads();
-    m.evaluate();  // the candidate list at this state (the warm start left as it was)
     normal.reset(new DeviceContactNormal(cm));
     friction.reset(new DeviceFriction(cm));
     for (cudaStream_t* s : {&cn().stream, &fr().stream}) {
@@ -325,12 +322,12 @@ DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
     bad("the GPU step runs models without freeze bonds so far: this one has " +
         std::to_string(cm.bonds().n_points()) + " bond points (docs/gpu.md)");
   if (cm.parameters().sleep.on) bad("the GPU step does not run the sleeping far field: set sleeping=False");
-  const std::vector<int32_t>& body = cm.triangles().body;
   Impl& d = *impl_;
-  d.contact = std::set<int32_t>(body.begin(), body.end()).size() > 1;
+  d.contact = cm.contact_possible();
   if (d.contact && std::isfinite(cm.parameters().contact_reach))
     bad("the GPU step bounds the contact step over the whole mesh so far: set contact_reach=inf (got " +
         num(cm.parameters().contact_reach) + " m; docs/gpu.md)");
+  if (d.contact) m.evaluate();  // a candidate list at this state (the warm start left as it was)
   d.model = &m;
   d.make_stages();
   d.bcs = cm.boundary_conditions();

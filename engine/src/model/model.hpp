@@ -204,6 +204,8 @@ class Model final : public BondHost {
   const ContactParams& contact_params() const override { return params_.contact; }
   double energy_tolerance() const { return params_.energy_tolerance; }
   bool check_stable_dt() const { return params_.check_stable_dt; }
+  // The mesh has two bodies or more: the contact stages run.
+  bool contact_possible() const { return contact_possible_; }
   int32_t touching_pairs() const { return contact_.touching_pairs(); }
   int64_t contact_list_builds() const { return contact_.rebuilds(); }  // broad-phase builds so far
   size_t memory_bytes() const;

@@ -1,4 +1,5 @@
-"""Products of 2-vectors in plain arithmetic, for the meshing of a pile.
+"""Products of 2-vectors in plain arithmetic, for the meshing of a pile
+(geometry/) and the polygons below it (polygon.py).
 
 numpy's `@`, `dot` and the norm of a 1-D vector call the BLAS library, whose
 kernels are chosen by the processor (OpenBLAS: Zen, Haswell, SkylakeX, ...)
@@ -7,7 +8,8 @@ EPYC meshed every shipped ridge into another mesh than the Intel Xeon that
 made them, and into the same one with OPENBLAS_CORETYPE=Prescott (SSE3 kernels).
 Elementwise products and sums are single IEEE operations: the same bits on every
 x86-64 processor, in the order the BLAS kernels without fused operations take
-(a0 b0 + a1 b1), so the meshes made before are the meshes made now.
+(a0 b0 + a1 b1), so the meshes made before are the meshes made now
+(docs/reproducibility.md).
 """
 import numpy as np
 
