@@ -239,6 +239,24 @@ def yade_punch_through_unknown_preset(d, g):
     return "punch_through.py", f"description scene numerics out_dir\na 'tiny' 'turbo' '{d}'\n"
 
 
+@case("yade", r"line 2, column device: 'gpu' is not a device; valid: cpu, cuda")
+def yade_punch_through_unknown_device(d, g):
+    return "punch_through.py", "scene device\n'tiny' 'gpu'\n"
+
+
+@case("api", r"device='gpu' is unknown: valid values are cpu, cuda")
+def api_model_on_an_unknown_device(d, g):
+    from icerubble import engine
+    nodes, tri = engine.rectangle_mesh(2, 2, 0.1)
+    return lambda: engine.Model(nodes, tri, [0] * len(tri), dict(E=2e9, nu=0.3, rho=920.0), device="gpu")
+
+
+@case("api", r"device='cuda': the rigid-dem model runs on YADE's engines, on the CPU only")
+def api_study_rigid_model_on_the_gpu(d, g):
+    from icerubble.study.line import run_one
+    return lambda: run_one("tiny", 1, out_dir=d, model="rigid-dem", device="cuda")
+
+
 @case("yade", r"domain_width")
 def yade_make_pile_negative_width(d, g):
     return "make_pile.py", f"seed domain_width out\n1 -10.0 '{os.path.join(d, 'pile.h5')}'\n"

@@ -34,7 +34,14 @@ Checks, each printed with its outcome:
      velocities and the clock the CPU's bits (quadratic drag: its per-body
      sums to round-off, so the trajectory within 1e-9 of the largest entry of
      each field), the ledger and the
-     driven nodes' reaction to round-off; and the GPU's time per step.
+     driven nodes' reaction to round-off; and the GPU's time per step;
+ 10. whole steps of bonded models: a bar pulled apart (each force direction,
+     14,000 steps: its points split in steps the model takes, its pairs
+     soften and fail on the GPU) and a square sheared along its bond (3,000
+     steps: failures in shear, crack closure): the same as 9, and the bond
+     state (split and failure records, the pairs' history, the screening
+     flags, the points evaluated) the CPU's bits, the bonds' energy sums to
+     round-off.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -48,7 +55,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square,  # noqa: E402
-                                    pressed_blocks, rubbing_blocks, sliding_block)
+                                    pressed_blocks, pulled_bar, rubbing_blocks, sheared_square, sliding_block)
 
 
 
@@ -110,9 +117,15 @@ def report_steps(name, cmp, exact):
     differ = {k: cmp[k] for k in ("x", "y", "vx", "vy") if cmp[k][0]}
     detail = "positions and velocities the CPU's bits" if not differ else f"differing (entries, relative): {differ}"
     ok = cmp["ok"] if exact else (max(cmp[k][1] for k in ("x", "y", "vx", "vy")) <= 1e-9 and cmp["time"])
+    bonds = ""
+    if "bonds" in cmp:
+        ok = ok and not cmp["bonds"] and cmp["bond_sums"] <= gpu.ROUND_OFF and cmp["checks"]
+        bonds = (f"; bonds (split, failed) CPU {cmp['bond_counts'][0]}, GPU {cmp['bond_counts'][1]}, "
+                 f"{'state the CPU bits' if not cmp['bonds'] else 'fields differing: ' + ', '.join(cmp['bonds'])}, "
+                 f"sums {cmp['bond_sums']:.1e} relative, points evaluated {'equal' if cmp['checks'] else 'DIFFER'}")
     print(f"[{'ok' if ok else 'FAIL'}] {name}: {detail}; ledger {cmp['ledger']:.1e}, reaction {cmp['reaction']:.1e} "
-          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}; {cmp['host_steps']} steps taken by the model",
-          flush=True)
+          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}; {cmp['host_steps']} steps taken by the model"
+          f"{bonds}", flush=True)
     return ok
 
 
@@ -180,6 +193,11 @@ def main(argv=None):
         ok &= report_steps("block sliding on a slab, 4,000 whole GPU steps",
                            gpu.compare_steps(lambda: sliding_block(np.random.default_rng(seed_m)), 4000,
                                              nodes="slab_bottom"), exact=True)
+        for direction in ("paper", "work_conjugate"):
+            ok &= report_steps(f"bonded bar pulled apart ({direction}), 14,000 whole GPU steps",
+                               gpu.compare_steps(lambda: pulled_bar(direction), 14000, nodes="right"), exact=True)
+        ok &= report_steps("bonded square sheared, 3,000 whole GPU steps",
+                           gpu.compare_steps(sheared_square, 3000, nodes="top"), exact=True)
         steps = gpu.Steps(driven_block(rng, "linear"))
         steps.step(100)
         t0 = time.perf_counter()

@@ -10,7 +10,9 @@ of rigid YADE blocks, docs/model.md §6),
 ``scene`` (demo | small | wide | paper | tiny: pile size, mesh, penalty, travel; see
 icerubble/run/presets.py), ``numerics`` (paper | balanced | fast: the scene's
 numerical preset, default paper: time step, mass scaling, contact reach,
-sleeping far field) and any Table 1 parameter (icerubble/parameters.py),
+sleeping far field), ``device`` (cpu | cuda: where the steps run, default
+$ICERUBBLE_DEVICE, set by `icerubble study run --device`, else cpu;
+docs/gpu.md) and any Table 1 parameter (icerubble/parameters.py),
 e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel.
 OUT_DIR is the out_dir column, else $ICERUBBLE_OUT_DIR (set by `icerubble
 study run --out`), else runs/ in this checkout.
@@ -48,7 +50,7 @@ if os.environ.get("YADE_BATCH"):
 # results go beside the scripts' checkout (runs/), whatever the working folder;
 # Table 1 parameters default to None: "the scene's value, else Table 1".
 _OUT = os.environ.get("ICERUBBLE_OUT_DIR") or os.path.join(_ROOT, "runs")
-utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", out_dir=_OUT, resume=True,
+utils.readParamsFromTable(ridge=1, scene="demo", numerics="", model="fem-dem", device="", out_dir=_OUT, resume=True,
                           noTableOk=True, **{k: None for k in P.TABLE_1})
 from yade.params import table
 from yade.wrapper import O
@@ -66,7 +68,7 @@ out_dir = os.path.join(os.environ.get("ICERUBBLE_WORKDIR", ""), table.out_dir)
 try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None,
-                  model=table.model)
+                  model=table.model, device=table.device or os.environ.get("ICERUBBLE_DEVICE") or "cpu")
 except RunInterrupted as e:   # a scheduler's signal or Ctrl-C: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)

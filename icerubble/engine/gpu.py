@@ -322,13 +322,13 @@ def compare_friction(model):
 
 class Steps:
     """Whole steps of `model` (an engine.Model) on the GPU, as far as they are
-    built (cuda/device_step.hpp): models without freeze bonds or sleeping,
-    with contact_reach infinite. Copies the model's mesh, state, boundary
-    conditions, clock, ledger and friction warm start; `step(n)` runs n steps
-    of Model.step, on the GPU but for the steps whose candidate list is
-    rebuilt, which the model takes itself (`host_steps` counts them);
-    `download()` puts the state back into the model, which continues from
-    there."""
+    built (cuda/device_step.hpp): models without the sleeping far field, with
+    contact_reach infinite. Copies the model's mesh, state, boundary
+    conditions, clock, ledger, friction warm start and bonds' state;
+    `step(n)` runs n steps of Model.step, on the GPU but for the steps whose
+    candidate list is rebuilt or whose bond check splits a point, which the
+    model takes itself (`host_steps` counts them); `download()` puts the
+    state back into the model, which continues from there."""
 
     def __init__(self, model):
         _require()
@@ -337,6 +337,7 @@ class Steps:
 
     def step(self, n=1):
         self._d.step(int(n))
+        self._model._follow_splits()   # splits are the model's own steps: its node sets follow
 
     def download(self):
         self._d.download(self._model._m)
@@ -354,6 +355,10 @@ class Steps:
         return self._d.host_steps
 
 
+# The bonds' totals the GPU sums over the pairs in another (fixed) order
+BOND_SUMS = ("work", "stored", "dissipation_effective")
+
+
 def compare_steps(make_model, n, nodes=None):
     """`n` steps of make_model() on the CPU against n steps of another
     make_model() on the GPU (Steps): returns {field: (entries whose bits
@@ -361,7 +366,12 @@ def compare_steps(make_model, n, nodes=None):
     x, y, vx, vy, 'ledger' (the ledger's terms' largest difference relative
     to the largest of them: the GPU sums in another fixed order), 'reaction'
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
-    (steps the model took itself: candidate list rebuilt) and 'ok'."""
+    (steps the model took itself: candidate list rebuilt, bond points split)
+    and 'ok'. A bonded model adds 'bonds': the bond state's array fields
+    whose bits differ anywhere (a list of names; the split and failure
+    records, the pairs' history, the screening flags), 'bond_sums' (the
+    largest relative difference of BOND_SUMS), 'bond_counts' ((split,
+    failed) on the CPU, on the GPU) and 'checks' (points evaluated: equal)."""
     cpu_model, gpu_model = make_model(), make_model()
     cpu_model.step(n)
     steps = Steps(gpu_model)
@@ -384,4 +394,25 @@ def compare_steps(make_model, n, nodes=None):
     out["time"] = cpu_model.time == gpu_model.time
     out["ok"] = (all(out[k][0] == 0 for k in ("x", "y", "vx", "vy")) and out["ledger"] <= ROUND_OFF
                  and out.get("reaction", 0.0) <= ROUND_OFF and out["time"])
+    if cpu_model.bonds.counts["points"]:
+        out.update(compare_bond_states(cpu_model, gpu_model))
+        out["ok"] = (out["ok"] and not out["bonds"] and out["bond_sums"] <= ROUND_OFF and out["checks"]
+                     and out["bond_counts"][0] == out["bond_counts"][1])
     return out
+
+
+def compare_bond_states(cpu_model, gpu_model):
+    """The bond states of two models stepped alike (compare_steps)."""
+    a, b = cpu_model.bonds.state(), gpu_model.bonds.state()
+    arrays = [k for k, v in a.items() if np.ndim(v) == 1]
+    differ = [k for k in arrays
+              if np.shape(a[k]) != np.shape(b[k])
+              or not np.array_equal(np.ascontiguousarray(a[k]).view(np.uint8),
+                                    np.ascontiguousarray(b[k]).view(np.uint8))]
+    sums = max(abs(float(b[k]) - float(a[k])) / max(abs(float(a[k])), 1e-300) for k in BOND_SUMS)
+
+    def counts(m):
+        c = m.bonds.counts
+        return (c["split"], c["failed"])
+    return {"bonds": differ, "bond_sums": sums, "checks": int(a["checks"]) == int(b["checks"]),
+            "bond_counts": (counts(cpu_model), counts(gpu_model))}

@@ -37,6 +37,24 @@ from icerubble import parameters as P  # noqa: E402
 from .bond_pairs import bond_pairs  # noqa: E402
 
 InstabilityError = _engine.InstabilityError
+# Where a model's steps run (Model(device=...), a study table's device
+# column): the CPU engine, or whole steps on one CUDA GPU (icerubble/engine/gpu.py,
+# docs/gpu.md).
+DEVICES = ("cpu", "cuda")
+
+
+def check_device(device):
+    """`device` checked: one of DEVICES, and 'cuda' only where the GPU backend
+    can run (ValueError saying why not, before any work)."""
+    if device not in DEVICES:
+        raise ValueError(f"device={device!r} is unknown: valid values are {', '.join(DEVICES)}")
+    if device == "cuda":
+        from . import gpu
+        why = gpu.why_unavailable()
+        if why:
+            raise ValueError(f"device='cuda': the GPU backend cannot run here: {why} (device='cpu' runs "
+                             "on the CPU engine; docs/gpu.md)")
+    return device
 # The indenter's smooth speed ramp, the one the smooth_ramp boundary condition runs.
 ramp_velocity = _engine.ramp_velocity
 
@@ -98,9 +116,13 @@ class Model:
     viscosity x rate of Green strain (~ eta D), default 0. nu defaults to 0.3
     (not given in the paper).
     node_sets: optional mapping name -> node ids.
+    device: where ``step`` runs, 'cpu' (the default) or 'cuda': whole steps
+    on one GPU (docs/gpu.md), the model's own state read and written as on
+    the CPU between calls; refused where the GPU backend cannot run.
     """
 
-    def __init__(self, nodes, triangles, body, materials, node_sets=None):
+    def __init__(self, nodes, triangles, body, materials, node_sets=None, device="cpu"):
+        self._device = check_device(device)   # before any work
         nodes = np.asarray(nodes, dtype=float)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or nodes.shape[0] < 3:
             raise ValueError(f"nodes must be an (N, 2) array with N >= 3 (got shape {nodes.shape})")
@@ -265,12 +287,30 @@ class Model:
         return a
 
     # ------------------------------------------------------------- running
+    @property
+    def device(self):
+        """Where ``step`` runs: 'cpu' or 'cuda' (settable; Model's device)."""
+        return self._device
+
+    @device.setter
+    def device(self, device):
+        self._device = check_device(device)
+
     def step(self, n=1):
         """Advance n time steps. Raises ValueError before stepping if dt is
-        above the stable step, InstabilityError if the run goes unstable."""
+        above the stable step, InstabilityError if the run goes unstable.
+        On device 'cuda' the n steps run on the GPU from the model's state,
+        which holds theirs when this returns (gpu.Steps: the mesh and state
+        are copied each call, so call it for many steps at a time)."""
         if not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0 (got {n!r})")
-        self._m.step(int(n))
+        if self._device == "cuda" and n > 0:
+            from . import gpu
+            steps = gpu.Steps(self)
+            steps.step(int(n))
+            steps.download()
+        else:
+            self._m.step(int(n))
         self._follow_splits()
 
     def evaluate(self):
@@ -537,10 +577,10 @@ class Model:
         }
 
     @classmethod
-    def from_checkpoint(cls, cp, materials):
+    def from_checkpoint(cls, cp, materials, device="cpu"):
         """A model on the checkpoint's mesh (split nodes included) and node sets."""
         return cls(cp["reference_positions"], cp["triangles"], cp["body"], materials,
-                   node_sets=cp["node_sets"])
+                   node_sets=cp["node_sets"], device=device)
 
     def restore_checkpoint(self, cp):
         """Positions, velocities, bonds and clock of checkpoint ``cp`` into a

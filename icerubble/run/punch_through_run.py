@@ -36,6 +36,7 @@ from . import checkpoint as ckpt
 from . import rest_states as RS
 from . import run_identity as RI
 from ..files.mesh_file import mesh_geometry, read_mesh
+from .. import engine
 from .. import parameters as P
 from .presets import SCENES
 from ..files.recorder import RunRecorder
@@ -57,7 +58,7 @@ class RunOptions:
                  settle_hold_time=_SETTLE["settle_hold_time"],
                  checkpoint_every_s=600.0, progress_every_s=10.0, threads=0, vtu=True,
                  stop_after_steps=None, dt_fraction=None, mass_scaling_dt=None, sleep=None,
-                 contact_reach=math.inf, numerics="", settle_mass_scaling_dt=None):
+                 contact_reach=math.inf, numerics="", settle_mass_scaling_dt=None, device="cpu"):
         # the settle's options: the registry's (icerubble/parameters.py, group settle)
         for k in P.SETTLE_OPTIONS:
             setattr(self, k, P.check_value(k, locals()[k]))
@@ -88,6 +89,8 @@ class RunOptions:
         # the same loads); None: the loading's
         self.settle_mass_scaling_dt = settle_mass_scaling_dt
         self.numerics = str(numerics)              # the preset these came from, for the record
+        # where the steps run (engine.DEVICES): refused here where it cannot, before any work
+        self.device = engine.check_device(device)
 
     @classmethod
     def from_numerics(cls, settings, name="", **kw):
@@ -136,7 +139,7 @@ class PunchThrough(Driver):
         self.ckpt_path = ckpt.checkpoint_path(self.out_path)
         self.meta = dict(ridge="", seed=-1, model="fem-dem")
         self.meta.update(meta or {})
-        self.scene = Scene(self.mesh, self.params, threads=self.options.threads)
+        self.scene = Scene(self.mesh, self.params, threads=self.options.threads, device=self.options.device)
         # The geometry is the mesh's (never a run parameter: validate refuses
         # it): recorded as simulated (the analyses read keel_depth, indenter_width ...)
         self.params = P.recorded(self.params, mesh_geometry(self.mesh))

@@ -90,6 +90,9 @@ def identity(params, mesh, options):
     sleep = getattr(options, "sleep", None)
     if sleep is not None:  # absent: off (the identity of runs made before it existed)
         ident["sleep"] = {k: _plain(v) for k, v in sorted(sleep.items())}
+    device = getattr(options, "device", "cpu")
+    if device != "cpu":  # absent: the CPU engine; the GPU sums in another order (docs/gpu.md)
+        ident["device"] = device
     return ident
 
 

@@ -32,7 +32,7 @@ def element_damping_time(params, element_size):
 class Scene:
     """The model plus what the driver needs to know about it."""
 
-    def __init__(self, mesh, params, threads=0):
+    def __init__(self, mesh, params, threads=0, device="cpu"):
         self.params = params
         self.mesh = mesh
         a = mesh["attrs"]
@@ -59,6 +59,7 @@ class Scene:
                              damping=element_damping_time(params, self.element_size),
                              viscosity=params["viscosity"])
         self.threads = threads
+        self.device = device   # where the model's steps run (engine.Model device)
         self.bond_points = find_bond_points(
             nodes, tri, body, keel_top_y=self.keel_top_y, keel_depth=self.keel_depth,
             sigma_cr=params["sigma_cr"], tau_cr=params["tau_cr"], G=params["G"],
@@ -73,7 +74,7 @@ class Scene:
             walls = self._wall_nodes(nodes, tri, body, float(a["domain_width"]))
             if walls.size:
                 sets["wall_sides"] = walls
-        self.model = engine.Model(nodes, tri, body, materials=self.material, node_sets=sets)
+        self.model = engine.Model(nodes, tri, body, materials=self.material, node_sets=sets, device=device)
         self._configure(self.model)
         # bonds hold while the scene settles; the driver switches failure on
         self.model.set_bond_points(self.bond_points, direction=params["force_direction"],
@@ -88,7 +89,7 @@ class Scene:
 
     def restore(self, cp):
         """Replace the model by one continuing checkpoint ``cp`` (engine.Model.checkpoint)."""
-        m = engine.Model.from_checkpoint(cp, self.material)
+        m = engine.Model.from_checkpoint(cp, self.material, device=self.device)
         self._configure(m)
         m.restore_checkpoint(cp)
         self.model = m

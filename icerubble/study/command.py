@@ -2,9 +2,10 @@
 
     icerubble study check TABLE     every line checked before any runs: exit 2 and
                                     'line N, column C: ...' for each problem
-    icerubble study run TABLE [--local] [--out DIR] [--jobs N] [--job-threads T]
+    icerubble study run TABLE [--local] [--out DIR] [--jobs N] [--job-threads T] [--device D]
                                     the table's lines here, through yade-batch; ends
-                                    with each line's outcome, exit 1 if any did not finish
+                                    with each line's outcome, exit 1 if any did not finish;
+                                    --device cuda: their steps on one GPU (docs/gpu.md)
     icerubble study submit TABLE --slurm [--out DIR] [--cpus-per-task N] [--time T]
                                     [--partition P] [--account A] [--sbatch-arg ARG ...]
                                     one SLURM job-array task per line; prints the job id
@@ -29,7 +30,7 @@ from . import outcome as SO
 from . import progress as study_progress
 from . import slurm
 from .folder import load_study, open_study, studies, study_dir, study_lock, table_of
-from .table_check import check_table
+from .table_check import check_table, read_table
 
 PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")
 DEFAULT_OUT = os.path.join(ROOT, "runs")
@@ -61,6 +62,9 @@ def main(argv=None):
     r.add_argument("--job-threads", type=int, default=2, help="threads of each line (default 2)")
     r.add_argument("--progress-every", type=float, default=60.0, metavar="S",
                    help="seconds between progress lines on the console (default 60)")
+    r.add_argument("--device", choices=("cpu", "cuda"), default=None,
+                   help="where the lines' steps run: cpu (default) or cuda, whole steps on one GPU "
+                        "(docs/gpu.md); a device column overrides it")
     s = sub.add_parser("submit", help=ACTIONS["submit"])
     s.add_argument("table")
     s.add_argument("--slurm", action="store_true", required=True, help="the scheduler (SLURM)")
@@ -85,7 +89,8 @@ def main(argv=None):
     if a.action in ("check", "run", "submit") and not check(a.table):
         return exit_status.USAGE   # refused before any line runs
     if a.action == "run":
-        return run_local(a.table, a.out, a.jobs, a.job_threads, a.progress_every)
+        check_devices(a.table, a.device)
+        return run_local(a.table, a.out, a.jobs, a.job_threads, a.progress_every, device=a.device)
     if a.action == "submit":
         job, log_dir = slurm.submit(a.table, a.out, PUNCH_THROUGH, sbatch_options=dict(
             cpus_per_task=a.cpus_per_task, time=a.time, partition=a.partition, account=a.account,
@@ -109,17 +114,28 @@ def check(table):
     return not problems
 
 
-def run_local(table, out, jobs=1, job_threads=2, progress_every=60.0):
+def check_devices(table, device):
+    """Refuse, before any line runs, a table whose lines ask for the GPU
+    (--device cuda, or a device column) where the GPU backend cannot run."""
+    from ..engine.model import check_device   # the compiled engine: only when a table runs
+    _, rows = read_table(table)
+    asked = {(row.get("device") or "").strip("'\"") or device or "cpu" for _, row, _ in rows if row}
+    for d in sorted(asked):
+        check_device(d)
+
+
+def run_local(table, out, jobs=1, job_threads=2, progress_every=60.0, device=None):
     """Every line of `table` through yade-batch on this machine; prints each
     line's start, end and progress (study_progress.py) and then its outcome,
-    and returns the exit status (1 if any line did not finish)."""
+    and returns the exit status (1 if any line did not finish). device: where
+    the lines without a device column run (None: the CPU)."""
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
     with study_lock(study_dir(out, table)):   # one run of a table into a folder at a time
-        return _run_locked(table, out, jobs, job_threads, progress_every)
+        return _run_locked(table, out, jobs, job_threads, progress_every, device)
 
 
-def _run_locked(table, out, jobs, job_threads, progress_every):
+def _run_locked(table, out, jobs, job_threads, progress_every, device=None):
     log_dir, study = open_study(table, out, "local")
     for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):
@@ -131,6 +147,8 @@ def _run_locked(table, out, jobs, job_threads, progress_every):
            "--disable-pynotify", "--log", SO.LOG_PATTERN, table_of(log_dir, study), PUNCH_THROUGH]
     # results in OUT; a relative out_dir column is relative to where the study was started
     env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"], ICERUBBLE_WORKDIR=os.getcwd())
+    if device:   # the lines without a device column (yade_scripts/punch_through.py)
+        env["ICERUBBLE_DEVICE"] = device
     print("[study] " + " ".join(cmd), flush=True)
     try:
         # its exit status says nothing about the lines

@@ -40,15 +40,19 @@ def result_name_problem(description):
 
 
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
-            resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True):
+            resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True, device="cpu"):
     """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
     numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS);
     model: "fem-dem", or "rigid-dem" (only inside YADE: the blocks are YADE polyhedra);
     share_rest: load from (or leave) the shared rest state of the runs of this
     scene that differ only in what the settle never reads (rest_states.py):
-    the same result, bit for bit, without the settle."""
+    the same result, bit for bit, without the settle;
+    device: where the FEM-DEM's steps run, 'cpu' or 'cuda' (engine.DEVICES;
+    options, when given, carry their own)."""
     if model not in MODELS:
         raise ValueError(f"model={model!r} is unknown: valid values are {', '.join(MODELS)}")
+    if model == "rigid-dem" and device != "cpu":
+        raise ValueError(f"device={device!r}: the rigid-dem model runs on YADE's engines, on the CPU only")
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})), scenes=SCENES)   # fail before any work
@@ -65,7 +69,7 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
         if "dt" in (overrides or {}):
             settings["dt_fraction"] = None
-        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS)
+        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, device=device)
     ident = RI.identity(params, read_mesh(mesh_path), options)
     if model != "fem-dem":   # absent: the FEM-DEM (identities of runs made before models)
         ident["model"] = model

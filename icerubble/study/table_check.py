@@ -27,11 +27,12 @@ import re
 from .. import parameters as P
 from ..run import shipped_ridges as SR
 from ..run.presets import NUMERICS, SCENES
+from ..engine.model import DEVICES
 from .line import MODELS, result_name_problem
 
 # Columns of the punch-through driver (yade_scripts/punch_through.py) beside the
 # run parameters (the registry's table columns, icerubble/parameters.py).
-DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model"}
+DRIVER_COLUMNS = {"ridge", "scene", "numerics", "out_dir", "resume", "description", "model", "device"}
 
 
 def read_table(path):
@@ -193,6 +194,11 @@ def _check_line(n, row, known):
     model = values.pop("model", "fem-dem")
     if model not in MODELS:
         problems.append(f"line {n}, column model: {model!r} is not a model; valid: {', '.join(MODELS)}")
+    device = values.pop("device", "")
+    if device not in ("",) + DEVICES:   # '': the study's --device, else the CPU
+        problems.append(f"line {n}, column device: {device!r} is not a device; valid: {', '.join(DEVICES)}")
+    elif device == "cuda" and model == "rigid-dem":
+        problems.append(f"line {n}, column device: the rigid-dem model runs on YADE's engines, on the CPU only")
     resume = values.pop("resume", True)
     if resume not in (True, False):   # the driver takes bool(resume): 'no' would resume
         problems.append(f"line {n}, column resume: {resume!r} must be True or False")

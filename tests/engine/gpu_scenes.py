@@ -137,3 +137,22 @@ def rubbing_blocks(rng):
     m.set_velocities(rng.normal(0.0, 3e-3, m.positions.shape))
     m.step(1)
     return m
+
+
+def pulled_bar(direction="paper"):
+    """Two blocks bonded across the middle of a bar, one end held, the other
+    pulled (tests/engine/freeze_bonds_scenes.py pull_bar): in 14,000 steps
+    its five bond points split (steps the model takes itself), open in the
+    rigid phase, soften and fail (the GPU's steps, the opened pairs made
+    again after them)."""
+    from tests.engine.freeze_bonds_scenes import pull_bar
+    return pull_bar(direction=direction)[0]
+
+
+def sheared_square(direction="paper"):
+    """Two blocks bonded along the diagonal of a square in pure shear
+    (freeze_bonds_scenes.py loaded_diagonal_square): within 1,000 steps its
+    nine bond points split and seven pairs fail, under compression across
+    the bond, so the split pairs' crack closure pushes too."""
+    from tests.engine.freeze_bonds_scenes import loaded_diagonal_square
+    return loaded_diagonal_square("shear", 0.02, G=0.2, direction=direction)[0]

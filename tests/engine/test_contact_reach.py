@@ -203,3 +203,36 @@ def test_where_the_reach_guard_measures_from_travels_with_the_checkpoint():
     rx, ry = r._m.reach_origin()
     mx, my = m._m.reach_origin()
     assert np.array_equal(rx, mx) and np.array_equal(ry, my)
+
+
+def test_points_split_within_a_call_are_measured_from_their_reference_place():
+    """A split adds nodes in the middle of a step(n) call, which prepares the
+    model once, at its start: the reach guard after it measures the new
+    nodes from their reference places, as a call that starts after the
+    split does (it read past the origins' end before). So the same steps
+    taken in one call and one at a time give the same bits, guard and mass
+    raises included."""
+    from tests.engine.freeze_bonds_scenes import two_block_bar
+
+    def flung():
+        m, bp, nodes = two_block_bar(sigma_cr=1e4, tau_cr=5e4, G=0.2)
+        m.set(penalty=1e11, contact_reach=0.01, mass_scaling_dt=2e-6)
+        body, tri = np.asarray(m.body), np.asarray(m.triangles)
+        v = np.zeros((m.n_nodes, 2))
+        v[np.unique(tri[body == 0])] = (-0.05, 0.02)
+        v[np.unique(tri[body == 1])] = (0.05, -0.01)
+        m.set_velocities(v)
+        m.set(dt=0.9 * m.stable_time_step()["dt"])
+        return m, len(bp)
+
+    whole, n_points = flung()
+    whole.step(1500)
+    apart, _ = flung()
+    for _ in range(1500):
+        apart.step(1)
+    assert whole.bonds.counts["split"] == n_points   # the points split within the one call
+    assert np.array_equal(whole.positions, apart.positions)
+    assert np.array_equal(whole.velocities, apart.velocities)
+    assert np.array_equal(whole.mass, apart.mass)
+    rw, ra = whole._m.reach_origin(), apart._m.reach_origin()
+    assert all(np.array_equal(a, b) for a, b in zip(rw, ra))

@@ -9,7 +9,7 @@ import pytest
 
 from icerubble.engine import gpu
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square, pressed_blocks,
-                                     rubbing_blocks, sliding_block)
+                                     pulled_bar, rubbing_blocks, sheared_square, sliding_block)
 
 needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
 
@@ -119,6 +119,25 @@ def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
 
 
 @needs_gpu
+@pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
+def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
+    # its points split in steps the model takes; their pairs soften and fail
+    # in the GPU's steps: the state, the bonds' records and history the CPU's bits
+    cmp = gpu.compare_steps(lambda: pulled_bar(direction), 14000, nodes="right")
+    assert cmp["bond_counts"][0] == (5, 5), cmp  # every point split, every pair failed
+    assert cmp["host_steps"] >= 1 and cmp["ok"], cmp
+
+
+@needs_gpu
+def test_whole_gpu_steps_of_a_sheared_square_are_the_cpus():
+    # failures in shear, and the split pairs' crack closure under compression
+    cmp = gpu.compare_steps(sheared_square, 3000, nodes="top")
+    assert cmp["bond_counts"][0][1] > 0 and cmp["ok"], cmp
+
+
+@needs_gpu
 def test_the_gpu_step_says_what_it_does_not_run_yet():
-    with pytest.raises(ValueError, match="without freeze bonds so far: this one has"):
-        gpu.Steps(bonded_square(np.random.default_rng(0)))
+    m = driven_block(np.random.default_rng(0), "linear")
+    m.set(sleeping=True)
+    with pytest.raises(ValueError, match="does not run the sleeping far field"):
+        gpu.Steps(m)

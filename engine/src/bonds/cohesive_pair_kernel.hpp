@@ -7,6 +7,7 @@
 #pragma once
 #include <cstdint>
 
+#include "bonds/bond_fields.hpp"
 #include "cohesive_law/softening.hpp"
 #include "common/host_device.hpp"
 
@@ -132,6 +133,46 @@ ICERUBBLE_HD CohesivePairStep cohesive_pair_step(const CohesivePairArrays& a, in
   r.dissipation = cl::dissipation_increment(a.f0[k], a.delta_f[k], a.delta_m[k], dm);
   r.delta_m = dm;
   return r;
+}
+
+// Where a committed step writes the pairs' history and their full failures
+// (bonds/bond_fields.hpp's names): BondState's arrays on the CPU, the
+// cohesive stage's on the GPU.
+struct CohesiveHistory {
+  double* delta_m;
+  double* f_n_prev;
+  double* f_t_prev;
+  double* d_n_prev;
+  double* d_t_prev;
+  PairState* pair_state;
+  FailureMode* mode;
+  double* t_fail;
+  double* x_fail;
+  double* y_fail;
+  double* dn_fail;
+  double* dt_fail;
+};
+
+// Pair k's step `r`, taken at `time` from the state in `a`, committed: its
+// history, and where it failed fully, its failure record. Returns whether it
+// failed.
+ICERUBBLE_HD bool commit_pair_step(const CohesiveHistory& h, const CohesivePairArrays& a, int32_t k,
+                                   const CohesivePairStep& r, double time) {
+  h.delta_m[k] = r.delta_m;
+  h.f_n_prev[k] = r.f_n;
+  h.f_t_prev[k] = r.f_t;
+  h.d_n_prev[k] = r.delta_n;
+  h.d_t_prev[k] = r.delta_t;
+  if (!r.failed) return false;
+  const int32_t ip = a.node_plus[k], im = a.node_minus[k];
+  h.pair_state[k] = PairState::failed;
+  h.t_fail[k] = time;
+  h.x_fail[k] = 0.5 * (a.x[ip] + a.x[im]);
+  h.y_fail[k] = 0.5 * (a.y[ip] + a.y[im]);
+  h.dn_fail[k] = r.delta_n;
+  h.dt_fail[k] = r.delta_t;
+  h.mode[k] = FailureMode(r.mode);
+  return true;
 }
 
 }  // namespace engine

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bonds/crack_closure_kernel.hpp"
 #include "cohesive_law/criterion.hpp"
 
 namespace engine {
@@ -262,8 +263,10 @@ void FreezeBonds::apply(BondHost& M, bool commit) {
   w_pair_.assign(n, 0.0);
   s_pair_.assign(n, 0.0);
   e_pair_.assign(n, 0.0);
-  const Nodes& N = static_cast<const BondHost&>(M).nodes();
   const CohesivePairArrays a = pair_arrays(M);
+  const CohesiveHistory h{st_.delta_m.data(), st_.f_n_prev.data(), st_.f_t_prev.data(), st_.d_n_prev.data(),
+                          st_.d_t_prev.data(), st_.pair_state.data(), st_.mode.data(), st_.t_fail.data(),
+                          st_.x_fail.data(), st_.y_fail.data(), st_.dn_fail.data(), st_.dt_fail.data()};
   const cl::ForceDirection dir = params_.direction;
   const double time = M.time();
   const double dt = M.dt();
@@ -277,24 +280,7 @@ void FreezeBonds::apply(BondHost& M, bool commit) {
     w_pair_[j] = r.work;
     s_pair_[j] = r.stored;
     e_pair_[j] = r.dissipation;
-    if (commit) {
-      st_.delta_m[k] = r.delta_m;
-      st_.f_n_prev[k] = r.f_n;
-      st_.f_t_prev[k] = r.f_t;
-      st_.d_n_prev[k] = r.delta_n;
-      st_.d_t_prev[k] = r.delta_t;
-      if (r.failed) {
-        const int32_t ip = st_.node_plus[k], im = st_.node_minus[k];
-        st_.pair_state[k] = PairState::failed;
-        st_.t_fail[k] = time;
-        st_.x_fail[k] = 0.5 * (N.x[ip] + N.x[im]);
-        st_.y_fail[k] = 0.5 * (N.y[ip] + N.y[im]);
-        st_.dn_fail[k] = r.delta_n;
-        st_.dt_fail[k] = r.delta_t;
-        st_.mode[k] = cl::FailureMode(r.mode);
-        any_failed = true;
-      }
-    }
+    if (commit && commit_pair_step(h, a, k, r, time)) any_failed = true;
   }
   // Scatter in pair order: deterministic, whatever the thread count.
   Nodes& W = M.bond_nodes();
@@ -337,9 +323,8 @@ void FreezeBonds::apply_crack_closure(BondHost& M) {
     if (st_.pair_state[j] == PairState::intact) continue;
     const int32_t ip = st_.node_plus[j], im = st_.node_minus[j];
     const double nx = st_.fnx[j], ny = st_.fny[j];
-    const double delta_n = (W.x[ip] - W.x[im]) * nx + (W.y[ip] - W.y[im]) * ny;
-    if (delta_n >= 0.0) continue;
-    const double f = -k * delta_n;  // pushes x+ along +n and x- along -n
+    double f;  // pushes x+ along +n and x- along -n
+    if (!crack_closure_force(W.x.data(), W.y.data(), ip, im, nx, ny, k, f)) continue;
     W.f_con_x[ip] += f * nx;
     W.f_con_y[ip] += f * ny;
     W.f_con_x[im] -= f * nx;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "bonds/bond_check_kernel.hpp"
+#include "cuda/bond_check_impl.cuh"
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
 #include "model/model.hpp"
@@ -20,6 +21,25 @@ __global__ void check_kernel(BondCheckArrays a, const int32_t* points, int32_t n
   if (j < n) ratio[points[j]] = bond_point_ratio(a, points[j], mu);
 }
 
+// FreezeBonds::check's loop body for one intact point in a committed step:
+// the same screening, the same flags; a point at the criterion sets *split
+// (the step is then the model's, whose check makes the plan).
+__global__ void screened_check_kernel(BondCheckArrays a, const int32_t* points, int32_t n, double mu, int64_t step,
+                                      int32_t k, double frac, const int8_t* near, int8_t* near_next, int32_t* split,
+                                      unsigned long long* evaluated) {
+  const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
+  if (j >= n) return;
+  const int32_t p = points[j];
+  if (k > 1 && !near[p] && (step + p) % k != 0) {
+    near_next[p] = near[p];
+    return;
+  }
+  atomicAdd(evaluated, 1ULL);  // an integer count: the same in any order
+  const double r = bond_point_ratio(a, p, mu);
+  near_next[p] = r >= frac;
+  if (r >= 1.0) *split = 1;  // any lane: the same 1
+}
+
 template <class T>
 void upload(DeviceArray<T>& d, const T* h, size_t n) {
   d.upload(h, n);
@@ -27,25 +47,29 @@ void upload(DeviceArray<T>& d, const T* h, size_t n) {
 
 }  // namespace
 
-struct DeviceBondCheck::Impl {
-  int32_t n_points = 0, n_pairs = 0, n_intact = 0;
-  double mu = 0.0;
-  DeviceArray<double> x, y, stress, area0, sigma_cr, tau_cr, beta, d0x, d0y, n0x, n0y, tn, tt, ratio;
-  DeviceArray<int32_t> start, slot, point_node, first_pair, n_pairs_of, frame_p, frame_q, intact;
-  cudaStream_t stream = nullptr;
+BondCheckArrays DeviceBondCheck::Impl::arrays(const double* at_x, const double* at_y, const double* at_stress) {
+  return {at_x,         at_y,          start.data(),    slot.data(),     at_stress,
+          area0.data(), point_node.data(), first_pair.data(), n_pairs_of.data(),
+          sigma_cr.data(), tau_cr.data(), beta.data(),     frame_p.data(),  frame_q.data(),
+          d0x.data(),   d0y.data(),    n0x.data(),      n0y.data(),      tn.data(),
+          tt.data()};
+}
 
-  void launch() {
-    const BondCheckArrays a{x.data(),        y.data(),      start.data(),    slot.data(),     stress.data(),
-                            area0.data(),    point_node.data(), first_pair.data(), n_pairs_of.data(),
-                            sigma_cr.data(), tau_cr.data(), beta.data(),     frame_p.data(),  frame_q.data(),
-                            d0x.data(),      d0y.data(),    n0x.data(),      n0y.data(),      tn.data(),
-                            tt.data()};
-    if (n_intact)
-      check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(a, intact.data(), n_intact, mu,
-                                                                            ratio.data());
-    cuda_check(cudaGetLastError(), "kernel launch");
-  }
-};
+void DeviceBondCheck::Impl::launch() {
+  if (n_intact)
+    check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(arrays(x.data(), y.data(), stress.data()),
+                                                                          intact.data(), n_intact, mu, ratio.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
+
+void DeviceBondCheck::Impl::launch_screened(const double* at_x, const double* at_y, const double* at_stress,
+                                            int64_t step) {
+  if (n_intact)
+    screened_check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(
+        arrays(at_x, at_y, at_stress), intact.data(), n_intact, mu, step, screen_interval, screen_fraction,
+        near.data(), near_next.data(), split.data(), evaluated.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
 
 DeviceBondCheck::DeviceBondCheck(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
@@ -81,6 +105,12 @@ DeviceBondCheck::DeviceBondCheck(const Model& m) : impl_(new Impl) {
   d.tt.upload(std::vector<double>(nk, NAN));
   d.ratio.upload(std::vector<double>(np, NAN));
   d.intact.upload(B.intact_points());
+  d.screen_interval = B.params().screen_interval;
+  d.screen_fraction = B.params().screen_fraction;
+  d.near.upload(B.state().near);
+  d.near_next.upload(B.state().near);  // a point not checked keeps its flag in either
+  d.split.resize(1);
+  d.evaluated.resize(1);
 }
 
 DeviceBondCheck::~DeviceBondCheck() {

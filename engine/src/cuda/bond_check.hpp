@@ -31,6 +31,7 @@ class DeviceBondCheck {
   BondCheckFields fields();
 
  private:
+  friend class DeviceStep;  // the whole step runs the stage on its state (cuda/device_step.cu)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

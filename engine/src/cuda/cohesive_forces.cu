@@ -7,6 +7,8 @@
 #include <algorithm>
 
 #include "bonds/cohesive_pair_kernel.hpp"
+#include "bonds/crack_closure_kernel.hpp"
+#include "cuda/cohesive_forces_impl.cuh"
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
@@ -43,6 +45,30 @@ __global__ void __launch_bounds__(kBlock)
   }
 }
 
+// The same, in a committed step: the pair's history and any full failure
+// written as FreezeBonds::apply(commit) writes them (each lane its own pair).
+__global__ void __launch_bounds__(kBlock)
+    committed_pair_kernel(CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
+                          cohesive_law::ForceDirection dir, double dt, double time, double* fpx, double* fpy,
+                          double* partial, int32_t n_blocks, int32_t* any_failed) {
+  __shared__ double shared[kBlock];
+  const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
+  CohesivePairStep r;
+  if (j < n) {
+    const int32_t k = open[j];
+    r = cohesive_pair_step(a, k, dir, dt);
+    fpx[j] = r.fpx;
+    fpy[j] = r.fpy;
+    if (commit_pair_step(h, a, k, r, time)) *any_failed = 1;  // any lane: the same 1
+  }
+  const double terms[kTerms] = {r.work, r.stored, r.dissipation};
+  #pragma unroll
+  for (int k = 0; k < kTerms; ++k) {
+    const double s = block_sum<kBlock>(terms[k], shared);
+    if (threadIdx.x == 0) partial[size_t(k) * n_blocks + blockIdx.x] = s;
+  }
+}
+
 // A node's pairs in ascending order; entry e is pair (entry[e] >> 1) with the
 // + node's force where its low bit is 0 and the - node's (the opposite) where 1.
 __global__ void node_kernel(const int32_t* start, const int32_t* entry, const double* fpx, const double* fpy,
@@ -60,37 +86,75 @@ __global__ void node_kernel(const int32_t* start, const int32_t* entry, const do
   f_y[i] = sy;
 }
 
+// Each node's crack-closure forces added to its contact force, its split
+// pairs in ascending order as FreezeBonds::apply_crack_closure adds them.
+__global__ void closure_kernel(const double* x, const double* y, const int32_t* node_plus, const int32_t* node_minus,
+                               const double* fnx, const double* fny, double penalty, const int32_t* start,
+                               const int32_t* entry, int32_t n, double* f_con_x, double* f_con_y) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i >= n || start[i] == start[i + 1]) return;
+  double sx = f_con_x[i], sy = f_con_y[i];
+  for (int32_t e = start[i]; e < start[i + 1]; ++e) {
+    const int32_t k = entry[e] >> 1;
+    double f;
+    if (!crack_closure_force(x, y, node_plus[k], node_minus[k], fnx[k], fny[k], penalty, f)) continue;
+    if (entry[e] & 1) {
+      sx -= f * fnx[k];
+      sy -= f * fny[k];
+    } else {
+      sx += f * fnx[k];
+      sy += f * fny[k];
+    }
+  }
+  f_con_x[i] = sx;
+  f_con_y[i] = sy;
+}
+
 }  // namespace
 
-struct DeviceCohesiveForces::Impl {
-  int32_t n_nodes = 0, n_open = 0;
-  double dt = 0.0;
-  cohesive_law::ForceDirection dir = cohesive_law::ForceDirection::paper;
-  DeviceArray<double> x, y, vx, vy, mass, f_x, f_y, f_con_x, f_con_y, fnx, fny, f0, delta_f, delta_m_in, f_n_prev,
-      f_t_prev, d_n_prev, d_t_prev, beta, fpx, fpy, delta_m, f_coh_x, f_coh_y, partial, sums;
-  DeviceArray<int32_t> pair_point, node_plus, node_minus, open, start, entry;
-  DeviceArray<int8_t> failed, mode;
-  cudaStream_t stream = nullptr;
+int DeviceCohesiveForces::Impl::n_blocks() const { return n_open ? (n_open + kBlock - 1) / kBlock : 1; }
 
-  int n_blocks() const { return n_open ? (n_open + kBlock - 1) / kBlock : 1; }
+CohesivePairArrays DeviceCohesiveForces::Impl::arrays(const double* at_x, const double* at_y, const double* at_vx,
+                                                     const double* at_vy, const double* at_f_x, const double* at_f_y,
+                                                     const double* at_f_con_x, const double* at_f_con_y) {
+  return {at_x,        at_y,         at_vx,           at_vy,           mass.data(),     at_f_x,
+          at_f_y,      at_f_con_x,   at_f_con_y,      pair_point.data(), node_plus.data(), node_minus.data(),
+          fnx.data(),  fny.data(),   f0.data(),       delta_f.data(),  delta_m_in.data(), f_n_prev.data(),
+          f_t_prev.data(), d_n_prev.data(), d_t_prev.data(), beta.data()};
+}
 
-  void launch() {
-    const CohesivePairArrays a{x.data(),        y.data(),        vx.data(),       vy.data(),
-                               mass.data(),     f_x.data(),      f_y.data(),      f_con_x.data(),
-                               f_con_y.data(),  pair_point.data(), node_plus.data(), node_minus.data(),
-                               fnx.data(),      fny.data(),      f0.data(),       delta_f.data(),
-                               delta_m_in.data(), f_n_prev.data(), f_t_prev.data(), d_n_prev.data(),
-                               d_t_prev.data(), beta.data()};
-    pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
-                                                  delta_m.data(), failed.data(), mode.data(), partial.data(),
-                                                  n_blocks());
-    node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
-                                                                       fpy.data(), n_nodes, f_coh_x.data(),
-                                                                       f_coh_y.data());
-    term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
-    cuda_check(cudaGetLastError(), "kernel launch");
-  }
-};
+CohesiveHistory DeviceCohesiveForces::Impl::history() {
+  return {delta_m_in.data(), f_n_prev.data(), f_t_prev.data(), d_n_prev.data(), d_t_prev.data(), pair_state.data(),
+          pair_mode.data(),  t_fail.data(),   x_fail.data(),   y_fail.data(),   dn_fail.data(),  dt_fail.data()};
+}
+
+void DeviceCohesiveForces::Impl::launch() {
+  const CohesivePairArrays a = arrays(x.data(), y.data(), vx.data(), vy.data(), f_x.data(), f_y.data(),
+                                      f_con_x.data(), f_con_y.data());
+  pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
+                                                delta_m.data(), failed.data(), mode.data(), partial.data(),
+                                                n_blocks());
+  node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
+                                                                     fpy.data(), n_nodes, f_coh_x.data(),
+                                                                     f_coh_y.data());
+  term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
+
+void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, double time, double* f_con_x,
+                                                   double* f_con_y) {
+  committed_pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, history(), open.data(), n_open, dir, dt, time,
+                                                          fpx.data(), fpy.data(), partial.data(), n_blocks(),
+                                                          any_failed.data());
+  node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
+                                                                     fpy.data(), n_nodes, f_coh_x.data(),
+                                                                     f_coh_y.data());
+  term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+  closure_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(
+      a.x, a.y, node_plus.data(), node_minus.data(), fnx.data(), fny.data(), penalty, closure_start.data(),
+      closure_entry.data(), n_nodes, f_con_x, f_con_y);
+  cuda_check(cudaGetLastError(), "kernel launch");
+}
 
 DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
@@ -127,6 +191,34 @@ DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   d.d_t_prev.upload(h.d_t_prev, nk);
   d.beta.upload(h.beta, np);
   d.open.upload(open);
+  d.n_pairs = int32_t(nk);
+  const BondState& st = B.state();
+  d.pair_state.upload(st.pair_state);
+  d.pair_mode.upload(st.mode);
+  d.t_fail.upload(st.t_fail);
+  d.x_fail.upload(st.x_fail);
+  d.y_fail.upload(st.y_fail);
+  d.dn_fail.upload(st.dn_fail);
+  d.dt_fail.upload(st.dt_fail);
+  d.any_failed.resize(1);
+  // the crack closure's pairs per node, ascending (a counting sort over the split pairs)
+  d.penalty = m.contact_params().penalty;
+  std::vector<int32_t> cstart(nn + 1, 0), centry;
+  for (size_t k = 0; k < nk; ++k)
+    if (st.pair_state[k] != PairState::intact) {
+      ++cstart[size_t(h.node_plus[k]) + 1];
+      ++cstart[size_t(h.node_minus[k]) + 1];
+    }
+  for (size_t i = 0; i < nn; ++i) cstart[i + 1] += cstart[i];
+  centry.resize(size_t(cstart[nn]));
+  std::vector<int32_t> cfill(cstart.begin(), cstart.end() - 1);
+  for (size_t k = 0; k < nk; ++k)
+    if (st.pair_state[k] != PairState::intact) {
+      centry[size_t(cfill[size_t(h.node_plus[k])]++)] = int32_t(2 * k);
+      centry[size_t(cfill[size_t(h.node_minus[k])]++)] = int32_t(2 * k + 1);
+    }
+  d.closure_start.upload(cstart);
+  d.closure_entry.upload(centry);
   // each node's pairs in ascending pair order (a counting sort over the open list)
   std::vector<int32_t> start(nn + 1, 0), entry(2 * open.size());
   for (int32_t k : open) {

@@ -35,6 +35,7 @@ class DeviceCohesiveForces {
   int32_t open_pairs() const;
 
  private:
+  friend class DeviceStep;  // the whole step runs the stage on its state (cuda/device_step.cu)
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

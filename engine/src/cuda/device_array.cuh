@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace engine {
@@ -43,6 +44,11 @@ class DeviceArray {
     std::vector<T> h(n_);
     if (n_) cuda_check(cudaMemcpy(h.data(), p_, n_ * sizeof(T), cudaMemcpyDeviceToHost), "copy from GPU");
     return h;
+  }
+  // Exchanges the two arrays' memory (a double buffer's turn, no copy).
+  void swap(DeviceArray& o) noexcept {
+    std::swap(p_, o.p_);
+    std::swap(n_, o.n_);
   }
   T* data() { return p_; }
   const T* data() const { return p_; }

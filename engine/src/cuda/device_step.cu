@@ -1,6 +1,7 @@
 // Whole steps on the GPU (cuda/device_step.hpp): the body forces, the normal
-// contact, the force assembly, friction, the boundary conditions and the
-// update, in Model::advance's order, on one stream. The stages keep their own
+// contact, the bond check, the cohesive forces, the force assembly, friction,
+// the boundary conditions and the update, in Model::advance's order, on one
+// stream. The stages keep their own
 // arrays for now (the comparisons of docs/gpu.md make them from a model one
 // at a time), so a step copies each stage's results into the next one's
 // arrays and the new state back, on the GPU.
@@ -12,6 +13,20 @@
 // new list, and the stages are made again from the model. Any complete list
 // gives the same touching pairs, so the same bits. Friction's warm start is
 // kept per candidate between rebuilds (NaN: did not touch in the step before).
+//
+// Bond points split rarely (a few thousand in a paper run of a million
+// steps), and a split changes the mesh: the GPU checks every step as
+// FreezeBonds::check does (the same screening), and a step whose check finds
+// a point at the criterion is the model's, as a rebuild of the list is (the
+// state goes back, the model splits, the stages are made again). A pair's
+// full failure changes the list of opened pairs: the step is the GPU's, and
+// the stages are made again after it.
+//
+// With a finite contact_reach the GPU tests every kReachCheckEvery steps, as
+// Model::advance does, whether a node has moved past reach/2 since the
+// contact step was bound; the model then re-bounds it after the step
+// (Model::guard_contact_reach: masses raised, or the run stopped), and the
+// stages are made again.
 #include "cuda/device_step.hpp"
 
 #include <algorithm>
@@ -20,6 +35,8 @@
 
 #include "common/input_errors.hpp"
 #include "cuda/body_forces_impl.cuh"
+#include "cuda/bond_check_impl.cuh"
+#include "cuda/cohesive_forces_impl.cuh"
 #include "cuda/contact_normal_impl.cuh"
 #include "cuda/friction_impl.cuh"
 #include "cuda/device_array.cuh"
@@ -28,6 +45,7 @@
 #include "loads/boundary_kernel.hpp"
 #include "model/assemble_kernel.hpp"
 #include "model/model.hpp"
+#include "model/reach_kernel.hpp"
 #include "model/step_sums.hpp"
 
 namespace engine {
@@ -58,6 +76,14 @@ __global__ void moved_kernel(const double* x, const double* y, const double* x0,
   if (moved_past_skin(x[i], y[i], x0[i], y0[i], skin)) *moved = 1;  // any lane: the same 1
 }
 
+// Whether a node has moved past half the contact reach since the contact
+// step was bound (Model::guard_contact_reach's test).
+__global__ void reach_kernel(const double* x, const double* y, const double* x0, const double* y0, int32_t n,
+                             double half, int32_t* moved) {
+  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n && moved_past_reach(x[i], y[i], x0[i], y0[i], half)) *moved = 1;  // any lane: the same 1
+}
+
 // The next step's warm start, per candidate: its tangential force if it
 // touched, else NaN (absent, as a pair that did not touch is from the CPU's).
 __global__ void warm_start_kernel(const uint8_t* hit, const double* lambda, int32_t n, double* prev_lambda) {
@@ -68,6 +94,11 @@ __global__ void warm_start_kernel(const uint8_t* hit, const double* lambda, int3
 // NodeWork's terms in the update's sums (cuda/node_update.cu), by name.
 enum Term { t_kinetic2_new, t_kinetic2_old, t_viscous, t_local_damping, t_contact, t_friction, t_cohesive,
             t_gravity, t_buoyancy, t_drag, t_boundary, t_elastic_new, t_elastic_old, n_terms };
+// What a step copies back after the update's sums, by name.
+enum Extra { x_elastic = n_terms, x_contact, x_friction_power, x_coh_work, x_coh_stored, x_coh_dissipation,
+             n_copied };
+// ... and its flags.
+enum Flag { f_inverted, f_moved, f_split, f_failed, f_reach, n_flags };
 
 }  // namespace
 
@@ -78,10 +109,24 @@ struct DeviceStep::Impl {
   std::unique_ptr<DeviceNodeUpdate> update;
   std::unique_ptr<DeviceContactNormal> normal;
   std::unique_ptr<DeviceFriction> friction;
+  std::unique_ptr<DeviceBondCheck> check;         // bonded models: the check (when checking)
+  std::unique_ptr<DeviceCohesiveForces> cohesive;  // ... and the cohesive forces
+  bool bonded = false;    // the model has bond points
+  bool checking = false;  // ... and checks them (BondParams::check_failure)
+  // the bonds' accounts (FreezeBonds: work, stored, effective dissipation,
+  // points evaluated), the model's when the stages were made, then the GPU's steps'
+  double bond_work = 0.0, bond_stored = 0.0, bond_dissipation = 0.0;
+  int64_t bond_checks = 0;
   std::vector<BoundaryCondition> bcs;
   std::vector<std::unique_ptr<DeviceArray<int32_t>>> bc_nodes;
   DeviceArray<int32_t> list_nodes, moved;  // the candidate list's test (moved_kernel)
   DeviceArray<double> list_x, list_y;
+  // the contact reach guard (finite contact_reach): where each node's move
+  // is measured from, half the reach, a node moved past it
+  bool reach_guard = false;
+  double reach_half = 0.0;
+  DeviceArray<double> reach_x, reach_y;
+  DeviceArray<int32_t> reach_moved;
   double skin = 0.0;
   bool list_valid = true;
   double dt = 0.0, time = 0.0;
@@ -90,13 +135,16 @@ struct DeviceStep::Impl {
   cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
   // what a step copies back: the update's sums, the strain energy, the
   // contact energy, the friction power; the first inverted element, moved
-  double* host_sums = nullptr;  // pinned, n_terms + 3
-  int32_t* host_flags = nullptr;  // pinned, 2
+  double* host_sums = nullptr;  // pinned, n_copied
+  int32_t* host_flags = nullptr;  // pinned, n_flags
+  unsigned long long* host_evaluated = nullptr;  // pinned, 1: bond points the step's check evaluated
 
   DeviceBodyForces::Impl& f() { return *forces->impl_; }
   DeviceNodeUpdate::Impl& u() { return *update->impl_; }
   DeviceContactNormal::Impl& cn() { return *normal->impl_; }
   DeviceFriction::Impl& fr() { return *friction->impl_; }
+  DeviceBondCheck::Impl& bc() { return *check->impl_; }
+  DeviceCohesiveForces::Impl& co() { return *cohesive->impl_; }
 
   void copy(DeviceArray<double>& to, const DeviceArray<double>& from) {
     cuda_check(cudaMemcpyAsync(to.data(), from.data(), from.size() * sizeof(double), cudaMemcpyDeviceToDevice,
@@ -106,32 +154,68 @@ struct DeviceStep::Impl {
   void fetch(T* host, const DeviceArray<T>& from, size_t n) {
     cuda_check(cudaMemcpyAsync(host, from.data(), n * sizeof(T), cudaMemcpyDeviceToHost, stream), "copy from GPU");
   }
+  template <class T>
+  void zero(DeviceArray<T>& a) {
+    cuda_check(cudaMemsetAsync(a.data(), 0, a.size() * sizeof(T), stream), "memset");
+  }
+
+  // Every stage runs on the body-force stage's stream, destroyed with it:
+  // the others forget theirs before they go.
+  void release_stages() {
+    if (update) u().stream = nullptr;
+    if (normal) cn().stream = nullptr;
+    if (friction) fr().stream = nullptr;
+    if (check) bc().stream = nullptr;
+    if (cohesive) co().stream = nullptr;
+    update.reset();
+    normal.reset();
+    friction.reset();
+    check.reset();
+    cohesive.reset();
+    forces.reset();
+  }
+  // A stage made with a stream of its own moves onto the step's.
+  void adopt(cudaStream_t& s) {
+    cuda_check(cudaStreamDestroy(s), "cudaStreamDestroy");
+    s = stream;
+  }
 
   // The stages made from the model as it is now, with its candidate list
   // (after a step of its own: the one that step built), on one stream.
   void make_stages() {
     const Model& cm = *model;
-    // the old stages all run on the old body-force stage's stream, destroyed with it
-    if (update) u().stream = nullptr;
-    if (normal) cn().stream = nullptr;
-    if (friction) fr().stream = nullptr;
-    update.reset();
-    normal.reset();
-    friction.reset();
+    release_stages();
+    // the boundary conditions: a node split off a held or driven node is held or driven too
+    bcs = cm.boundary_conditions();
+    bc_nodes.clear();
+    for (const BoundaryCondition& bc : bcs) {
+      bc_nodes.emplace_back(new DeviceArray<int32_t>());
+      bc_nodes.back()->upload(bc.nodes);
+    }
     forces.reset(new DeviceBodyForces(cm));
     update.reset(new DeviceNodeUpdate(cm));
     stream = f().stream;
-    cuda_check(cudaStreamDestroy(u().stream), "cudaStreamDestroy");
-    u().stream = stream;
+    adopt(u().stream);
     for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})  // no contact: zero for good
       cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
     if (!contact) return settle_uploads();
     normal.reset(new DeviceContactNormal(cm));
     friction.reset(new DeviceFriction(cm));
-    for (cudaStream_t* s : {&cn().stream, &fr().stream}) {
-      cuda_check(cudaStreamDestroy(*s), "cudaStreamDestroy");
-      *s = stream;
+    adopt(cn().stream);
+    adopt(fr().stream);
+    if (bonded) {
+      const FreezeBonds& B = cm.bonds();
+      if (checking) {
+        check.reset(new DeviceBondCheck(cm));
+        adopt(bc().stream);
+      }
+      cohesive.reset(new DeviceCohesiveForces(cm));
+      adopt(co().stream);
+      bond_work = B.work();
+      bond_stored = B.stored();
+      bond_dissipation = B.dissipation_effective();
+      bond_checks = B.checks();
     }
     // the model's warm start (keys of the pairs of its last step, sorted) per candidate
     DeviceFriction::Impl& F = fr();
@@ -158,6 +242,17 @@ struct DeviceStep::Impl {
     list_y.upload(cm.contact().list_origin_y());
     skin = cm.contact().list_skin();
     moved.resize(1);
+    if (reach_guard) {  // the model's origins; a node split off since has its reference place (as the model's)
+      std::vector<double> rx = cm.reach_origin_x(), ry = cm.reach_origin_y();
+      const Nodes& N = cm.nodes();
+      for (size_t i = rx.size(); i < size_t(N.size()); ++i) {
+        rx.push_back(N.x0[i]);
+        ry.push_back(N.y0[i]);
+      }
+      reach_x.upload(rx);
+      reach_y.upload(ry);
+      reach_moved.resize(1);
+    }
     settle_uploads();
   }
 
@@ -177,6 +272,24 @@ struct DeviceStep::Impl {
       copy(U.f_con_x, cn().f_con_x);
       copy(U.f_con_y, cn().f_con_y);
     }
+    const bool checked = checking && bc().n_intact > 0;
+    if (checked) {  // (4) the bond check at the step's state: a split makes the step the model's
+      DeviceBondCheck::Impl& K = bc();
+      zero(K.split);
+      zero(K.evaluated);
+      K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), step_count);
+      fetch(host_flags + f_split, K.split, 1);
+      fetch(host_evaluated, K.evaluated, 1);
+      cuda_check(cudaStreamSynchronize(stream), "GPU bond check");
+      if (host_flags[f_split]) return host_step();  // the GPU's state is still the step's start
+    }
+    if (bonded) {  // (5) the opened pairs' cohesive forces, history and failures; the crack closure
+      DeviceCohesiveForces::Impl& C = co();
+      zero(C.any_failed);
+      const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
+                                            F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
+      C.launch_committed(a, time, U.f_con_x.data(), U.f_con_y.data());
+    }
     copy(U.f_int_x, F.f_int_x);
     copy(U.f_int_y, F.f_int_y);
     copy(U.f_visc_x, F.f_visc_x);
@@ -185,8 +298,8 @@ struct DeviceStep::Impl {
     copy(U.drag_k, F.drag_k);
     copy(U.f_x, F.f_x);
     copy(U.f_y, F.f_y);
-    copy(U.f_coh_x, F.f_coh_x);
-    copy(U.f_coh_y, F.f_coh_y);
+    copy(U.f_coh_x, bonded ? co().f_coh_x : F.f_coh_x);
+    copy(U.f_coh_y, bonded ? co().f_coh_y : F.f_coh_y);
     // the total before friction
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
@@ -221,10 +334,14 @@ struct DeviceStep::Impl {
     copy(F.vx, U.vx);
     copy(F.vy, U.vy);
     fetch(host_sums, U.sums, n_terms);
-    fetch(host_sums + n_terms, F.total, 1);
-    fetch(host_flags, F.inverted, 1);
-    host_sums[n_terms + 1] = host_sums[n_terms + 2] = 0.0;
-    host_flags[1] = 0;
+    fetch(host_sums + x_elastic, F.total, 1);
+    fetch(host_flags + f_inverted, F.inverted, 1);
+    host_sums[x_contact] = host_sums[x_friction_power] = 0.0;
+    host_flags[f_moved] = host_flags[f_failed] = host_flags[f_reach] = 0;
+    if (bonded) {
+      fetch(host_sums + x_coh_work, co().sums, 3);
+      fetch(host_flags + f_failed, co().any_failed, 1);
+    }
     if (contact) {
       DeviceFriction::Impl& R = fr();
       copy(cn().x, U.x);
@@ -237,13 +354,31 @@ struct DeviceStep::Impl {
       const int32_t m = int32_t(list_nodes.size());
       if (m) moved_kernel<<<blocks(m), kBlock, 0, stream>>>(U.x.data(), U.y.data(), list_x.data(), list_y.data(),
                                                              list_nodes.data(), m, skin, moved.data());
-      fetch(host_sums + n_terms + 1, cn().total, 1);
-      fetch(host_sums + n_terms + 2, R.power, 1);
-      fetch(host_flags + 1, moved, 1);
+      fetch(host_sums + x_contact, cn().total, 1);
+      fetch(host_sums + x_friction_power, R.power, 1);
+      fetch(host_flags + f_moved, moved, 1);
+      if (reach_guard && (step_count + 1) % Model::kReachCheckEvery == 0) {  // the step number after this one
+        zero(reach_moved);
+        reach_kernel<<<blocks(n), kBlock, 0, stream>>>(U.x.data(), U.y.data(), reach_x.data(), reach_y.data(), n,
+                                                      reach_half, reach_moved.data());
+        fetch(host_flags + f_reach, reach_moved, 1);
+      }
     }
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
+    if (checked) {  // the step is the GPU's: its screening flags are the points' now
+      bc().near.swap(bc().near_next);
+      bond_checks += int64_t(*host_evaluated);
+    }
     book();
-    list_valid = host_flags[1] == 0;
+    const bool valid = host_flags[f_moved] == 0;
+    // a pair failed: the opened pairs are others from the next step on; a
+    // node moved past reach/2: the model re-bounds the contact step
+    if (host_flags[f_failed] || host_flags[f_reach]) {
+      to_model();
+      if (host_flags[f_reach]) model->guard_contact_reach();
+      make_stages();
+    }
+    list_valid = valid;
   }
 
   // The model takes the step (the candidate list is rebuilt there), and the
@@ -263,6 +398,14 @@ struct DeviceStep::Impl {
   // contact module's accounts as Model::compute_forces keeps them.
   void book() {
     const double* t = host_sums;
+    if (bonded) {  // FreezeBonds::apply's accounts and Model::apply_cohesive_forces' booking
+      const double stored = t[x_coh_stored];
+      bond_work += t[x_coh_work];
+      bond_stored = stored;
+      bond_dissipation += t[x_coh_dissipation];
+      energy.cohesive -= stored - energy.cohesive_stored;
+      energy.cohesive_stored = stored;
+    }
     StepSums s;
     s.kinetic2_new = t[t_kinetic2_new];
     s.kinetic2_old = t[t_kinetic2_old];
@@ -277,12 +420,12 @@ struct DeviceStep::Impl {
     s.boundary = t[t_boundary];
     s.elastic_new = t[t_elastic_new];
     s.elastic_old = t[t_elastic_old];
-    energy.elastic = t[n_terms];
-    energy.friction_solver += t[n_terms + 2] * dt;
-    energy.book_step(s, dt, t[n_terms + 1]);
+    energy.elastic = t[x_elastic];
+    energy.friction_solver += t[x_friction_power] * dt;
+    energy.book_step(s, dt, t[x_contact]);
     time += dt;
     ++step_count;
-    const int32_t inverted = host_flags[0] == 0x7f7f7f7f ? -1 : host_flags[0];
+    const int32_t inverted = host_flags[f_inverted] == 0x7f7f7f7f ? -1 : host_flags[f_inverted];
     const std::string at = "GPU step: run stopped at step " + std::to_string(step_count) + " (t = " + num(time) + " s): ";
     if (!std::isfinite(energy.kinetic) || !std::isfinite(energy.elastic))
       throw InstabilityError(at + "non-finite " + (std::isfinite(energy.kinetic) ? "elastic" : "kinetic") +
@@ -292,8 +435,9 @@ struct DeviceStep::Impl {
                              " inverted (det F <= 0): the mesh has collapsed, usually a too large dt");
   }
 
-  // The state into the model: positions, velocities, clock, ledger and the
-  // friction warm start (the candidates that touched in the last step).
+  // The state into the model: positions, velocities, clock, ledger, the
+  // friction warm start (the candidates that touched in the last step) and
+  // the bonds' state.
   void to_model() {
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
     Model& m = *model;
@@ -312,50 +456,66 @@ struct DeviceStep::Impl {
         wl.push_back(prev[c]);
       }
     m.set_contact_warm_start(wk, wl);
+    if (bonded) bonds_to_model(m);
+  }
+
+  // The opened pairs' history, their failures, the screening flags and the
+  // accounts into the model's bonds (the rest of their state changes only
+  // in the model's own steps).
+  void bonds_to_model(Model& m) {
+    BondState s = static_cast<const Model&>(m).bonds().state();
+    DeviceCohesiveForces::Impl& C = co();
+    s.delta_m = C.delta_m_in.download();
+    s.f_n_prev = C.f_n_prev.download();
+    s.f_t_prev = C.f_t_prev.download();
+    s.d_n_prev = C.d_n_prev.download();
+    s.d_t_prev = C.d_t_prev.download();
+    s.t_fail = C.t_fail.download();
+    s.x_fail = C.x_fail.download();
+    s.y_fail = C.y_fail.download();
+    s.dn_fail = C.dn_fail.download();
+    s.dt_fail = C.dt_fail.download();
+    s.pair_state = C.pair_state.download();
+    s.mode = C.pair_mode.download();
+    if (checking) s.near = bc().near.download();
+    s.work = bond_work;
+    s.stored = bond_stored;
+    s.dissipation_effective = bond_dissipation;
+    s.checks = bond_checks;
+    m.restore_bonds(s);
   }
 };
 
 DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   m.step(0);  // prepared as Model::step prepares it: parameters, masses, dt against the stable step
   const Model& cm = m;  // the read access (a Model's writable views are its own)
-  if (cm.bonds().n_points() > 0)
-    bad("the GPU step runs models without freeze bonds so far: this one has " +
-        std::to_string(cm.bonds().n_points()) + " bond points (docs/gpu.md)");
   if (cm.parameters().sleep.on) bad("the GPU step does not run the sleeping far field: set sleeping=False");
   Impl& d = *impl_;
   d.contact = cm.contact_possible();
-  if (d.contact && std::isfinite(cm.parameters().contact_reach))
-    bad("the GPU step bounds the contact step over the whole mesh so far: set contact_reach=inf (got " +
-        num(cm.parameters().contact_reach) + " m; docs/gpu.md)");
+  d.bonded = cm.bonds().n_points() > 0;
+  d.checking = d.bonded && cm.bonds().params().check_failure;
+  if (d.bonded && !d.contact)  // a bond joins two bodies: cannot happen
+    bad("the GPU step: a model with bond points and a single body");
+  d.reach_guard = d.contact && std::isfinite(cm.parameters().contact_reach);
+  d.reach_half = 0.5 * cm.parameters().contact_reach;
   if (d.contact) m.evaluate();  // a candidate list at this state (the warm start left as it was)
   d.model = &m;
   d.make_stages();
-  d.bcs = cm.boundary_conditions();
-  for (const BoundaryCondition& bc : d.bcs) {
-    d.bc_nodes.emplace_back(new DeviceArray<int32_t>());
-    d.bc_nodes.back()->upload(bc.nodes);
-  }
   d.dt = m.dt();
   d.time = m.time();
   d.step_count = m.step_count();
   d.energy = m.energy();
-  Impl::settle_uploads();  // the boundary conditions' node lists
-  cuda_check(cudaMallocHost(&d.host_sums, (n_terms + 3) * sizeof(double)), "cudaMallocHost");
-  cuda_check(cudaMallocHost(&d.host_flags, 2 * sizeof(int32_t)), "cudaMallocHost");
+  cuda_check(cudaMallocHost(&d.host_sums, n_copied * sizeof(double)), "cudaMallocHost");
+  cuda_check(cudaMallocHost(&d.host_flags, n_flags * sizeof(int32_t)), "cudaMallocHost");
+  cuda_check(cudaMallocHost(&d.host_evaluated, sizeof(unsigned long long)), "cudaMallocHost");
 }
 
 DeviceStep::~DeviceStep() {
   Impl& d = *impl_;
-  // every stage runs on the body-force stage's stream, destroyed with it
-  if (d.update) d.u().stream = nullptr;
-  if (d.normal) d.cn().stream = nullptr;
-  if (d.friction) d.fr().stream = nullptr;
-  d.normal.reset();
-  d.friction.reset();
-  d.update.reset();
-  d.forces.reset();
+  d.release_stages();
   if (d.host_sums) cudaFreeHost(d.host_sums);
   if (d.host_flags) cudaFreeHost(d.host_flags);
+  if (d.host_evaluated) cudaFreeHost(d.host_evaluated);
 }
 
 void DeviceStep::step(int64_t n) {

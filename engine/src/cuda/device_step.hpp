@@ -1,14 +1,15 @@
 // Whole time steps on the GPU (docs/gpu.md), as far as they are built: the
-// step of Model::step for a model without freeze bonds (bond splits and the
-// sleeping far field come next). The stages are the backend's
-// (cuda/body_forces.cu, contact_normal.cu, friction.cu, node_update.cu) on
-// one stream, chained on the GPU, with the boundary conditions and the force
-// assembly of the CPU's per-node functions (loads/boundary_kernel.hpp,
-// model/assemble_kernel.hpp). A step whose candidate list would be rebuilt is
-// taken by the model itself (cuda/device_step.cu). Each step copies back its
-// ledger sums, its energies and two flags (an element inverted, the list
-// must be rebuilt): the host books the ledger and guards the run; the state
-// stays on the GPU until `download`.
+// step of Model::step for a model without the sleeping far field and with
+// contact_reach infinite. The stages are the backend's (cuda/body_forces.cu,
+// contact_normal.cu, bond_check.cu, cohesive_forces.cu, friction.cu,
+// node_update.cu) on one stream, chained on the GPU, with the boundary
+// conditions and the force assembly of the CPU's per-node functions
+// (loads/boundary_kernel.hpp, model/assemble_kernel.hpp). A step whose
+// candidate list would be rebuilt, or whose bond check finds a point at the
+// criterion, is taken by the model itself (cuda/device_step.cu). Each step
+// copies back its ledger sums, its energies and its flags (an element
+// inverted, the list must be rebuilt, a pair failed): the host books the
+// ledger and guards the run; the state stays on the GPU until `download`.
 // A plain C++ header (no CUDA types); in a build without CUDA every call
 // says so.
 #pragma once
@@ -25,10 +26,11 @@ class Model;
 class DeviceStep {
  public:
   // Prepares the model as Model::step does (its dt checked against the
-  // stable step) and copies its mesh, state, boundary conditions, clock and
-  // ledger to the GPU. Throws std::invalid_argument naming what the GPU step
-  // does not run yet: freeze bonds, sleeping, a finite contact_reach. The
-  // model must outlive this: it takes the steps the GPU does not.
+  // stable step) and copies its mesh, state, boundary conditions, clock,
+  // ledger, its bonds' state, to the GPU. Throws std::invalid_argument
+  // naming what the GPU step does not run yet: sleeping, a finite
+  // contact_reach. The model must outlive this: it takes the steps the GPU
+  // does not.
   explicit DeviceStep(Model& model);
   ~DeviceStep();
   DeviceStep(const DeviceStep&) = delete;
@@ -38,7 +40,9 @@ class DeviceStep {
   // being finite or an element inverts; the state is then that step's.
   void step(int64_t n);
   // The state on the GPU into `model` (the one it was made from): positions,
-  // velocities, clock and ledger; the model continues from there.
+  // velocities, clock, ledger, friction warm start and the bonds' state (the
+  // opened pairs' history, failures, screening flags and accounts); the
+  // model continues from there.
   void download(Model& model);
   // Sum of the boundary reactions on these nodes from the last step [N/m],
   // as Model::reaction sums them.
@@ -46,7 +50,8 @@ class DeviceStep {
 
   double time() const;
   int64_t step_count() const;
-  // Steps the model took itself (its candidate list rebuilt there) since this was made.
+  // Steps the model took itself (its candidate list rebuilt there, or bond
+  // points split) since this was made.
   int64_t host_steps() const;
   const EnergyLedger& energy() const;
 

@@ -10,11 +10,11 @@
 #include <cmath>
 
 #include "common/stopwatch.hpp"
+#include "model/reach_kernel.hpp"
 #include "model/threading.hpp"
 
 namespace engine {
 
-constexpr int64_t kReachCheckEvery = 64;
 // A step derived from the stable step (dt_fraction 1) is not refused when the
 // step recomputed after a bond split differs from it in the last digits only
 // (the split node's mass share is a quotient, its own mass a sum).
@@ -39,12 +39,7 @@ StableStep Model::stable_step() {
     const ContactStableStep contact =
         contact_possible_ ? contact_critical_dt(reference_contact_stiffness(), nodes_.mass.data())
                           : ContactStableStep{};
-    // where the reach guard measures moves from (a split node starts from its
-    // reference place: an earlier re-check at most)
-    for (size_t i = reach_x_.size(); i < size_t(nodes_.size()); ++i) {
-      reach_x_.push_back(nodes_.x0[i]);
-      reach_y_.push_back(nodes_.y0[i]);
-    }
+    extend_reach_origin();
     stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, params_.external, body_area0_);
     report_added_mass();
     stable_current_ = true;
@@ -95,14 +90,23 @@ void Model::advance() {
 // more than reach/2 since it was taken (two nodes closing in from both sides
 // close the gap by reach). Checked every kReachCheckEvery steps: a node moves
 // far less than a millimetre in that time.
+// Where the reach guard measures a node's move from: a node split off since
+// the step was last bound starts from its reference place (an earlier
+// re-check at most).
+void Model::extend_reach_origin() {
+  for (size_t i = reach_x_.size(); i < size_t(nodes_.size()); ++i) {
+    reach_x_.push_back(nodes_.x0[i]);
+    reach_y_.push_back(nodes_.y0[i]);
+  }
+}
+
 void Model::guard_contact_reach() {
   const double half = 0.5 * params_.contact_reach;
-  double worst = 0.0;
-  for (int32_t i = 0; i < nodes_.size(); ++i) {
-    const double dx = nodes_.x[i] - reach_x_[i], dy = nodes_.y[i] - reach_y_[i];
-    worst = std::max(worst, dx * dx + dy * dy);
-  }
-  if (worst <= half * half) return;
+  extend_reach_origin();  // points split since the step began (step(n) prepares once)
+  bool moved = false;
+  for (int32_t i = 0; i < nodes_.size() && !moved; ++i)
+    moved = moved_past_reach(nodes_.x[i], nodes_.y[i], reach_x_[i], reach_y_[i], half);  // model/reach_kernel.hpp
+  if (!moved) return;
   // the stiffness of the current configuration, for the step and any raise
   const ContactStiffness now = contact_stiffness(params_.contact, contact_input(), params_.contact_reach);
   const ContactStableStep c = contact_critical_dt(now, nodes_.mass.data());

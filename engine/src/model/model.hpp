@@ -105,6 +105,12 @@ class Model final : public BondHost {
   // positions of the last contact step bound; a checkpoint), and its restore.
   // Throws std::invalid_argument unless both have as many entries, at most
   // one per node (nodes split off since the last bound have none yet).
+  // With a finite contact_reach, every kReachCheckEvery steps (advance):
+  // re-bound the contact step once a node has moved past reach/2 from its
+  // origin (and raise masses, or stop, as the new bound needs). Public for
+  // the GPU step, whose test runs on the GPU and which lets the model do this.
+  static constexpr int64_t kReachCheckEvery = 64;
+  void guard_contact_reach();
   const std::vector<double>& reach_origin_x() const { return reach_x_; }
   const std::vector<double>& reach_origin_y() const { return reach_y_; }
   void set_reach_origin(const std::vector<double>& x, const std::vector<double>& y);
@@ -251,7 +257,7 @@ class Model final : public BondHost {
   void open_sleep_window();
   void body_momenta(const std::vector<double>& cx, const std::vector<double>& cy, std::vector<double>& px,
                     std::vector<double>& py, std::vector<double>& l) const;
-  void guard_contact_reach();      // re-bound the contact step after large moves
+  void extend_reach_origin();      // nodes split off since the last bound: their reference places
   // ... and, with mass scaling on, raise the nodes the contact stiffness of the
   // current configuration (`now`) needs
   int32_t raise_contact_masses(const ContactStiffness& now);

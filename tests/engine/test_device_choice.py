@@ -1,0 +1,72 @@
+"""Where a model's steps run (Model(device=...), RunOptions, a study's
+--device and device column; docs/gpu.md): the CPU by default, the GPU only
+where its backend can run, refused before any work elsewhere with the
+reason. On a machine with a GPU, a model on device 'cuda' steps as on the
+CPU (tests/engine/test_gpu_backend.py compares the steps themselves)."""
+import os
+import re
+
+import numpy as np
+import pytest
+
+from icerubble import engine
+from icerubble.engine import gpu
+from icerubble.run import run_identity as RI
+from icerubble.run.punch_through_run import RunOptions
+from tests.commands import icerubble
+from tests.engine.gpu_scenes import pulled_bar
+from tests.paths import ROOT
+
+no_gpu = pytest.mark.skipif(gpu.available(), reason="a GPU is visible here: 'cuda' is not refused")
+
+
+def square():
+    nodes, tri = engine.rectangle_mesh(2, 2, 0.1)
+    return nodes, tri, np.zeros(len(tri), dtype=np.int32), dict(E=2e9, nu=0.3, rho=920.0)
+
+
+def test_the_cpu_is_the_default_and_the_choice_is_kept():
+    m = engine.Model(*square())
+    assert m.device == "cpu" and RunOptions().device == "cpu"
+    with pytest.raises(ValueError, match="device='tpu' is unknown: valid values are cpu, cuda"):
+        m.device = "tpu"
+    assert m.device == "cpu"
+
+
+@no_gpu
+def test_the_gpu_is_refused_with_the_reason_where_it_cannot_run():
+    why = gpu.why_unavailable()
+    with pytest.raises(ValueError, match=re.escape(f"device='cuda': the GPU backend cannot run here: {why}")):
+        engine.Model(*square(), device="cuda")
+    with pytest.raises(ValueError, match="GPU backend cannot run here"):
+        RunOptions(device="cuda")
+
+
+@no_gpu
+def test_a_study_on_the_gpu_is_refused_before_any_line_runs(tmp_path):
+    r = icerubble("study", "run", os.path.join(ROOT, "data", "study_tiny.table"), "--local",
+                  "--out", tmp_path / "runs", "--device", "cuda", cwd=tmp_path)
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert "GPU backend cannot run here" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "runs" / "logs").exists()   # no line was started
+
+
+def test_a_run_on_the_gpu_is_another_run():
+    # the GPU sums the ledger's terms (and quadratic drag's) in another order: its results are its own
+    class Options:
+        device = "cuda"
+    mesh = dict(nodes=np.zeros((3, 2)), triangles=np.array([[0, 1, 2]]), attrs={})
+    cpu, on_gpu = RI.identity({}, mesh, RunOptions()), RI.identity({}, mesh, Options())
+    assert "device" not in cpu and on_gpu["device"] == "cuda"
+
+
+@pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
+def test_a_model_on_the_gpu_steps_as_on_the_cpu():
+    cpu, on_gpu = pulled_bar(), pulled_bar()
+    on_gpu.device = "cuda"
+    for m in (cpu, on_gpu):
+        for _ in range(7):
+            m.step(2000)   # the state read back between calls, as a run's chunks do
+    assert np.array_equal(cpu.positions, on_gpu.positions)
+    assert np.array_equal(cpu.velocities, on_gpu.velocities)
+    assert cpu.bonds.counts == on_gpu.bonds.counts
