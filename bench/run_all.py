@@ -14,7 +14,9 @@ import stamps  # noqa: E402
 
 # Benchmarks of many hours, run alone (each says how in its docstring).
 LONG = {"paper_peak.py": "the paper scene's cohesive peak under each preset: ~0.7-1 h for `fast` "
-                         "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle"}
+                         "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle",
+        "force_direction.py": "it measures finished runs of the paper-depth study (--measure RESULT.h5 ...), "
+                              "each ~30-60 min on one core"}
 # The GPU backend's benchmarks, run where a GPU is visible (make gpu-check runs
 # them too): elsewhere they would replace a GPU machine's figures with none.
 GPU_ONLY = {"gpu_body_forces.py", "gpu_friction.py"}

@@ -49,6 +49,16 @@ class DeviceArray {
   void swap(DeviceArray& o) noexcept {
     std::swap(p_, o.p_);
     std::swap(n_, o.n_);
+    std::swap(owner_, o.owner_);
+  }
+  // This array becomes a view of `owner`'s memory (its own is freed): two
+  // stages that read and write one quantity share it instead of copying it.
+  // The owner must outlive the view, which never frees it.
+  void alias(DeviceArray& owner) {
+    release();
+    p_ = owner.p_;
+    n_ = owner.n_;
+    owner_ = false;
   }
   T* data() { return p_; }
   const T* data() const { return p_; }
@@ -56,12 +66,14 @@ class DeviceArray {
 
  private:
   void release() {
-    if (p_) cudaFree(p_);
+    if (p_ && owner_) cudaFree(p_);
     p_ = nullptr;
     n_ = 0;
+    owner_ = true;
   }
   T* p_ = nullptr;
   size_t n_ = 0;
+  bool owner_ = true;  // false: a view of another array's memory (alias)
 };
 
 }  // namespace engine

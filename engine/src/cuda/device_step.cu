@@ -1,10 +1,10 @@
 // Whole steps on the GPU (cuda/device_step.hpp): the body forces, the normal
 // contact, the bond check, the cohesive forces, the force assembly, friction,
 // the boundary conditions and the update, in Model::advance's order, on one
-// stream. The stages keep their own
-// arrays for now (the comparisons of docs/gpu.md make them from a model one
-// at a time), so a step copies each stage's results into the next one's
-// arrays and the new state back, on the GPU.
+// stream. Each stage is made with arrays of its own (the comparisons of
+// docs/gpu.md make them from a model one at a time); the whole step then
+// makes the arrays that one stage writes and another reads one array
+// (share_arrays), so a step copies nothing on the GPU.
 //
 // The candidate list stays the one the model built until a node of a surface
 // triangle has moved past its skin (the test of ContactSolver::list_still_valid,
@@ -146,10 +146,6 @@ struct DeviceStep::Impl {
   DeviceBondCheck::Impl& bc() { return *check->impl_; }
   DeviceCohesiveForces::Impl& co() { return *cohesive->impl_; }
 
-  void copy(DeviceArray<double>& to, const DeviceArray<double>& from) {
-    cuda_check(cudaMemcpyAsync(to.data(), from.data(), from.size() * sizeof(double), cudaMemcpyDeviceToDevice,
-                               stream), "copy on the GPU");
-  }
   template <class T>
   void fetch(T* host, const DeviceArray<T>& from, size_t n) {
     cuda_check(cudaMemcpyAsync(host, from.data(), n * sizeof(T), cudaMemcpyDeviceToHost, stream), "copy from GPU");
@@ -199,7 +195,10 @@ struct DeviceStep::Impl {
     for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})  // no contact: zero for good
       cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
-    if (!contact) return settle_uploads();
+    if (!contact) {
+      share_arrays();
+      return settle_uploads();
+    }
     normal.reset(new DeviceContactNormal(cm));
     friction.reset(new DeviceFriction(cm));
     adopt(cn().stream);
@@ -253,7 +252,50 @@ struct DeviceStep::Impl {
       reach_y.upload(ry);
       reach_moved.resize(1);
     }
+    share_arrays();
     settle_uploads();
+  }
+
+  // One array for each quantity a stage writes and another reads, in the
+  // step's order (one_step): the node state is the update's; the body-force
+  // stage's outputs are what the update books and what the force assembly
+  // starts from; friction reads the assembly's total and writes the step's
+  // total over the body forces (read before it by the cohesive pairs and the
+  // assembly); the contact forces are the normal pass's (it writes every
+  // node), the crack closure added in place after the cohesive pairs have
+  // read them.
+  void share_arrays() {
+    DeviceBodyForces::Impl& F = f();
+    DeviceNodeUpdate::Impl& U = u();
+    F.x.alias(U.x);
+    F.y.alias(U.y);
+    F.vx.alias(U.vx);
+    F.vy.alias(U.vy);
+    U.f_int_x.alias(F.f_int_x);
+    U.f_int_y.alias(F.f_int_y);
+    U.f_visc_x.alias(F.f_visc_x);
+    U.f_visc_y.alias(F.f_visc_y);
+    U.f_buoy_y.alias(F.f_buoy_y);
+    U.drag_k.alias(F.drag_k);
+    U.f_x.alias(F.f_x);
+    U.f_y.alias(F.f_y);
+    U.f_coh_x.alias(bonded ? co().f_coh_x : F.f_coh_x);
+    U.f_coh_y.alias(bonded ? co().f_coh_y : F.f_coh_y);
+    if (!contact) return;  // the contact forces stay zero (make_stages)
+    DeviceContactNormal::Impl& N = cn();
+    DeviceFriction::Impl& R = fr();
+    N.x.alias(U.x);
+    N.y.alias(U.y);
+    U.f_con_x.alias(N.f_con_x);
+    U.f_con_y.alias(N.f_con_y);
+    R.x.alias(U.x);
+    R.y.alias(U.y);
+    R.vx.alias(U.vx);
+    R.vy.alias(U.vy);
+    R.f_pre_x.alias(U.f_pre_x);
+    R.f_pre_y.alias(U.f_pre_y);
+    R.f_x.alias(F.f_x);
+    R.f_y.alias(F.f_y);
   }
 
   // The uploads (cudaMemcpy, on the legacy stream) done before the first
@@ -267,11 +309,7 @@ struct DeviceStep::Impl {
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
     F.launch();  // (1) elements, (6) gravity, buoyancy, drag, gathered onto the nodes
-    if (contact) {
-      cn().launch();  // (3) normal contact over the candidates
-      copy(U.f_con_x, cn().f_con_x);
-      copy(U.f_con_y, cn().f_con_y);
-    }
+    if (contact) cn().launch();  // (3) normal contact over the candidates
     const bool checked = checking && bc().n_intact > 0;
     if (checked) {  // (4) the bond check at the step's state: a split makes the step the model's
       DeviceBondCheck::Impl& K = bc();
@@ -290,27 +328,15 @@ struct DeviceStep::Impl {
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
       C.launch_committed(a, time, U.f_con_x.data(), U.f_con_y.data());
     }
-    copy(U.f_int_x, F.f_int_x);
-    copy(U.f_int_y, F.f_int_y);
-    copy(U.f_visc_x, F.f_visc_x);
-    copy(U.f_visc_y, F.f_visc_y);
-    copy(U.f_buoy_y, F.f_buoy_y);
-    copy(U.drag_k, F.drag_k);
-    copy(U.f_x, F.f_x);
-    copy(U.f_y, F.f_y);
-    copy(U.f_coh_x, bonded ? co().f_coh_x : F.f_coh_x);
-    copy(U.f_coh_y, bonded ? co().f_coh_y : F.f_coh_y);
+    // (the body forces, the contact forces with the crack closure and the
+    // cohesive forces are the update's arrays already: share_arrays)
     // the total before friction
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
     assemble_kernel<<<blocks(n), kBlock, 0, stream>>>(a, n);
     if (contact) {  // (3b) friction, from the total before it
       DeviceFriction::Impl& R = fr();
-      copy(R.f_pre_x, U.f_pre_x);
-      copy(R.f_pre_y, U.f_pre_y);
-      R.launch();
-      copy(U.f_x, R.f_x);
-      copy(U.f_y, R.f_y);
+      R.launch();  // the step's total into U.f_x, U.f_y (share_arrays)
       if (R.n_cand)
         warm_start_kernel<<<blocks(R.n_cand), kBlock, 0, stream>>>(R.hit.data(), R.lambda.data(), R.n_cand,
                                                                     R.prev_lambda.data());
@@ -329,10 +355,6 @@ struct DeviceStep::Impl {
       if (bc.y) boundary_kernel<<<blocks(m), kBlock, 0, stream>>>(cy, bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
     }
     U.launch();  // (7) the central difference and the ledger's sums
-    copy(F.x, U.x);  // the state the next step's stages read
-    copy(F.y, U.y);
-    copy(F.vx, U.vx);
-    copy(F.vy, U.vy);
     fetch(host_sums, U.sums, n_terms);
     fetch(host_sums + x_elastic, F.total, 1);
     fetch(host_flags + f_inverted, F.inverted, 1);
@@ -344,12 +366,6 @@ struct DeviceStep::Impl {
     }
     if (contact) {
       DeviceFriction::Impl& R = fr();
-      copy(cn().x, U.x);
-      copy(cn().y, U.y);
-      copy(R.x, U.x);
-      copy(R.y, U.y);
-      copy(R.vx, U.vx);
-      copy(R.vy, U.vy);
       cuda_check(cudaMemsetAsync(moved.data(), 0, sizeof(int32_t), stream), "memset");
       const int32_t m = int32_t(list_nodes.size());
       if (m) moved_kernel<<<blocks(m), kBlock, 0, stream>>>(U.x.data(), U.y.data(), list_x.data(), list_y.data(),

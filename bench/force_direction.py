@@ -1,0 +1,86 @@
+"""Eq 11's two forms side by side on the paper-depth scene (issue 26, item 4; not a test).
+
+The cohesive force of an opened pair points along eq 11 as printed ('paper')
+or with work-conjugate weights (beta^2 on the tangential opening, Ortiz &
+Pandolfi 1999: 'work_conjugate'). Which of them the study keeps is the one
+whose trends with tau_cr match the paper's Tables 2-3 and Figs. 10-13: the
+first peak (tau^(1)), alpha, and how the bond points fail, n_t/n_s (Table 3:
+0.38, 1.44, 2.54 at tau_cr 5, 50, 100 kPa, counted at full failure over
+300 mm). This measures finished runs of data/study_deep.table and
+data/study_deep_direction.table (or any table of the deep scene):
+
+    /usr/bin/python3 bench/force_direction.py --measure runs/deep/deep_ridge4_mu0.3_tau5k.h5 ...
+
+and keeps one row per (ridge, mu, tau_cr, force direction) in
+bench/results/force_direction.json (a row measured again replaces the old
+one). Per run: the first peak (the largest F before 1 mm) and the 5 mm
+rule's F^m, alpha and A_p over y_I = 1-20 mm through the split points,
+F(20 mm), the points split and fully failed while loading, n_t/n_s at full
+failure (Table 3's count, within the run's travel) and at initiation (the
+side of eq 6 on which each point split).
+"""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
+
+from deep_vs_paper import measures  # noqa: E402
+from icerubble import machine  # noqa: E402
+from icerubble.files import results  # noqa: E402
+from postproc import shear_strength  # noqa: E402
+
+OUT_JSON = os.path.join(ROOT, "bench", "results", "force_direction.json")
+DIRECTIONS = ("paper", "work_conjugate")
+# Table 3 of the paper: n_t/n_s at full failure over 300 mm, by tau_cr [kPa]
+TABLE_3 = {5.0: 0.38, 50.0: 1.44, 100.0: 2.54}
+
+
+def measure(path):
+    r = results.load(path)
+    b = r.bonds
+    n_t, n_s, ratio = shear_strength.failure_mode_ratio(b["mode"], b["y_I_fail"])
+    n_t0, n_s0, ratio0 = shear_strength.initiation_side_ratio(b["y_I_split"], b.get("split_tn"))
+    p = r.parameters
+    return dict(file=os.path.basename(path), ridge=int(r.attrs["seed"]), mu=float(r.mu),
+                tau_cr_kPa=float(r.tau_cr) / 1e3, force_direction=str(p.get("force_direction", "paper")),
+                n_split=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_split"], dtype=float)))),
+                n_failed=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_fail"], dtype=float)))),
+                n_t=int(n_t), n_s=int(n_s), nt_ns=float(ratio), n_t_init=int(n_t0), n_s_init=int(n_s0),
+                nt_ns_init=float(ratio0), y_I_end_mm=float(r.force_y[-1]) * 1e3, **measures(path))
+
+
+def key(row):
+    return row["ridge"], row["mu"], row["tau_cr_kPa"], DIRECTIONS.index(row["force_direction"])
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--measure", nargs="+", metavar="RESULT.h5", required=True, help="finished runs")
+    a = ap.parse_args(argv)
+    rows = {}
+    if os.path.exists(OUT_JSON):
+        with open(OUT_JSON) as f:
+            rows = {key(r): r for r in json.load(f)["runs"]}
+    for path in a.measure:
+        row = measure(path)
+        rows[key(row)] = row
+        print(f"ridge {row['ridge']} mu {row['mu']:g} tau_cr {row['tau_cr_kPa']:g} kPa {row['force_direction']:14s} "
+              f"first peak {row['first_peak_kN_per_m']:.1f} kN/m at {row['y_I_first_peak_mm']:.2f} mm, "
+              f"alpha {row['alpha_mean_1_20mm_deg']:.1f} +- {row['alpha_sd_1_20mm_deg']:.1f} deg, "
+              f"n_t/n_s {row['n_t']}/{row['n_s']} at full failure, {row['n_t_init']}/{row['n_s_init']} at "
+              f"initiation", flush=True)
+    os.makedirs(os.path.dirname(OUT_JSON), exist_ok=True)
+    with open(OUT_JSON + ".part", "w") as f:
+        json.dump(dict(machine=machine.processor(), table_3=TABLE_3, runs=[rows[k] for k in sorted(rows)]),
+                  f, indent=1, default=float)
+    os.replace(OUT_JSON + ".part", OUT_JSON)
+    print(f"wrote {OUT_JSON}")
+
+
+if __name__ == "__main__":
+    main()
