@@ -449,6 +449,13 @@ struct DeviceStep::Impl {
     if (inverted >= 0)
       throw InstabilityError(at + "element " + std::to_string(inverted) +
                              " inverted (det F <= 0): the mesh has collapsed, usually a too large dt");
+    // energy growing without a source: the model's own check on the ledger
+    // booked here; the model then says where (and stops the run)
+    const Model& cm = *model;
+    if (cm.parameters().check_energy && cm.energy_alarm(energy).fires()) {
+      to_model();
+      model->guard_stability();
+    }
   }
 
   // The state into the model: positions, velocities, clock, ledger, the

@@ -45,6 +45,14 @@ struct StepTimings {
   int64_t element_steps = 0;       // triangles computed, summed over steps
 };
 
+// The stability guard's two energy checks on a ledger (Model::guard_stability).
+struct EnergyAlarm {
+  bool growth = false;     // (b) stored energy above kGrowthFactor x every energy flow
+  bool imbalance = false;  // (a) balance residual above energy_tolerance x the scale
+  double excess = 0.0, flows = 0.0, residual = 0.0, scale = 0.0;
+  bool fires() const { return growth || imbalance; }
+};
+
 class Model final : public BondHost {
  public:
   // xy: 2 per node; tri: 3 node ids per triangle, counter-clockwise; body: per
@@ -111,6 +119,13 @@ class Model final : public BondHost {
   // the GPU step, whose test runs on the GPU and which lets the model do this.
   static constexpr int64_t kReachCheckEvery = 64;
   void guard_contact_reach();
+  // After every step (advance): stop with InstabilityError, saying where, on
+  // non-finite energies or values, energy growing without a source
+  // (energy_alarm, with check_energy on) or an inverted element. Public for
+  // the GPU step, which books the ledger on the host, tests energy_alarm
+  // itself and lets the model say where.
+  void guard_stability();
+  EnergyAlarm energy_alarm(const EnergyLedger& E) const;
   const std::vector<double>& reach_origin_x() const { return reach_x_; }
   const std::vector<double>& reach_origin_y() const { return reach_y_; }
   void set_reach_origin(const std::vector<double>& x, const std::vector<double>& y);
@@ -251,7 +266,6 @@ class Model final : public BondHost {
   void apply_boundary_conditions(); // fixed nodes, prescribed velocities
   void update_positions();          // (7) central difference + work integration
   UpdateArrays update_arrays(double dt, double g, double alpha);  // model/update_kernel.hpp
-  void guard_stability();
   void rebuild_awake_triangles();  // the list of triangles with a corner not long asleep
   void update_sleep();             // after an update: wake woken bodies, sleep bodies at rest
   void open_sleep_window();

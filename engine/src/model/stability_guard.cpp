@@ -36,6 +36,18 @@ void Model::fail(const std::string& what, int32_t node, int32_t tri) const {
   throw InstabilityError(o.str());
 }
 
+EnergyAlarm Model::energy_alarm(const EnergyLedger& E) const {
+  EnergyAlarm a;
+  a.residual = E.residual();
+  a.scale = E.scale();
+  a.flows = std::fabs(E.initial) + std::fabs(E.work_gravity) + std::fabs(E.work_buoyancy) +
+            std::fabs(E.work_boundary) + std::fabs(E.dissipated());
+  a.excess = E.kinetic + E.elastic + E.contact + E.dissipated() - E.initial - E.supplied();
+  a.growth = a.excess > kGrowthFactor * a.flows;
+  a.imbalance = a.residual > params_.energy_tolerance * a.scale && a.scale > 0.0;
+  return a;
+}
+
 void Model::guard_stability() {
   Stopwatch sw(timings_.integration);
   const EnergyLedger& E = energy_;
@@ -67,13 +79,10 @@ void Model::guard_stability() {
   // in that mode reaches it), so (b) fires above kGrowthFactor = 10x the
   // energy flows; an unstable mode grows 5-20x per step and is caught within
   // a step or two.
-  const double residual = E.residual(), scale = E.scale();
-  const double flows = std::fabs(E.initial) + std::fabs(E.work_gravity) + std::fabs(E.work_buoyancy) +
-                       std::fabs(E.work_boundary) + std::fabs(E.dissipated());
-  const double excess = E.kinetic + E.elastic + E.contact + E.dissipated() - E.initial - E.supplied();
-  const bool growth = excess > kGrowthFactor * flows;
-  const bool imbalance = residual > params_.energy_tolerance * scale && scale > 0.0;
-  if (params_.check_energy && (growth || imbalance)) {
+  const EnergyAlarm alarm = energy_alarm(E);
+  if (params_.check_energy && alarm.fires()) {
+    const bool growth = alarm.growth;
+    const double excess = alarm.excess, flows = alarm.flows, residual = alarm.residual, scale = alarm.scale;
     // Where: the node with the most kinetic energy, the triangle with the
     // highest strain energy density.
     int32_t node = 0, tri = 0;
