@@ -129,6 +129,8 @@ struct DeviceStep::Impl {
   DeviceArray<int32_t> reach_moved;
   double skin = 0.0;
   bool list_valid = true;
+  // the next step's prologue has run (and its flags are here); it checked bonds
+  bool primed = false, primed_check = false;
   double dt = 0.0, time = 0.0;
   int64_t step_count = 0, host_steps = 0;
   EnergyLedger energy;
@@ -195,6 +197,7 @@ struct DeviceStep::Impl {
     for (DeviceArray<double>* a : {&u().f_con_x, &u().f_con_y})  // no contact: zero for good
       cuda_check(cudaMemsetAsync(a->data(), 0, a->size() * sizeof(double), stream), "memset");
     list_valid = true;
+    primed = false;
     if (!contact) {
       share_arrays();
       return settle_uploads();
@@ -303,24 +306,43 @@ struct DeviceStep::Impl {
   // a copy from pageable memory may return before its transfer has ended.
   static void settle_uploads() { cuda_check(cudaDeviceSynchronize(), "GPU uploads"); }
 
+  // A step's first part, which reads only the state at its start: (1) the
+  // elements and (6) the water loads and gravity, gathered onto the nodes,
+  // and (4) the bond check of step number `step`, its flags fetched. It runs
+  // at the end of the step before (after the update, in the same wait), so
+  // that a step whose check splits a point is known before anything of it
+  // is committed, without a wait of its own; after the stages are made
+  // again, it runs on its own (prime).
+  void prologue(int64_t step) {
+    DeviceBodyForces::Impl& F = f();
+    F.launch();
+    primed_check = checking && bc().n_intact > 0;
+    if (!primed_check) return;
+    DeviceBondCheck::Impl& K = bc();
+    zero(K.split);
+    zero(K.evaluated);
+    K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), step);
+    fetch(host_flags + f_split, K.split, 1);
+    fetch(host_evaluated, K.evaluated, 1);
+  }
+  void prime() {
+    prologue(step_count);
+    cuda_check(cudaStreamSynchronize(stream), "GPU step");
+    primed = true;
+  }
+
   void one_step() {
     if (!list_valid) return host_step();
+    if (!primed) prime();
+    // the step's check (its prologue) found a point at eq 5: the step is the
+    // model's, from the state at its start, which nothing has changed yet
+    if (primed_check && host_flags[f_split]) return host_step();
+    const bool checked = primed_check;
+    const unsigned long long evaluated = checked ? *host_evaluated : 0;  // before the next prologue's copy
     DeviceBodyForces::Impl& F = f();
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
-    F.launch();  // (1) elements, (6) gravity, buoyancy, drag, gathered onto the nodes
     if (contact) cn().launch();  // (3) normal contact over the candidates
-    const bool checked = checking && bc().n_intact > 0;
-    if (checked) {  // (4) the bond check at the step's state: a split makes the step the model's
-      DeviceBondCheck::Impl& K = bc();
-      zero(K.split);
-      zero(K.evaluated);
-      K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), step_count);
-      fetch(host_flags + f_split, K.split, 1);
-      fetch(host_evaluated, K.evaluated, 1);
-      cuda_check(cudaStreamSynchronize(stream), "GPU bond check");
-      if (host_flags[f_split]) return host_step();  // the GPU's state is still the step's start
-    }
     if (bonded) {  // (5) the opened pairs' cohesive forces, history and failures; the crack closure
       DeviceCohesiveForces::Impl& C = co();
       zero(C.any_failed);
@@ -380,15 +402,17 @@ struct DeviceStep::Impl {
         fetch(host_flags + f_reach, reach_moved, 1);
       }
     }
-    cuda_check(cudaStreamSynchronize(stream), "GPU step");
     if (checked) {  // the step is the GPU's: its screening flags are the points' now
       bc().near.swap(bc().near_next);
-      bond_checks += int64_t(*host_evaluated);
+      bond_checks += int64_t(evaluated);
     }
+    prologue(step_count + 1);  // the next step's first part, after this one's reads of F's outputs
+    cuda_check(cudaStreamSynchronize(stream), "GPU step");
     book();
     const bool valid = host_flags[f_moved] == 0;
     // a pair failed: the opened pairs are others from the next step on; a
-    // node moved past reach/2: the model re-bounds the contact step
+    // node moved past reach/2: the model re-bounds the contact step (the
+    // next step's prologue then runs again on the new stages)
     if (host_flags[f_failed] || host_flags[f_reach]) {
       to_model();
       if (host_flags[f_reach]) model->guard_contact_reach();
