@@ -10,7 +10,7 @@ contact reach). Each preset's own settle reaches another rest within the
 settle tolerance (every body in balance to 1e-4 of its weight), not
 compared here.
 
-    /usr/bin/python3 bench/paper_peak.py [--ridge 1] [--travel-mm 2] [--only fast balanced ...]
+    /usr/bin/python3 bench/paper_peak.py [--ridge 1] [--travel-mm 2] [--only fast balanced ...] [--device cuda]
 
 Variants: the presets `fast`, `balanced` and `paper`, run in that order
 (measured 0.55 h and 0.76 h; `paper` 3.6 million steps, ~4 h, on 2 cores), and
@@ -21,6 +21,12 @@ faithful numerics: at 0.16 µs the blocks' own contact modes run at ~0.15 of
 their stable step; only the few mass-scaled nodes of tiny elements run near
 theirs). Runs are kept in --out-dir and reused; each is resumable from its
 checkpoint (run the script again). Writes bench/results/paper_peak.json.
+
+--device cuda runs the settle and the loadings as whole steps on one GPU
+(docs/gpu.md), in a folder of their own, and writes
+bench/results/paper_peak_cuda.json: the same errors, and the wall time of
+each preset's travel on the GPU (issue 28, item 3; --travel-mm 300 for the
+whole run, --only reference for the reference run never made on a CPU).
 """
 import argparse
 import json
@@ -41,28 +47,29 @@ ORDER = ("fast", "balanced", "paper", "reference")
 DEFAULT = ORDER[:3]
 
 
-def variant_options(name):
+def variant_options(name, device="cpu"):
     if name == "reference":
         return RunOptions.from_numerics(dict(numerics("paper", "paper"), dt_fraction=0.4), name="reference",
-                                        progress_every_s=60.0)
-    return RunOptions.from_numerics(numerics("paper", name), name=name, progress_every_s=60.0)
+                                        progress_every_s=60.0, device=device)
+    return RunOptions.from_numerics(numerics("paper", name), name=name, progress_every_s=60.0, device=device)
 
 
-def rest_state(mesh_path, params, out_dir, settle_numerics):
+def rest_state(mesh_path, params, out_dir, settle_numerics, device="cpu"):
     """The checkpoint of a run of this scene at the start of its loading
     (settled with the preset `settle_numerics`); made once, resumable."""
     path = os.path.join(out_dir, f"rest_{settle_numerics}.checkpoint.h5")
     if not os.path.exists(path):
         run = PunchThrough(mesh_path, os.path.join(out_dir, f"settle_{settle_numerics}.h5"), params,
-                           variant_options(settle_numerics))
+                           variant_options(settle_numerics, device))
         run.settle_only(path)
     return path
 
 
-def load_from_rest(name, mesh_path, params, rest, out_dir, ridge):
+def load_from_rest(name, mesh_path, params, rest, out_dir, ridge, device="cpu"):
     out = os.path.join(out_dir, f"{name}.h5")
     if not os.path.exists(out):
-        PunchThrough(mesh_path, out, params, variant_options(name), meta=dict(ridge=ridge)).run_from_rest(rest)
+        PunchThrough(mesh_path, out, params, variant_options(name, device),
+                     meta=dict(ridge=ridge)).run_from_rest(rest)
     with h5py.File(out, "r") as f:   # a stored run is reused only if it loaded from this rest state
         came_from = f.attrs.get("rest_state_from", "")
     if os.path.basename(str(came_from)) != os.path.basename(rest):
@@ -99,19 +106,25 @@ def main(argv=None):
     ap.add_argument("--settle-numerics", default="fast", choices=ORDER[:3])
     ap.add_argument("--only", nargs="*", choices=ORDER, help="variants to run (default: fast balanced paper); those run before are reported too")
     ap.add_argument("--out-dir", default=os.path.join("runs", "bench", "paper_peak"))
+    ap.add_argument("--device", default="cpu", choices=("cpu", "cuda"),
+                    help="where the steps run (cuda: whole steps on one GPU, runs and results of their own)")
     a = ap.parse_args(argv)
+    try:
+        variant_options("fast", a.device)   # a GPU that cannot run is refused here, before any work
+    except ValueError as e:
+        raise SystemExit(f"paper_peak: {e}") from None
     sc = scene("paper")
     params = dict(sc["params"], target_travel=a.travel_mm * 1e-3)
-    out_dir = os.path.join(a.out_dir, f"ridge{a.ridge}_{a.travel_mm:g}mm")
+    out_dir = os.path.join(a.out_dir, f"ridge{a.ridge}_{a.travel_mm:g}mm" + ("" if a.device == "cpu" else "_" + a.device))
     os.makedirs(out_dir, exist_ok=True)
     _, mesh_path = scene_files("paper", a.ridge)   # the scene cache of every run (runs/scenes)
-    rest = rest_state(mesh_path, params, out_dir, a.settle_numerics)
+    rest = rest_state(mesh_path, params, out_dir, a.settle_numerics, a.device)
     rows = []
     for name in ORDER:
         out = os.path.join(out_dir, f"{name}.h5")
         if name not in (a.only or DEFAULT) and not os.path.exists(out):
             continue
-        load_from_rest(name, mesh_path, params, rest, out_dir, a.ridge)
+        load_from_rest(name, mesh_path, params, rest, out_dir, a.ridge, a.device)
         m = measures(out, a.travel_mm)
         rows.append(dict(name=name, file=out, **m))
         print(f"{name:10s} dt {m['dt'] * 1e6:5.3f} us  F^m {m['F_m_kN_per_m']:8.3f} kN/m @ "
@@ -127,11 +140,12 @@ def main(argv=None):
         d = f["driver"].attrs
         rest_attrs = dict(numerics=a.settle_numerics, settle_time_s=float(d["settle_time"]),
                           F_at_rest_N_per_m=float(d["F_at_rest"]), dt=json.loads(d["params"])["dt"])
-    os.makedirs(os.path.dirname(OUT_JSON), exist_ok=True)
-    with open(OUT_JSON, "w") as f:
+    out_json = OUT_JSON if a.device == "cpu" else OUT_JSON.replace(".json", f"_{a.device}.json")
+    os.makedirs(os.path.dirname(out_json), exist_ok=True)
+    with open(out_json, "w") as f:
         json.dump(dict(ridge=a.ridge, travel_mm=a.travel_mm, rest_state=rest_attrs, reference=ref["name"],
-                       runs=rows), f, indent=1, default=float)
-    print(f"wrote {OUT_JSON} (errors against {ref['name']})")
+                       device=a.device, runs=rows), f, indent=1, default=float)
+    print(f"wrote {out_json} (errors against {ref['name']})")
     for r in rows:
         means = "  ".join(f"{k[7:-8]} {100 * v:5.2f} %" for k, v in r.items()
                           if k.startswith("F_mean_") and k.endswith("_rel_err"))
