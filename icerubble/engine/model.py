@@ -123,6 +123,7 @@ class Model:
 
     def __init__(self, nodes, triangles, body, materials, node_sets=None, device="cpu"):
         self._device = check_device(device)   # before any work
+        self._gpu_timings = dict(steps=0, element_steps=0, total=0.0)
         nodes = np.asarray(nodes, dtype=float)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or nodes.shape[0] < 3:
             raise ValueError(f"nodes must be an (N, 2) array with N >= 3 (got shape {nodes.shape})")
@@ -305,10 +306,18 @@ class Model:
         if not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0 (got {n!r})")
         if self._device == "cuda" and n > 0:
+            import time
             from . import gpu
+            t0 = time.perf_counter()
             steps = gpu.Steps(self)
             steps.step(int(n))
             steps.download()
+            # the steps the GPU took (the model's own are in its timings already)
+            on_gpu = int(n) - int(steps.host_steps)
+            g = self._gpu_timings
+            g["steps"] += on_gpu
+            g["element_steps"] += on_gpu * self.n_triangles
+            g["total"] += time.perf_counter() - t0
         else:
             self._m.step(int(n))
         self._follow_splits()
@@ -447,8 +456,15 @@ class Model:
 
     def timings(self):
         """Cumulative wall time [s] of the parts of the step, the step count and
-        the element-steps (triangles computed, summed over the steps)."""
-        return self._m.timings()
+        the element-steps (triangles computed, summed over the steps). On
+        device 'cuda': 'gpu_steps' and 'gpu_total' [s, wall, copies included]
+        are the GPU's, added to 'steps', 'element_steps' and 'total'; the
+        parts are the CPU's own steps."""
+        t = self._m.timings()
+        g = self._gpu_timings
+        t.update(steps=t["steps"] + g["steps"], element_steps=t["element_steps"] + g["element_steps"],
+                 total=t["total"] + g["total"], gpu_steps=g["steps"], gpu_total=g["total"])
+        return t
 
     def sleep_counts(self):
         """Sleeping far field now: nodes asleep, triangles the next step computes, of all."""
