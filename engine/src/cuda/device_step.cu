@@ -416,7 +416,12 @@ struct DeviceStep::Impl {
     if (host_flags[f_failed] || host_flags[f_reach]) {
       to_model();
       if (host_flags[f_reach]) model->guard_contact_reach();
+      // this step's reactions (the new stages start from the model's, of its own last step)
+      const std::vector<double> r_x = u().r_x.download(), r_y = u().r_y.download();
       make_stages();
+      u().r_x.upload(r_x);
+      u().r_y.upload(r_y);
+      settle_uploads();
     }
     list_valid = valid;
   }
