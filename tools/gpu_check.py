@@ -41,7 +41,9 @@ Checks, each printed with its outcome:
      steps: failures in shear, crack closure): the same as 9, and the bond
      state (split and failure records, the pairs' history, the screening
      flags, the points evaluated) the CPU's bits, the bonds' energy sums to
-     round-off.
+     round-off;
+ 11. a model on device 'cuda' (Model.step) against the CPU, in chunks as a
+     run steps it: the same bits.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -198,6 +200,18 @@ def main(argv=None):
                                gpu.compare_steps(lambda: pulled_bar(direction), 14000, nodes="right"), exact=True)
         ok &= report_steps("bonded square sheared, 3,000 whole GPU steps",
                            gpu.compare_steps(sheared_square, 3000, nodes="top"), exact=True)
+        # 11. a model on device 'cuda' (each step() call a gpu.Steps) against the CPU, in chunks as a run's
+        cpu, on_gpu = pulled_bar(), pulled_bar()
+        on_gpu.device = "cuda"
+        for m in (cpu, on_gpu):
+            for _ in range(7):
+                m.step(2000)
+        same = (np.array_equal(cpu.positions, on_gpu.positions) and np.array_equal(cpu.velocities, on_gpu.velocities)
+                and cpu.bonds.counts == on_gpu.bonds.counts)
+        print(f"[{'ok' if same else 'FAIL'}] Model(device='cuda'), bonded bar, 7 x 2,000 steps: "
+              f"{'the CPU bits' if same else 'differs from the CPU'}; GPU steps {on_gpu.timings()['gpu_steps']}",
+              flush=True)
+        ok &= same
         steps = gpu.Steps(driven_block(rng, "linear"))
         steps.step(100)
         t0 = time.perf_counter()
