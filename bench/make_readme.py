@@ -285,7 +285,8 @@ def gpu_friction(d):
 def force_direction(d):
     rows = []
     for r in d["runs"]:
-        t3 = d.get("table_3", {}).get(f"{r['tau_cr_kPa']:.1f}", "")
+        t3 = d.get("table_3", {}).get(f"{r['tau_cr_kPa']:.1f}")
+        t3 = f"{t3[0]:g} ± {t3[1]:g}" if t3 else ""
         rows.append([r["ridge"], r["mu"], fmt(r["tau_cr_kPa"]), r["force_direction"],
                      f"{r['first_peak_kN_per_m']:.1f} at {r['y_I_first_peak_mm']:.2f}",
                      f"{r['F_m_kN_per_m']:.1f} at {r['y_I_peak_mm']:.2f}",
