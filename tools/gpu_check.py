@@ -201,17 +201,11 @@ def main(argv=None):
         ok &= report_steps("bonded square sheared, 3,000 whole GPU steps",
                            gpu.compare_steps(sheared_square, 3000, nodes="top"), exact=True)
         # 11. a model on device 'cuda' (each step() call a gpu.Steps) against the CPU, in chunks as a run's
-        cpu, on_gpu = pulled_bar(), pulled_bar()
-        on_gpu.device = "cuda"
-        for m in (cpu, on_gpu):
-            for _ in range(7):
-                m.step(2000)
-        same = (np.array_equal(cpu.positions, on_gpu.positions) and np.array_equal(cpu.velocities, on_gpu.velocities)
-                and cpu.bonds.counts == on_gpu.bonds.counts)
-        print(f"[{'ok' if same else 'FAIL'}] Model(device='cuda'), bonded bar, 7 x 2,000 steps: "
-              f"{'the CPU bits' if same else 'differs from the CPU'}; GPU steps {on_gpu.timings()['gpu_steps']}",
+        cmp = gpu.compare_device(pulled_bar, 7, 2000)
+        print(f"[{'ok' if cmp['same'] else 'FAIL'}] Model(device='cuda'), bonded bar, 7 x 2,000 steps: "
+              f"{'the CPU bits' if cmp['same'] else 'differs from the CPU'}; GPU steps {cmp['gpu_steps']}",
               flush=True)
-        ok &= same
+        ok &= cmp["same"]
         steps = gpu.Steps(driven_block(rng, "linear"))
         steps.step(100)
         t0 = time.perf_counter()

@@ -20,6 +20,7 @@ Example::
 See docs/engine_api.md.
 """
 import numbers
+import time
 
 import numpy as np
 
@@ -306,7 +307,6 @@ class Model:
         if not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0 (got {n!r})")
         if self._device == "cuda" and n > 0:
-            import time
             from . import gpu
             t0 = time.perf_counter()
             steps = gpu.Steps(self)

@@ -24,13 +24,14 @@ import os
 import shutil
 
 from .. import exit_status
+from ..engine.model import check_device
 from ..files.output_path import check_output_folder
 from ..run.scene_cache import ROOT
 from . import outcome as SO
 from . import progress as study_progress
 from . import slurm
 from .folder import load_study, open_study, studies, study_dir, study_lock, table_of
-from .table_check import check_table, read_table
+from .table_check import check_table, devices
 
 PUNCH_THROUGH = os.path.join(ROOT, "yade_scripts", "punch_through.py")
 DEFAULT_OUT = os.path.join(ROOT, "runs")
@@ -117,10 +118,7 @@ def check(table):
 def check_devices(table, device):
     """Refuse, before any line runs, a table whose lines ask for the GPU
     (--device cuda, or a device column) where the GPU backend cannot run."""
-    from ..engine.model import check_device   # the compiled engine: only when a table runs
-    _, rows = read_table(table)
-    asked = {(row.get("device") or "").strip("'\"") or device or "cpu" for _, row, _ in rows if row}
-    for d in sorted(asked):
+    for d in devices(table, device):
         check_device(d)
 
 

@@ -74,6 +74,15 @@ def read_table(path):
     return columns, rows
 
 
+def devices(path, default=None):
+    """The devices the lines of table `path` ask for: a line's device column,
+    else `default` (a study's --device), else 'cpu' (as
+    yade_scripts/punch_through.py reads them)."""
+    _, rows = read_table(path)
+    return sorted({(_literal(row["device"]) if "device" in row else None) or default or "cpu"
+                   for _, row, _ in rows if row})
+
+
 def _literal(text):
     try:
         return ast.literal_eval(text)

@@ -89,13 +89,14 @@ __global__ void node_kernel(const int32_t* start, const int32_t* entry, const do
 // Each node's crack-closure forces added to its contact force, its split
 // pairs in ascending order as FreezeBonds::apply_crack_closure adds them.
 __global__ void closure_kernel(const double* x, const double* y, const int32_t* node_plus, const int32_t* node_minus,
-                               const double* fnx, const double* fny, double penalty, const int32_t* start,
-                               const int32_t* entry, int32_t n, double* f_con_x, double* f_con_y) {
+                               const double* fnx, const double* fny, double penalty, const int32_t* pair,
+                               const int32_t* start, const int32_t* entry, int32_t n, double* f_con_x,
+                               double* f_con_y) {
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n || start[i] == start[i + 1]) return;
   double sx = f_con_x[i], sy = f_con_y[i];
   for (int32_t e = start[i]; e < start[i + 1]; ++e) {
-    const int32_t k = entry[e] >> 1;
+    const int32_t k = pair[entry[e] >> 1];
     double f;
     if (!crack_closure_force(x, y, node_plus[k], node_minus[k], fnx[k], fny[k], penalty, f)) continue;
     if (entry[e] & 1) {
@@ -108,6 +109,25 @@ __global__ void closure_kernel(const double* x, const double* y, const int32_t* 
   }
   f_con_x[i] = sx;
   f_con_y[i] = sy;
+}
+
+// Each node's pairs of the list `pairs` (ascending) in list order: node i's
+// entries are entry[start[i]..start[i + 1]), entry 2 j for pairs[j]'s + node,
+// 2 j + 1 for its - node (a counting sort).
+void pairs_by_node(const std::vector<int32_t>& pairs, const int32_t* node_plus, const int32_t* node_minus, size_t nn,
+                   std::vector<int32_t>& start, std::vector<int32_t>& entry) {
+  start.assign(nn + 1, 0);
+  entry.assign(2 * pairs.size(), 0);
+  for (const int32_t k : pairs) {
+    ++start[size_t(node_plus[k]) + 1];
+    ++start[size_t(node_minus[k]) + 1];
+  }
+  for (size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
+  std::vector<int32_t> fill(start.begin(), start.end() - 1);
+  for (size_t j = 0; j < pairs.size(); ++j) {
+    entry[size_t(fill[size_t(node_plus[pairs[j]])]++)] = int32_t(2 * j);
+    entry[size_t(fill[size_t(node_minus[pairs[j]])]++)] = int32_t(2 * j + 1);
+  }
 }
 
 }  // namespace
@@ -151,8 +171,8 @@ void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, d
                                                                      f_coh_y.data());
   term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
   closure_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(
-      a.x, a.y, node_plus.data(), node_minus.data(), fnx.data(), fny.data(), penalty, closure_start.data(),
-      closure_entry.data(), n_nodes, f_con_x, f_con_y);
+      a.x, a.y, node_plus.data(), node_minus.data(), fnx.data(), fny.data(), penalty, closure_pair.data(),
+      closure_start.data(), closure_entry.data(), n_nodes, f_con_x, f_con_y);
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
@@ -191,7 +211,6 @@ DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   d.d_t_prev.upload(h.d_t_prev, nk);
   d.beta.upload(h.beta, np);
   d.open.upload(open);
-  d.n_pairs = int32_t(nk);
   const BondState& st = B.state();
   d.pair_state.upload(st.pair_state);
   d.pair_mode.upload(st.mode);
@@ -201,36 +220,17 @@ DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   d.dn_fail.upload(st.dn_fail);
   d.dt_fail.upload(st.dt_fail);
   d.any_failed.resize(1);
-  // the crack closure's pairs per node, ascending (a counting sort over the split pairs)
+  // the crack closure's pairs: the split ones (opened or failed), ascending, by node
   d.penalty = m.contact_params().penalty;
-  std::vector<int32_t> cstart(nn + 1, 0), centry;
+  std::vector<int32_t> closed, start, entry;
   for (size_t k = 0; k < nk; ++k)
-    if (st.pair_state[k] != PairState::intact) {
-      ++cstart[size_t(h.node_plus[k]) + 1];
-      ++cstart[size_t(h.node_minus[k]) + 1];
-    }
-  for (size_t i = 0; i < nn; ++i) cstart[i + 1] += cstart[i];
-  centry.resize(size_t(cstart[nn]));
-  std::vector<int32_t> cfill(cstart.begin(), cstart.end() - 1);
-  for (size_t k = 0; k < nk; ++k)
-    if (st.pair_state[k] != PairState::intact) {
-      centry[size_t(cfill[size_t(h.node_plus[k])]++)] = int32_t(2 * k);
-      centry[size_t(cfill[size_t(h.node_minus[k])]++)] = int32_t(2 * k + 1);
-    }
-  d.closure_start.upload(cstart);
-  d.closure_entry.upload(centry);
-  // each node's pairs in ascending pair order (a counting sort over the open list)
-  std::vector<int32_t> start(nn + 1, 0), entry(2 * open.size());
-  for (int32_t k : open) {
-    ++start[size_t(h.node_plus[k]) + 1];
-    ++start[size_t(h.node_minus[k]) + 1];
-  }
-  for (size_t i = 0; i < nn; ++i) start[i + 1] += start[i];
-  std::vector<int32_t> fill(start.begin(), start.end() - 1);
-  for (int32_t j = 0; j < d.n_open; ++j) {
-    entry[size_t(fill[size_t(h.node_plus[open[j]])]++)] = 2 * j;
-    entry[size_t(fill[size_t(h.node_minus[open[j]])]++)] = 2 * j + 1;
-  }
+    if (st.pair_state[k] != PairState::intact) closed.push_back(int32_t(k));
+  pairs_by_node(closed, h.node_plus, h.node_minus, nn, start, entry);
+  d.closure_pair.upload(closed);
+  d.closure_start.upload(start);
+  d.closure_entry.upload(entry);
+  // the opened pairs by node
+  pairs_by_node(open, h.node_plus, h.node_minus, nn, start, entry);
   d.start.upload(start);
   d.entry.upload(entry);
   const size_t no = std::max<size_t>(1, open.size());

@@ -7,9 +7,8 @@
 
 namespace engine {
 
-
 struct DeviceCohesiveForces::Impl {
-  int32_t n_nodes = 0, n_pairs = 0, n_open = 0;
+  int32_t n_nodes = 0, n_open = 0;
   double dt = 0.0;
   cohesive_law::ForceDirection dir = cohesive_law::ForceDirection::paper;
   DeviceArray<double> x, y, vx, vy, mass, f_x, f_y, f_con_x, f_con_y, fnx, fny, f0, delta_f, delta_m_in, f_n_prev,
@@ -21,10 +20,11 @@ struct DeviceCohesiveForces::Impl {
   DeviceArray<FailureMode> pair_mode;
   DeviceArray<double> t_fail, x_fail, y_fail, dn_fail, dt_fail;
   DeviceArray<int32_t> any_failed;
-  // crack closure (FreezeBonds::apply_crack_closure): each node's split pairs
-  // (opened or failed) in ascending order, entry 2k (+ node) or 2k + 1 (-)
+  // crack closure (FreezeBonds::apply_crack_closure): the split pairs (opened
+  // or failed), ascending, and each node's of them in that order (entry 2 j:
+  // closure_pair[j]'s + node, 2 j + 1: its - node)
   double penalty = 0.0;
-  DeviceArray<int32_t> closure_start, closure_entry;
+  DeviceArray<int32_t> closure_pair, closure_start, closure_entry;
   cudaStream_t stream = nullptr;
 
   int n_blocks() const;  // of the pair kernel

@@ -244,15 +244,10 @@ struct DeviceStep::Impl {
     list_y.upload(cm.contact().list_origin_y());
     skin = cm.contact().list_skin();
     moved.resize(1);
-    if (reach_guard) {  // the model's origins; a node split off since has its reference place (as the model's)
-      std::vector<double> rx = cm.reach_origin_x(), ry = cm.reach_origin_y();
-      const Nodes& N = cm.nodes();
-      for (size_t i = rx.size(); i < size_t(N.size()); ++i) {
-        rx.push_back(N.x0[i]);
-        ry.push_back(N.y0[i]);
-      }
-      reach_x.upload(rx);
-      reach_y.upload(ry);
+    if (reach_guard) {  // the model's origins, a node split off since at its reference place
+      model->extend_reach_origin();
+      reach_x.upload(cm.reach_origin_x());
+      reach_y.upload(cm.reach_origin_y());
       reach_moved.resize(1);
     }
     share_arrays();

@@ -126,6 +126,9 @@ class Model final : public BondHost {
   // itself and lets the model say where.
   void guard_stability();
   EnergyAlarm energy_alarm(const EnergyLedger& E) const;
+  // Gives the nodes split off since the last bound their origins: their
+  // reference places (the guard and the stable step do it before they read them).
+  void extend_reach_origin();
   const std::vector<double>& reach_origin_x() const { return reach_x_; }
   const std::vector<double>& reach_origin_y() const { return reach_y_; }
   void set_reach_origin(const std::vector<double>& x, const std::vector<double>& y);
@@ -271,7 +274,6 @@ class Model final : public BondHost {
   void open_sleep_window();
   void body_momenta(const std::vector<double>& cx, const std::vector<double>& cy, std::vector<double>& px,
                     std::vector<double>& py, std::vector<double>& l) const;
-  void extend_reach_origin();      // nodes split off since the last bound: their reference places
   // ... and, with mass scaling on, raise the nodes the contact stiffness of the
   // current configuration (`now`) needs
   int32_t raise_contact_masses(const ContactStiffness& now);
