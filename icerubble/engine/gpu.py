@@ -11,9 +11,18 @@ the same per-triangle, per-body and per-node functions the CPU engine runs.
 bit for bit; quadratic drag's body constants and the energy sum, which the
 GPU sums in another (fixed) order, to round-off.
 """
+import os
+
 import numpy as np
 
 from .. import _engine
+
+# A build without a CUDA toolkit has the backend on the CPU emulation of the
+# CUDA runtime (engine/src/cuda/emulation/): the backend's own code, run on
+# one CPU thread, slowly, for its tests where no GPU is. It is reached only
+# with this variable set to 1, so that device='cuda' is never a slow CPU run
+# by surprise.
+EMULATION_ENV = "ICERUBBLE_GPU_EMULATION"
 
 # Per-node and per-triangle fields the stage writes with the CPU's arithmetic
 # in the CPU's order: each must equal the CPU's bits.
@@ -32,9 +41,20 @@ def built():
     return bool(_engine.cuda_built())
 
 
+def emulation_built():
+    """Whether this build has the backend on the CPU emulation of the CUDA runtime."""
+    return bool(_engine.cuda_emulated())
+
+
+def emulated():
+    """Whether the backend runs here on the CPU emulation (built so, and EMULATION_ENV=1)."""
+    return emulation_built() and os.environ.get(EMULATION_ENV) == "1"
+
+
 def device_name():
-    """The GPU the backend sees ('' when there is none or the build has no backend)."""
-    return _engine.cuda_device() if built() else ""
+    """The GPU the backend sees ('' when there is none or the build has no backend;
+    the emulation's name where it runs)."""
+    return _engine.cuda_device() if built() or emulated() else ""
 
 
 def available():
@@ -44,8 +64,13 @@ def available():
 
 def why_unavailable():
     """A sentence saying why the GPU backend cannot run here ('' if it can)."""
+    if emulated():
+        return ""
     if not built():
-        return "this build has no GPU backend (no CUDA toolkit was found when it was built)"
+        why = "this build has no GPU backend (no CUDA toolkit was found when it was built)"
+        if emulation_built():
+            why += f"; its CPU emulation, a test bench, runs with {EMULATION_ENV}=1"
+        return why
     if not device_name():
         return "no CUDA GPU is visible"
     return ""

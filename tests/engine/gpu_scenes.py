@@ -2,10 +2,41 @@
 tools/gpu_check.py): three floating blocks straddling the water line, with
 damping, viscosity and a drag model, their nodes nudged and given random
 velocities, so every branch of the body-force stage's kernels runs (partly
-submerged triangles, damping, each drag model)."""
+submerged triangles, damping, each drag model).
+
+`on_gpu_or_emulation` marks a test of the backend: it runs on the GPU where
+one is visible, else on the backend's CPU emulation where the build has it
+(docs/gpu.md, "The emulation"), else it is skipped with the reason."""
+import functools
+import os
+
 import numpy as np
+import pytest
 
 from icerubble import engine
+from icerubble.engine import gpu
+
+
+def on_gpu_or_emulation(test):
+    """`test` run on the GPU, else on the CPU emulation (EMULATION_ENV set
+    for it alone), else skipped saying why."""
+    emulate = not gpu.available() and gpu.emulation_built()
+
+    @pytest.mark.skipif(not (gpu.available() or emulate), reason=f"GPU backend: {gpu.why_unavailable()}")
+    @functools.wraps(test)
+    def run(*args, **kwargs):
+        if not emulate:
+            return test(*args, **kwargs)
+        before = os.environ.get(gpu.EMULATION_ENV)
+        os.environ[gpu.EMULATION_ENV] = "1"
+        try:
+            return test(*args, **kwargs)
+        finally:
+            if before is None:
+                del os.environ[gpu.EMULATION_ENV]
+            else:
+                os.environ[gpu.EMULATION_ENV] = before
+    return run
 
 
 def floating_blocks(rng, drag_model):

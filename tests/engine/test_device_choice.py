@@ -1,8 +1,9 @@
 """Where a model's steps run (Model(device=...), RunOptions, a study's
 --device and device column; docs/gpu.md): the CPU by default, the GPU only
 where its backend can run, refused before any work elsewhere with the
-reason. On a machine with a GPU, a model on device 'cuda' steps as on the
-CPU (tests/engine/test_gpu_backend.py compares the steps themselves)."""
+reason. A model on device 'cuda' steps as on the CPU, on a GPU or on the
+backend's CPU emulation (tests/engine/test_gpu_backend.py compares the steps
+themselves)."""
 import os
 import re
 
@@ -14,7 +15,7 @@ from icerubble.engine import gpu
 from icerubble.run import run_identity as RI
 from icerubble.run.punch_through_run import RunOptions
 from tests.commands import icerubble
-from tests.engine.gpu_scenes import pulled_bar
+from tests.engine.gpu_scenes import on_gpu_or_emulation, pulled_bar
 from tests.paths import ROOT
 
 no_gpu = pytest.mark.skipif(gpu.available(), reason="a GPU is visible here: 'cuda' is not refused")
@@ -60,7 +61,7 @@ def test_a_run_on_the_gpu_is_another_run():
     assert "device" not in cpu and on_gpu["device"] == "cuda"
 
 
-@pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
+@on_gpu_or_emulation
 def test_a_model_on_the_gpu_steps_as_on_the_cpu():
     # the state read back between calls, as a run's chunks do
     cmp = gpu.compare_device(pulled_bar, 7, 2000)

@@ -1,17 +1,17 @@
 """The GPU backend's body-force stage (docs/gpu.md) gives the CPU's bits:
 the same per-triangle, per-body and per-node functions, the same order in
-every per-node sum. Where no GPU is visible the comparison is skipped and
-the backend says why it cannot run."""
+every per-node sum. Where no GPU is visible the comparisons run on the
+backend's CPU emulation (the build without a CUDA toolkit has it), and the
+backend says why it cannot run without it."""
 import re
 
 import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square, pressed_blocks,
-                                     pulled_bar, rubbing_blocks, sheared_square, sliding_block)
-
-needs_gpu = pytest.mark.skipif(not gpu.available(), reason=f"GPU backend: {gpu.why_unavailable()}")
+from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, on_gpu_or_emulation,
+                                     opened_square, pressed_blocks, pulled_bar, rubbing_blocks, sheared_square,
+                                     sliding_block)
 
 
 def test_the_backend_says_why_it_cannot_run():
@@ -24,7 +24,7 @@ def test_the_backend_says_why_it_cannot_run():
         gpu.Steps(driven_block(np.random.default_rng(0), "linear"))
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("drag_model", ["linear", "quadratic", "none"])
 def test_gpu_body_forces_are_the_cpus_bits(drag_model):
     m = floating_blocks(np.random.default_rng(7), drag_model)
@@ -37,7 +37,7 @@ def test_gpu_body_forces_are_the_cpus_bits(drag_model):
         assert cmp["drag_k"][0] == 0
 
 
-@needs_gpu
+@on_gpu_or_emulation
 def test_a_second_gpu_run_gives_the_same_bits():
     stage = gpu.BodyForces(floating_blocks(np.random.default_rng(3), "quadratic"))
     stage.run()
@@ -49,7 +49,7 @@ def test_a_second_gpu_run_gives_the_same_bits():
     assert a["elastic_energy"] == b["elastic_energy"]
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("drag_model", ["linear", "quadratic"])
 def test_the_gpu_update_is_the_cpus_step(drag_model):
     m = floating_blocks(np.random.default_rng(11), drag_model)
@@ -59,7 +59,7 @@ def test_the_gpu_update_is_the_cpus_step(drag_model):
     assert cmp["ledger"] <= gpu.ROUND_OFF
 
 
-@needs_gpu
+@on_gpu_or_emulation
 def test_the_gpu_normal_contact_is_the_cpus():
     cmp = gpu.compare_contact(pressed_blocks(np.random.default_rng(5)))
     assert cmp["touching"][0] > 10 and cmp["touching"][0] == cmp["touching"][1]
@@ -67,7 +67,7 @@ def test_the_gpu_normal_contact_is_the_cpus():
     assert cmp["energy_rel"] <= gpu.ROUND_OFF
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("seed", [1, 2, 4])
 def test_the_gpu_bond_check_gives_the_cpus_plan(seed):
     cmp = gpu.compare_bond_check(bonded_square(np.random.default_rng(seed)))
@@ -75,7 +75,7 @@ def test_the_gpu_bond_check_gives_the_cpus_plan(seed):
     assert (cmp["ratio"], cmp["tn"], cmp["tt"]) == (0, 0, 0)
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
 def test_the_gpu_cohesive_forces_are_the_cpus(direction):
     """Rigid phase, softening and failure of the square's opened pairs: per
@@ -85,7 +85,7 @@ def test_the_gpu_cohesive_forces_are_the_cpus(direction):
         assert cmp["pairs"] > 0 and cmp["ok"], cmp
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("seed", [3, 8])
 def test_the_gpu_friction_is_the_cpus(seed):
     cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)))
@@ -96,7 +96,7 @@ def test_the_gpu_friction_is_the_cpus(seed):
     assert cmp["power_rel"] <= gpu.ROUND_OFF
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("drag_model", ["linear", "none"])
 def test_whole_gpu_steps_are_the_cpus_steps(drag_model):
     # 300 steps: the ramp of the driven top and past it; every per-node and
@@ -108,7 +108,7 @@ def test_whole_gpu_steps_are_the_cpus_steps(drag_model):
     assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
 
 
-@needs_gpu
+@on_gpu_or_emulation
 def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
     # 4,000 steps of a block sliding on a slab: normal contact and friction on
     # the GPU, and the steps whose candidate list is rebuilt taken by the model
@@ -118,7 +118,7 @@ def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
     assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
 
 
-@needs_gpu
+@on_gpu_or_emulation
 @pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
 def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
     # its points split in steps the model takes; their pairs soften and fail
@@ -128,14 +128,14 @@ def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
     assert cmp["host_steps"] >= 1 and cmp["ok"], cmp
 
 
-@needs_gpu
+@on_gpu_or_emulation
 def test_whole_gpu_steps_of_a_sheared_square_are_the_cpus():
     # failures in shear, and the split pairs' crack closure under compression
     cmp = gpu.compare_steps(sheared_square, 3000, nodes="top")
     assert cmp["bond_counts"][0][1] > 0 and cmp["ok"], cmp
 
 
-@needs_gpu
+@on_gpu_or_emulation
 def test_the_gpu_step_says_what_it_does_not_run_yet():
     m = driven_block(np.random.default_rng(0), "linear")
     m.set(sleeping=True)

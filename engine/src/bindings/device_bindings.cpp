@@ -11,6 +11,7 @@
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/device_step.hpp"
+#include "cuda/emulation_check.hpp"
 #include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 #include "model/model.hpp"
@@ -129,6 +130,10 @@ CohesiveForceFields cpu_cohesive_forces(const Model& model) {
 
 void bind_device(py::module_& m) {
   m.def("cuda_built", &cuda_built, "whether this build has the GPU backend");
+  m.def("cuda_emulated", &cuda_emulated,
+        "whether this build has the GPU backend on the CPU emulation of the CUDA runtime (no toolkit; for tests)");
+  m.def("cuda_emulation_check", &cuda_emulation_check, py::arg("scene"),
+        "one of the emulated runtime's self-checks (cuda/emulation/self_check.cpp): its numbers by name");
   m.def("cuda_device", &cuda_device_name, "the GPU the backend sees ('' if none)");
   m.def("body_force_fields", [](const Model& model) { return as_dict(cpu_fields(model)); },
         "the CPU's body-force fields of the model's last evaluation (what DeviceBodyForces computes)");

@@ -5,8 +5,10 @@
 #include "cuda/body_forces_impl.cuh"
 
 #include "cuda/device_array.cuh"
+#include "cuda/emulation_check.hpp"
 #include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
+#include "cuda/launch.cuh"
 #include "element/cst_kernel.hpp"
 #include "loads/drag_kernel.hpp"
 #include "loads/water_kernel.hpp"
@@ -23,7 +25,7 @@ constexpr int kBlock = 128;
 constexpr int kBodyBlock = 256;
 // The strain energy's final sum: one block of kSumThreads lanes over the
 // triangle blocks' partial sums.
-constexpr int kSumThreads = 1024;
+constexpr int kSumThreads = kWideBlock;
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
@@ -104,7 +106,17 @@ __global__ void __launch_bounds__(kSumThreads) energy_sum_kernel(const double* p
 
 }  // namespace
 
+#ifdef ICERUBBLE_CUDA_EMULATION
+bool cuda_built() { return false; }  // no toolkit: the runtime is the CPU emulation's
+bool cuda_emulated() { return true; }
+#else
 bool cuda_built() { return true; }
+bool cuda_emulated() { return false; }
+std::map<std::string, double> cuda_emulation_check(const std::string&) {
+  throw std::runtime_error(
+      "this build runs the GPU backend on a GPU: the emulation is in builds without a CUDA toolkit");
+}
+#endif
 
 std::string cuda_device_name() {
   int n = 0;
@@ -134,17 +146,17 @@ void DeviceBodyForces::Impl::launch() {
     const BodyDragArrays d{x.data(), y.data(), vx.data(), vy.data(), node.data(), area0.data(),
                            body_area0.data(), body_start.data(), body_tri.data(), surf_start.data(),
                            surf_tri.data(), 0.5 * ext.rho_w * ext.C_d};
-    drag_terms_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(d, n_tri, term_x.data(), term_y.data());
-    if (n_bodies) drag_kernel<<<n_bodies, kBodyBlock, 0, stream>>>(d, term_x.data(), term_y.data(), c_b.data());
+    launch_kernel(drag_terms_kernel, blocks(n_tri), kBlock, stream, d, n_tri, term_x.data(), term_y.data());
+    if (n_bodies) launch_kernel(drag_kernel, n_bodies, kBodyBlock, stream, d, term_x.data(), term_y.data(), c_b.data());
   }
   mark(0);
   cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
-  triangle_kernel<<<blocks(n_tri), kBlock, 0, stream>>>(e, w, load, damping, water, n_tri, inverted.data(),
-                                                        partial.data());
+  launch_kernel(triangle_kernel, blocks(n_tri), kBlock, stream, e, w, load, damping, water, n_tri, inverted.data(),
+                partial.data());
   mark(1);
-  gather_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(g, load, n_nodes);
+  launch_kernel(gather_kernel, blocks(n_nodes), kBlock, stream, g, load, n_nodes);
   mark(2);
-  energy_sum_kernel<<<1, kSumThreads, 0, stream>>>(partial.data(), blocks(n_tri), total.data());
+  launch_kernel(energy_sum_kernel, 1, kSumThreads, stream, partial.data(), blocks(n_tri), total.data());
   mark(3);
   cuda_check(cudaGetLastError(), "kernel launch");
 }

@@ -16,6 +16,8 @@ class Model;
 
 // Whether this build has the GPU backend, and the GPU it sees ("" if none).
 bool cuda_built();
+// whether it was built against the CPU emulation of the CUDA runtime (no toolkit; cuda/emulation/)
+bool cuda_emulated();
 std::string cuda_device_name();
 
 // The stage's outputs, copied back for a comparison with the CPU's.

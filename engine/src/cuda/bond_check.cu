@@ -8,6 +8,7 @@
 #include "cuda/bond_check_impl.cuh"
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/launch.cuh"
 #include "model/model.hpp"
 
 namespace engine {
@@ -57,17 +58,17 @@ BondCheckArrays DeviceBondCheck::Impl::arrays(const double* at_x, const double* 
 
 void DeviceBondCheck::Impl::launch() {
   if (n_intact)
-    check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(arrays(x.data(), y.data(), stress.data()),
-                                                                          intact.data(), n_intact, mu, ratio.data());
+    launch_kernel(check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream,
+                  arrays(x.data(), y.data(), stress.data()), intact.data(), n_intact, mu, ratio.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
 void DeviceBondCheck::Impl::launch_screened(const double* at_x, const double* at_y, const double* at_stress,
                                             int64_t step) {
   if (n_intact)
-    screened_check_kernel<<<(n_intact + kBlock - 1) / kBlock, kBlock, 0, stream>>>(
-        arrays(at_x, at_y, at_stress), intact.data(), n_intact, mu, step, screen_interval, screen_fraction,
-        near.data(), near_next.data(), split.data(), evaluated.data());
+    launch_kernel(screened_check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream,
+                  arrays(at_x, at_y, at_stress), intact.data(), n_intact, mu, step, screen_interval, screen_fraction,
+                  near.data(), near_next.data(), split.data(), evaluated.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

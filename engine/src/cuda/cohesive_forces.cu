@@ -12,6 +12,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/launch.cuh"
 #include "model/model.hpp"
 
 namespace engine {
@@ -20,7 +21,7 @@ namespace {
 
 constexpr int kBlock = 128;
 constexpr int kTerms = 3;  // work, stored, dissipation
-constexpr int kSumThreads = 1024;
+constexpr int kSumThreads = kWideBlock;
 
 __global__ void __launch_bounds__(kBlock)
     pair_kernel(CohesivePairArrays a, const int32_t* open, int32_t n, cohesive_law::ForceDirection dir, double dt,
@@ -151,28 +152,24 @@ CohesiveHistory DeviceCohesiveForces::Impl::history() {
 void DeviceCohesiveForces::Impl::launch() {
   const CohesivePairArrays a = arrays(x.data(), y.data(), vx.data(), vy.data(), f_x.data(), f_y.data(),
                                       f_con_x.data(), f_con_y.data());
-  pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
-                                                delta_m.data(), failed.data(), mode.data(), partial.data(),
-                                                n_blocks());
-  node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
-                                                                     fpy.data(), n_nodes, f_coh_x.data(),
-                                                                     f_coh_y.data());
-  term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
+  launch_kernel(pair_kernel, n_blocks(), kBlock, stream, a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
+                delta_m.data(), failed.data(), mode.data(), partial.data(), n_blocks());
+  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, start.data(), entry.data(), fpx.data(),
+                fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
+  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, partial.data(), n_blocks(), sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
 void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, double time, double* f_con_x,
                                                    double* f_con_y) {
-  committed_pair_kernel<<<n_blocks(), kBlock, 0, stream>>>(a, history(), open.data(), n_open, dir, dt, time,
-                                                          fpx.data(), fpy.data(), partial.data(), n_blocks(),
-                                                          any_failed.data());
-  node_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(start.data(), entry.data(), fpx.data(),
-                                                                     fpy.data(), n_nodes, f_coh_x.data(),
-                                                                     f_coh_y.data());
-  term_sums_kernel<kSumThreads><<<kTerms, kSumThreads, 0, stream>>>(partial.data(), n_blocks(), sums.data());
-  closure_kernel<<<(n_nodes + kBlock - 1) / kBlock, kBlock, 0, stream>>>(
-      a.x, a.y, node_plus.data(), node_minus.data(), fnx.data(), fny.data(), penalty, closure_pair.data(),
-      closure_start.data(), closure_entry.data(), n_nodes, f_con_x, f_con_y);
+  launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, a, history(), open.data(), n_open, dir, dt, time,
+                fpx.data(), fpy.data(), partial.data(), n_blocks(), any_failed.data());
+  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, start.data(), entry.data(), fpx.data(),
+                fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
+  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, partial.data(), n_blocks(), sums.data());
+  launch_kernel(closure_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, a.x, a.y, node_plus.data(),
+                node_minus.data(), fnx.data(), fny.data(), penalty, closure_pair.data(), closure_start.data(),
+                closure_entry.data(), n_nodes, f_con_x, f_con_y);
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

@@ -11,6 +11,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
+#include "cuda/launch.cuh"
 #include "model/model.hpp"
 
 namespace engine {
@@ -18,7 +19,7 @@ namespace engine {
 namespace {
 
 constexpr int kBlock = 128;
-constexpr int kSumThreads = 1024;
+constexpr int kSumThreads = kWideBlock;
 
 __global__ void pair_kernel(const double* x, const double* y, const int32_t* node, int64_t n, double s,
                             double* fx, double* fy, uint8_t* hit, double* energy) {
@@ -77,13 +78,13 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 void DeviceContactNormal::Impl::launch() {
   if (n_pairs) {
-    pair_kernel<<<blocks(n_pairs), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_pairs, penalty,
-                                                         fx.data(), fy.data(), hit.data(), pair_energy.data());
+    launch_kernel(pair_kernel, blocks(n_pairs), kBlock, stream, x.data(), y.data(), node.data(), n_pairs, penalty,
+                  fx.data(), fy.data(), hit.data(), pair_energy.data());
   }
-  node_sum_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(start.data(), entry.data(), hit.data(), fx.data(),
-                                                          fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
-  pair_sums_kernel<<<1, kSumThreads, 0, stream>>>(pair_energy.data(), hit.data(), n_pairs, total.data(),
-                                                  touching.data());
+  launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, start.data(), entry.data(), hit.data(), fx.data(),
+                fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
+  launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, pair_energy.data(), hit.data(), n_pairs, total.data(),
+                touching.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

@@ -42,6 +42,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/node_update_impl.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/launch.cuh"
 #include "loads/boundary_kernel.hpp"
 #include "model/assemble_kernel.hpp"
 #include "model/model.hpp"
@@ -350,13 +351,13 @@ struct DeviceStep::Impl {
     // the total before friction
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
-    assemble_kernel<<<blocks(n), kBlock, 0, stream>>>(a, n);
+    launch_kernel(assemble_kernel, blocks(n), kBlock, stream, a, n);
     if (contact) {  // (3b) friction, from the total before it
       DeviceFriction::Impl& R = fr();
       R.launch();  // the step's total into U.f_x, U.f_y (share_arrays)
       if (R.n_cand)
-        warm_start_kernel<<<blocks(R.n_cand), kBlock, 0, stream>>>(R.hit.data(), R.lambda.data(), R.n_cand,
-                                                                    R.prev_lambda.data());
+        launch_kernel(warm_start_kernel, blocks(R.n_cand), kBlock, stream, R.hit.data(), R.lambda.data(), R.n_cand,
+                      R.prev_lambda.data());
     }
     // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions
     const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
@@ -368,8 +369,10 @@ struct DeviceStep::Impl {
       const double s = bc.history.at(t_half);
       const int32_t m = int32_t(bc.nodes.size());
       // the CPU sets x, then y, per node; the components are apart, so the order is moot
-      if (bc.x) boundary_kernel<<<blocks(m), kBlock, 0, stream>>>(cx, bc_nodes[k]->data(), m, bc.dir_x * s, inv_dt);
-      if (bc.y) boundary_kernel<<<blocks(m), kBlock, 0, stream>>>(cy, bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
+      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, cx,
+                              bc_nodes[k]->data(), m, bc.dir_x * s, inv_dt);
+      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, cy,
+                              bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
     }
     U.launch();  // (7) the central difference and the ledger's sums
     fetch(host_sums, U.sums, n_terms);
@@ -385,15 +388,15 @@ struct DeviceStep::Impl {
       DeviceFriction::Impl& R = fr();
       cuda_check(cudaMemsetAsync(moved.data(), 0, sizeof(int32_t), stream), "memset");
       const int32_t m = int32_t(list_nodes.size());
-      if (m) moved_kernel<<<blocks(m), kBlock, 0, stream>>>(U.x.data(), U.y.data(), list_x.data(), list_y.data(),
-                                                             list_nodes.data(), m, skin, moved.data());
+      if (m) launch_kernel(moved_kernel, blocks(m), kBlock, stream, U.x.data(), U.y.data(), list_x.data(),
+                           list_y.data(), list_nodes.data(), m, skin, moved.data());
       fetch(host_sums + x_contact, cn().total, 1);
       fetch(host_sums + x_friction_power, R.power, 1);
       fetch(host_flags + f_moved, moved, 1);
       if (reach_guard && (step_count + 1) % Model::kReachCheckEvery == 0) {  // the step number after this one
         zero(reach_moved);
-        reach_kernel<<<blocks(n), kBlock, 0, stream>>>(U.x.data(), U.y.data(), reach_x.data(), reach_y.data(), n,
-                                                      reach_half, reach_moved.data());
+        launch_kernel(reach_kernel, blocks(n), kBlock, stream, U.x.data(), U.y.data(), reach_x.data(), reach_y.data(),
+                      n, reach_half, reach_moved.data());
         fetch(host_flags + f_reach, reach_moved, 1);
       }
     }

@@ -7,6 +7,19 @@
 
 namespace engine {
 
+// The lanes of a block that runs alone over a whole array: the final sums,
+// friction's colouring and sweeps. 1024 on a GPU. The CPU emulation
+// (cuda/emulation/) runs a block's lanes as fibers, switched at every
+// barrier (11 rounds of 1024 switches per sum): there the same kernels run
+// with 64 lanes, the same trees 4 levels shorter, so its sums add in another
+// order (to round-off) and its colours are the same (each is fixed by the
+// candidates' priorities, not by the lanes).
+#ifdef ICERUBBLE_CUDA_EMULATION
+constexpr int kWideBlock = 64;
+#else
+constexpr int kWideBlock = 1024;
+#endif
+
 // Sums in a fixed tree over a block's N lanes (N a power of two; every lane
 // calls it): every run gives the same bits, no atomics in any sum.
 template <int N>

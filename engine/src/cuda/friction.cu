@@ -21,6 +21,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/launch.cuh"
 #include "model/model.hpp"
 
 namespace engine {
@@ -28,7 +29,7 @@ namespace engine {
 namespace {
 
 constexpr int kBlock = 128;
-constexpr int kSolveThreads = 1024;
+constexpr int kSolveThreads = kWideBlock;
 constexpr int kSweeps = 4;           // contact/friction.cpp's
 constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
 
@@ -205,21 +206,18 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 void DeviceFriction::Impl::launch() {
   if (n_cand) {
-    pair_kernel<<<blocks(n_cand), kBlock, 0, stream>>>(x.data(), y.data(), node.data(), n_cand, penalty,
-                                                       hit.data(), nc.data(), nt.data(), nx.data(), ny.data(),
-                                                       fn.data());
+    launch_kernel(pair_kernel, blocks(n_cand), kBlock, stream, x.data(), y.data(), node.data(), n_cand, penalty,
+                  hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data());
   }
-  predict_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(mass.data(), constrained.data(), vx.data(), vy.data(),
-                                                         f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(),
-                                                         imy.data(), wx.data(), wy.data());
-  colour_kernel<<<1, kSolveThreads, 0, stream>>>(node.data(), hit.data(), key.data(), start.data(), entry.data(),
-                                                 n_cand, colour.data(), counts.data());
-  solve_kernel<<<1, kSolveThreads, 0, stream>>>(pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
-                                                prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(),
-                                                wx.data(), wy.data(), kinv.data(), lambda.data(), power.data());
-  apply_kernel<<<blocks(n_nodes), kBlock, 0, stream>>>(pairs(), start.data(), entry.data(), lambda.data(),
-                                                       f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(),
-                                                       f_y.data());
+  launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, mass.data(), constrained.data(), vx.data(), vy.data(),
+                f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
+  launch_kernel(colour_kernel, 1, kSolveThreads, stream, node.data(), hit.data(), key.data(), start.data(),
+                entry.data(), n_cand, colour.data(), counts.data());
+  launch_kernel(solve_kernel, 1, kSolveThreads, stream, pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
+                prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
+                lambda.data(), power.data());
+  launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, pairs(), start.data(), entry.data(), lambda.data(),
+                f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

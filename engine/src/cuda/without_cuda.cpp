@@ -7,6 +7,7 @@
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
 #include "cuda/device_step.hpp"
+#include "cuda/emulation_check.hpp"
 #include "cuda/friction.hpp"
 #include "cuda/node_update.hpp"
 
@@ -21,6 +22,8 @@ namespace {
 }  // namespace
 
 bool cuda_built() { return false; }
+bool cuda_emulated() { return false; }
+std::map<std::string, double> cuda_emulation_check(const std::string&) { no_gpu(); }
 std::string cuda_device_name() { return ""; }
 
 struct DeviceBodyForces::Impl {};
