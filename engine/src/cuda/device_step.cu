@@ -204,7 +204,8 @@ struct DeviceStep::Impl {
       return settle_uploads();
     }
     normal.reset(new DeviceContactNormal(cm));
-    friction.reset(new DeviceFriction(cm));
+    // the model's warm start (keys of the pairs of its last step) per candidate
+    friction.reset(new DeviceFriction(cm, DeviceFriction::WarmStart::per_candidate));
     adopt(cn().stream);
     adopt(fr().stream);
     if (bonded) {
@@ -220,19 +221,6 @@ struct DeviceStep::Impl {
       bond_dissipation = B.dissipation_effective();
       bond_checks = B.checks();
     }
-    // the model's warm start (keys of the pairs of its last step, sorted) per candidate
-    DeviceFriction::Impl& F = fr();
-    const std::vector<uint64_t> keys = F.key.download();  // the candidates', ascending
-    const std::vector<uint64_t>& wk = cm.contact().warm_start_keys();
-    const std::vector<double>& wl = cm.contact().warm_start_forces();
-    std::vector<double> prev(keys.size(), NAN);
-    for (size_t c = 0, j = 0; c < keys.size(); ++c) {
-      while (j < wk.size() && wk[j] < keys[c]) ++j;
-      if (j < wk.size() && wk[j] == keys[c]) prev[c] = wl[j];
-    }
-    F.prev_key.upload(keys);
-    F.prev_lambda.upload(prev);
-    F.n_prev = int64_t(keys.size());
     // the list's test: the nodes of the surface triangles, where the list was built, its skin
     std::vector<uint8_t> on(size_t(cm.nodes().size()), 0);
     for (const int32_t t : cm.surface_triangles())
@@ -582,14 +570,7 @@ void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double&
   Impl& d = *impl_;
   cuda_check(cudaStreamSynchronize(d.stream), "GPU step");
   // after a step the model took, its reactions are the ones
-  const std::vector<double> r_x = d.u().r_x.download(), r_y = d.u().r_y.download();
-  rx = ry = 0.0;
-  for (const int32_t i : nodes) {
-    if (i < 0 || i >= d.u().n)
-      bad("node id " + std::to_string(i) + " out of range [0, " + std::to_string(d.u().n - 1) + "]");
-    rx += r_x[size_t(i)];
-    ry += r_y[size_t(i)];
-  }
+  Model::sum_reactions(d.u().r_x.download(), d.u().r_y.download(), nodes, rx, ry);
 }
 
 double DeviceStep::time() const { return impl_->time; }

@@ -13,6 +13,9 @@
 // (contact/friction.cpp), so the tangential forces are the CPU's bits. Then a
 // lane per node adds its pairs' friction in the CPU's order.
 #include "cuda/friction.hpp"
+
+#include <cmath>
+
 #include "cuda/friction_impl.cuh"
 
 #include "contact/candidate_layout.hpp"
@@ -222,7 +225,7 @@ void DeviceFriction::Impl::launch() {
 }
 
 
-DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
+DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new Impl) {
   Impl& d = *impl_;
   d.stream = new_stream();
   const Nodes& N = m.nodes();
@@ -254,9 +257,22 @@ DeviceFriction::DeviceFriction(const Model& m) : impl_(new Impl) {
   d.nt.resize(3 * cand.size());
   d.colour.resize(cand.size());
   d.counts.resize(2);
-  d.prev_key.upload(C.warm_start_keys());
-  d.prev_lambda.upload(C.warm_start_forces());
-  d.n_prev = int64_t(C.warm_start_keys().size());
+  const std::vector<uint64_t>& wk = C.warm_start_keys();
+  const std::vector<double>& wl = C.warm_start_forces();
+  if (warm_start == WarmStart::model_keys) {
+    d.prev_key.upload(wk);
+    d.prev_lambda.upload(wl);
+    d.n_prev = int64_t(wk.size());
+  } else {  // both key lists ascending: one merge
+    std::vector<double> prev(L.key.size(), NAN);
+    for (size_t c = 0, j = 0; c < L.key.size(); ++c) {
+      while (j < wk.size() && wk[j] < L.key[c]) ++j;
+      if (j < wk.size() && wk[j] == L.key[c]) prev[c] = wl[j];
+    }
+    d.prev_key.upload(L.key);
+    d.prev_lambda.upload(prev);
+    d.n_prev = int64_t(L.key.size());
+  }
   d.power.resize(1);
 }
 

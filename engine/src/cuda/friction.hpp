@@ -30,7 +30,11 @@ class DeviceFriction {
   // before friction (f_pre), the candidate list of its last contact pass and
   // the friction warm start it holds now (after Model::evaluate: the one that
   // evaluation started from).
-  explicit DeviceFriction(const Model& model);
+  // The warm start as the model holds it (the keys of its last step's
+  // touching pairs, sorted), or laid out per candidate (the candidates' keys,
+  // NaN where one did not touch: how the whole step keeps it between steps).
+  enum class WarmStart { model_keys, per_candidate };
+  explicit DeviceFriction(const Model& model, WarmStart warm_start = WarmStart::model_keys);
   ~DeviceFriction();
   DeviceFriction(const DeviceFriction&) = delete;
   DeviceFriction& operator=(const DeviceFriction&) = delete;

@@ -142,6 +142,10 @@ class Model final : public BondHost {
   // Sum of the forces the boundary conditions exert on these nodes [N/m]
   // (what the boundary pushes with), from the last step.
   void reaction(const std::vector<int32_t>& nodes, double& rx, double& ry) const;
+  // ... the same sum over per-node reactions held elsewhere (the GPU step's,
+  // read back): one sum, in the order of `nodes`, for both backends
+  static void sum_reactions(const std::vector<double>& r_x, const std::vector<double>& r_y,
+                            const std::vector<int32_t>& nodes, double& rx, double& ry);
   int32_t find_boundary_condition(const std::string& name) const;
 
   // --- state ---

@@ -54,12 +54,17 @@ void Model::build_constraints() {
 }
 
 void Model::reaction(const std::vector<int32_t>& ids, double& rx, double& ry) const {
+  sum_reactions(nodes_.r_x, nodes_.r_y, ids, rx, ry);
+}
+
+void Model::sum_reactions(const std::vector<double>& r_x, const std::vector<double>& r_y,
+                          const std::vector<int32_t>& ids, double& rx, double& ry) {
+  const int64_t n = int64_t(r_x.size());
   rx = ry = 0.0;
   for (int32_t id : ids) {
-    if (id < 0 || id >= nodes_.size())
-      bad("node id " + std::to_string(id) + " out of range [0, " + std::to_string(nodes_.size() - 1) + "]");
-    rx += nodes_.r_x[id];
-    ry += nodes_.r_y[id];
+    if (id < 0 || id >= n) bad("node id " + std::to_string(id) + " out of range [0, " + std::to_string(n - 1) + "]");
+    rx += r_x[size_t(id)];
+    ry += r_y[size_t(id)];
   }
 }
 
