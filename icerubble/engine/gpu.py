@@ -347,8 +347,7 @@ def compare_friction(model):
 
 class Steps:
     """Whole steps of `model` (an engine.Model) on the GPU, as far as they are
-    built (cuda/device_step.hpp): models without the sleeping far field, with
-    contact_reach infinite. Copies the model's mesh, state, boundary
+    built (cuda/device_step.hpp): models without the sleeping far field. Copies the model's mesh, state, boundary
     conditions, clock, ledger, friction warm start and bonds' state;
     `step(n)` runs n steps of Model.step, on the GPU but for the steps whose
     candidate list is rebuilt or whose bond check splits a point, which the
@@ -374,6 +373,10 @@ class Steps:
     @property
     def time(self):
         return self._d.time
+
+    @property
+    def step_count(self):
+        return self._d.step_count
 
     @property
     def host_steps(self):
@@ -443,16 +446,27 @@ def compare_bond_states(cpu_model, gpu_model):
             "bond_counts": (counts(cpu_model), counts(gpu_model))}
 
 
-def compare_device(make_model, chunks, n):
-    """A model of make_model() stepped on device 'cuda' (Model.step: a
-    gpu.Steps per call) against another on the CPU, `chunks` calls of n steps
-    each, as a run steps it: {'same': positions, velocities and bond counts
-    equal, 'gpu_steps': the steps the GPU took}."""
+def compare_device(make_model, chunks, n, nodes=None, between=None):
+    """A model of make_model() stepped on device 'cuda' (Model.step, the GPU's
+    steps kept between calls) against another on the CPU, `chunks` calls of
+    n steps each, as a run steps it; between(model, k), if given, changes
+    both models after call k (the change must reach the GPU's next steps):
+    {'same': positions, velocities, bond counts and, for node set `nodes`,
+    the reaction equal after every call, 'gpu_steps': the steps the GPU took,
+    'remade': how many times the GPU's steps were made from the model}."""
     cpu, on_gpu = make_model(), make_model()
     on_gpu.device = "cuda"
-    for m in (cpu, on_gpu):
-        for _ in range(chunks):
+    same, made, steps = True, 0, None
+    for k in range(chunks):
+        for m in (cpu, on_gpu):
             m.step(n)
-    same = (np.array_equal(cpu.positions, on_gpu.positions) and np.array_equal(cpu.velocities, on_gpu.velocities)
-            and cpu.bonds.counts == on_gpu.bonds.counts)
-    return dict(same=bool(same), gpu_steps=on_gpu.timings()["gpu_steps"])
+        if on_gpu._gpu_steps is not steps:
+            made, steps = made + 1, on_gpu._gpu_steps
+        same = same and (np.array_equal(cpu.positions, on_gpu.positions)
+                         and np.array_equal(cpu.velocities, on_gpu.velocities)
+                         and cpu.bonds.counts == on_gpu.bonds.counts
+                         and (nodes is None or np.array_equal(cpu.reaction(nodes), on_gpu.reaction(nodes))))
+        if between is not None and k < chunks - 1:
+            for m in (cpu, on_gpu):
+                between(m, k)
+    return dict(same=bool(same), gpu_steps=on_gpu.timings()["gpu_steps"], remade=made)

@@ -125,6 +125,7 @@ class Model:
     def __init__(self, nodes, triangles, body, materials, node_sets=None, device="cpu"):
         self._device = check_device(device)   # before any work
         self._gpu_timings = dict(steps=0, element_steps=0, total=0.0)
+        self._gpu_steps = None   # device 'cuda': the GPU's steps, kept between calls (step)
         nodes = np.asarray(nodes, dtype=float)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or nodes.shape[0] < 3:
             raise ValueError(f"nodes must be an (N, 2) array with N >= 3 (got shape {nodes.shape})")
@@ -156,6 +157,7 @@ class Model:
     # ------------------------------------------------------------- setup
     def _set_materials(self, materials):
         nb = self._m.n_bodies
+        self._drop_gpu_steps()
         if isinstance(materials, dict) and materials and all(isinstance(k, str) for k in materials):
             per_body = {b: materials for b in range(nb)}
         elif isinstance(materials, dict):
@@ -183,6 +185,7 @@ class Model:
 
         ``water=False`` is a shorthand for buoyancy=False, drag=False.
         """
+        self._drop_gpu_steps()
         if "water" in params:
             w = _flag("water", params.pop("water"))
             params.setdefault("buoyancy", w)
@@ -230,6 +233,7 @@ class Model:
 
     def fix(self, name, x=True, y=True):
         """Hold the nodes of node set ``name`` at rest in x and/or y."""
+        self._drop_gpu_steps()
         ids = self._set(name)
         self._m.add_boundary_condition(name, ids, _flag("x", x), _flag("y", y), 0.0, 0.0,
                                        "constant", 0.0, 0.0, np.zeros(0), np.zeros(0))
@@ -244,6 +248,7 @@ class Model:
         (times, speeds): piecewise linear, held constant outside. The
         direction is normalised. x/y choose the prescribed components.
         """
+        self._drop_gpu_steps()
         d = np.asarray(direction, dtype=float)
         if d.shape != (2,) or not np.all(np.isfinite(d)) or np.hypot(*d) == 0.0:
             raise ValueError(f"direction must be a finite, non-zero 2-vector (got {direction!r})")
@@ -269,14 +274,17 @@ class Model:
 
     def clear_boundary_conditions(self):
         self._m.clear_boundary_conditions()
+        self._drop_gpu_steps()
 
     def set_positions(self, xy):
         """Current node positions (N, 2); restarts the energy bookkeeping."""
+        self._drop_gpu_steps()
         xy = self._node_pairs("positions", xy)
         self._m.set_positions(xy[:, 0], xy[:, 1])
 
     def set_velocities(self, v):
         """Node velocities (N, 2) [m/s]; restarts the energy bookkeeping."""
+        self._drop_gpu_steps()
         v = self._node_pairs("velocities", v)
         self._m.set_velocities(v[:, 0], v[:, 1])
 
@@ -297,23 +305,48 @@ class Model:
     @device.setter
     def device(self, device):
         self._device = check_device(device)
+        self._drop_gpu_steps()
+
+    def _drop_gpu_steps(self):
+        """Forget the GPU's steps: the model is changed here (its state, its
+        parameters, its boundary conditions, bonds or ledger), so the next
+        step on device 'cuda' copies it to the GPU again. The model holds the
+        GPU's state already (step downloads it after each call)."""
+        self._gpu_steps = None
+
+    def set_reach_origin(self, xy):
+        """Where the contact reach guard measures each node's move from (N, 2)
+        [m] (a run resumed from another run's rest state: its rest)."""
+        xy = self._node_pairs("reach origin", xy)
+        self._drop_gpu_steps()
+        self._m.set_reach_origin(xy[:, 0], xy[:, 1])
 
     def step(self, n=1):
         """Advance n time steps. Raises ValueError before stepping if dt is
         above the stable step, InstabilityError if the run goes unstable.
-        On device 'cuda' the n steps run on the GPU from the model's state,
-        which holds theirs when this returns (gpu.Steps: the mesh and state
-        are copied each call, so call it for many steps at a time)."""
+        On device 'cuda' the n steps run on the GPU, and the model holds
+        their state when this returns (with the last step's reactions and
+        the stresses at the state they ended in). The GPU keeps the state
+        between calls: the mesh and state are copied to it on the first call
+        and again only after the model is changed here (_drop_gpu_steps), so
+        a run's chunks of steps cost only the copy back."""
         if not isinstance(n, numbers.Integral) or n < 0:
             raise ValueError(f"n must be an integer >= 0 (got {n!r})")
         if self._device == "cuda" and n > 0:
             from . import gpu
             t0 = time.perf_counter()
-            steps = gpu.Steps(self)
-            steps.step(int(n))
+            steps = self._gpu_steps
+            if steps is None or steps.step_count != self._m.step_count:
+                steps = self._gpu_steps = gpu.Steps(self)
+            host_before = int(steps.host_steps)
+            try:
+                steps.step(int(n))
+            except BaseException:
+                self._gpu_steps = None   # the model holds the last call's state
+                raise
             steps.download()
             # the steps the GPU took (the model's own are in its timings already)
-            on_gpu = int(n) - int(steps.host_steps)
+            on_gpu = int(n) - (int(steps.host_steps) - host_before)
             g = self._gpu_timings
             g["steps"] += on_gpu
             g["element_steps"] += on_gpu * self.n_triangles
@@ -324,6 +357,7 @@ class Model:
 
     def evaluate(self):
         """Compute all forces, stresses and reactions at the current state without moving."""
+        self._drop_gpu_steps()
         self._m.evaluate()
 
     def stable_time_step(self):
@@ -334,10 +368,12 @@ class Model:
         """Back from a larger mass-scaling step (set mass_scaling_dt and dt back
         first): the larger step's mass raises dropped, the current target's
         masses, the raises the present configuration needs; returns how many."""
+        self._drop_gpu_steps()
         return self._m.reset_contact_masses()
 
     def reset_energy(self):
         """Restart the energy bookkeeping (e.g. after settling, before loading)."""
+        self._drop_gpu_steps()
         self._m.reset_energy()
 
     # ------------------------------------------------------------- results
@@ -508,6 +544,7 @@ class Model:
         contact mu (set(mu=...)); screen_interval/screen_fraction: pre-screening
         (docs/freeze_bonds.md), screen_interval=1 checks every point every step.
         """
+        self._drop_gpu_steps()
         pairs = bond_pairs(bond_points, self.reference_positions)
         self._m.set_bonds(np.asarray(bond_points.node, dtype=np.int32),
                           np.asarray(bond_points.sigma_cr, dtype=float),
@@ -522,6 +559,7 @@ class Model:
     def set_bond_params(self, **params):
         """Change direction, check_failure, mu, screen_interval, screen_fraction
         (see set_bond_points); ValueError on a bad value."""
+        self._drop_gpu_steps()
         valid = ("direction", "check_failure", "mu", "screen_interval", "screen_fraction")
         unknown = set(params) - set(valid)
         if unknown:
@@ -602,6 +640,7 @@ class Model:
         """Positions, velocities, bonds and clock of checkpoint ``cp`` into a
         model built by from_checkpoint (boundary conditions and parameters are
         the caller's, as when the run was started)."""
+        self._drop_gpu_steps()
         b = cp["bond_input"]
         if len(b["node"]):
             self._m.set_bonds(b["node"], b["sigma_cr"], b["tau_cr"], b["G"], b["pair_point"],

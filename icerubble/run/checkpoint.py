@@ -157,7 +157,7 @@ def restore(run, path, from_rest=False, shared=False):
             m.set(dt=run.params["dt"])
             m.reset_contact_masses()
             # the reach guard measures from the rest, as after this run's own settle
-            m._m.set_reach_origin(np.asarray(m.x, float), np.asarray(m.y, float))
+            m.set_reach_origin(m.positions)
             m.reset_energy()   # the ledger starts with the loading, as after a settle
         run.apply_boundary_conditions()
         s = read_recorder_state(f["recorder"])

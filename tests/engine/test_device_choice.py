@@ -63,6 +63,18 @@ def test_a_run_on_the_gpu_is_another_run():
 
 @on_gpu_or_emulation
 def test_a_model_on_the_gpu_steps_as_on_the_cpu():
-    # the state read back between calls, as a run's chunks do
-    cmp = gpu.compare_device(pulled_bar, 7, 2000)
-    assert cmp["same"] and cmp["gpu_steps"] > 0, cmp
+    # the state read back between calls, as a run's chunks do, the GPU
+    # keeping its own between them; the pulled end's reaction the CPU's bits
+    cmp = gpu.compare_device(pulled_bar, 7, 2000, nodes="right")
+    assert cmp["same"] and cmp["gpu_steps"] > 0 and cmp["remade"] == 1, cmp
+
+
+@on_gpu_or_emulation
+def test_a_model_changed_between_calls_on_the_gpu_steps_as_on_the_cpu():
+    # each change between two calls reaches the GPU's next steps: the steps
+    # are made again from the model (a settle's end: drag on, damping off,
+    # the ledger restarted; a resumed state)
+    changes = [lambda m: m.set(local_damping=0.3), lambda m: m.reset_energy(),
+               lambda m: m.set_velocities(0.5 * m.velocities)]
+    cmp = gpu.compare_device(pulled_bar, 4, 1500, nodes="right", between=lambda m, k: changes[k](m))
+    assert cmp["same"] and cmp["remade"] == 4, cmp

@@ -562,8 +562,14 @@ void DeviceStep::step(int64_t n) {
 }
 
 void DeviceStep::download(Model& m) {
-  if (&m != impl_->model) bad("download: not the model the GPU step was made from");
-  impl_->to_model();
+  Impl& d = *impl_;
+  if (&m != d.model) bad("download: not the model the GPU step was made from");
+  d.to_model();
+  // the last step's reactions (a run's indenter force) and the elements'
+  // stresses (its fields): the stresses at the state the steps ended in,
+  // which the next step's prologue computes (after a remake: run it now)
+  if (!d.primed) d.prime();
+  m.restore_step_fields(d.u().r_x.download(), d.u().r_y.download(), d.f().stress.download());
 }
 
 void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double& ry) {

@@ -1,6 +1,5 @@
 // Whole time steps on the GPU (docs/gpu.md), as far as they are built: the
-// step of Model::step for a model without the sleeping far field and with
-// contact_reach infinite. The stages are the backend's (cuda/body_forces.cu,
+// step of Model::step for a model without the sleeping far field. The stages are the backend's (cuda/body_forces.cu,
 // contact_normal.cu, bond_check.cu, cohesive_forces.cu, friction.cu,
 // node_update.cu) on one stream, chained on the GPU, with the boundary
 // conditions and the force assembly of the CPU's per-node functions
@@ -28,9 +27,8 @@ class DeviceStep {
   // Prepares the model as Model::step does (its dt checked against the
   // stable step) and copies its mesh, state, boundary conditions, clock,
   // ledger, its bonds' state, to the GPU. Throws std::invalid_argument
-  // naming what the GPU step does not run yet: sleeping, a finite
-  // contact_reach. The model must outlive this: it takes the steps the GPU
-  // does not.
+  // naming what the GPU step does not run yet: the sleeping far field. The
+  // model must outlive this: it takes the steps the GPU does not.
   explicit DeviceStep(Model& model);
   ~DeviceStep();
   DeviceStep(const DeviceStep&) = delete;
@@ -42,7 +40,10 @@ class DeviceStep {
   // The state on the GPU into `model` (the one it was made from): positions,
   // velocities, clock, ledger, friction warm start and the bonds' state (the
   // opened pairs' history, failures, screening flags and accounts); the
-  // model continues from there.
+  // model, or this on more steps, continues from there. Also the last
+  // step's boundary reactions and the elements' stresses, these at the
+  // state the steps ended in (on the CPU, at the one its last step started
+  // from).
   void download(Model& model);
   // Sum of the boundary reactions on these nodes from the last step [N/m],
   // as Model::reaction sums them.

@@ -168,6 +168,12 @@ class Model final : public BondHost {
   // Continue the clock of a checkpointed run. Throws std::invalid_argument
   // unless time is finite and step_count >= 0.
   void restore_clock(double time, int64_t step_count);
+  // What a step computed besides the state, taken on another device (the
+  // GPU step's download): the boundary reactions per node and the elements'
+  // stresses, so that reaction() and stress read the last step's. Throws
+  // std::invalid_argument on arrays of the wrong size.
+  void restore_step_fields(const std::vector<double>& r_x, const std::vector<double>& r_y,
+                           const std::vector<double>& stress);
 
   // --- topology editing for freeze-bond node splitting ---
   int32_t add_node(double x, double y, double x0, double y0, double vx, double vy);

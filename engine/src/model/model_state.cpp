@@ -38,6 +38,19 @@ void Model::restore_clock(double time, int64_t step_count) {
   step_count_ = step_count;
 }
 
+void Model::restore_step_fields(const std::vector<double>& r_x, const std::vector<double>& r_y,
+                                const std::vector<double>& stress) {
+  if (r_x.size() != size_t(nodes_.size()) || r_y.size() != size_t(nodes_.size()))
+    bad("reactions: " + std::to_string(nodes_.size()) + " per component expected (got " +
+        std::to_string(r_x.size()) + ", " + std::to_string(r_y.size()) + ")");
+  if (stress.size() != tris_.stress.size())
+    bad("stress: " + std::to_string(tris_.stress.size()) + " values expected (got " + std::to_string(stress.size()) +
+        ")");
+  nodes_.r_x = r_x;
+  nodes_.r_y = r_y;
+  tris_.stress = stress;
+}
+
 size_t Model::memory_bytes() const {
   size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
              surface_tris_.capacity() * sizeof(int32_t) +
