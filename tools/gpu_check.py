@@ -43,7 +43,14 @@ Checks, each printed with its outcome:
      flags, the points evaluated) the CPU's bits, the bonds' energy sums to
      round-off;
  11. a model on device 'cuda' (Model.step) against the CPU, in chunks as a
-     run steps it: the same bits.
+     run steps it: the same bits;
+ 12. the demo's punch-through (ridge 1, `fast` numerics) settled and loaded
+     to --demo-travel on device 'cuda' against the CPU, through the study's
+     own run (study.line.run_one), from the demo's pile and mesh in
+     --demo-scenes DIR/scenes (made by `make demo`, or carried): the time at
+     rest and the bond points split the CPU's, the force record within 0.5 %
+     of the CPU's first peak at every sample (the GPU sums the ledger, whose
+     work gives F, in another order), and each run's wall time.
 Exit status 1 if any check fails.
 """
 import argparse
@@ -131,12 +138,57 @@ def report_steps(name, cmp, exact):
     return ok
 
 
+def check_demo(scenes_dir, travel):
+    """12.: the demo's run on 'cpu' and on 'cuda' (a fresh folder each, its
+    pile and mesh copied from scenes_dir/scenes): True if they agree."""
+    import glob
+    import shutil
+    import tempfile
+
+    import h5py
+
+    from icerubble.study.line import run_one
+    files = sorted(glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_pile.h5"))
+                   + glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_mesh.h5")))
+    if len(files) < 2:
+        print(f"[--] demo run skipped: no demo pile and mesh in {scenes_dir}/scenes (make demo there, or carry "
+              "runs/scenes/demo_ridge1_*)", flush=True)
+        return True
+    runs = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        os.makedirs(os.path.join(tmp, "scenes"))
+        for f in files:
+            shutil.copy(f, os.path.join(tmp, "scenes"))
+        for device in ("cpu", "cuda"):
+            t0 = time.perf_counter()
+            path = run_one("demo", 1, overrides=dict(target_travel=travel), out_dir=tmp,
+                           description=f"demo_{device}", numerics_name="fast", share_rest=False, device=device)
+            with h5py.File(path, "r") as h:
+                runs[device] = dict(y=h["force/y_I"][()], F=h["force/F"][()], settle=float(h.attrs["settle_time"]),
+                                    F_rest=float(h.attrs["F_at_rest"]),
+                                    split=int(np.isfinite(h["bonds/y_I_split"][()]).sum()),
+                                    wall=time.perf_counter() - t0)
+    c, g = runs["cpu"], runs["cuda"]
+    peak = float(np.max(c["F"]))
+    same_record = c["y"].shape == g["y"].shape and np.array_equal(c["y"], g["y"])
+    dev = float(np.max(np.abs(g["F"] - c["F"]))) / peak if same_record else float("inf")
+    ok = same_record and dev <= 0.005 and c["settle"] == g["settle"] and c["split"] == g["split"]
+    print(f"[{'ok' if ok else 'FAIL'}] demo to {travel * 1e3:g} mm, 'cuda' against 'cpu': at rest after "
+          f"{g['settle']:.4f} / {c['settle']:.4f} s, F at rest {g['F_rest']:.2f} / {c['F_rest']:.2f} N/m, first peak "
+          f"{np.max(g['F']) / 1e3:.3f} / {peak / 1e3:.3f} kN/m, largest difference of F {100 * dev:.2g} % of it, "
+          f"points split {g['split']} / {c['split']}; wall {g['wall']:.0f} / {c['wall']:.0f} s", flush=True)
+    return ok
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", nargs="*", default=[], help="scene mesh files (runs/scenes/*_mesh.h5)")
     ap.add_argument("--scene", nargs="*", default=[], help="each mesh's scene (default: from its file name)")
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--seed", type=int, default=None, help="default: from the clock (printed)")
+    ap.add_argument("--demo-scenes", default=os.path.join(ROOT, "runs"),
+                    help="a folder whose scenes/ holds the demo's pile and mesh (default: runs/ of this checkout)")
+    ap.add_argument("--demo-travel", type=float, default=0.001, help="the demo runs' travel [m] (default 1 mm)")
     a = ap.parse_args(argv)
     if not gpu.available():
         print(f"GPU check skipped: {gpu.why_unavailable()}")
@@ -200,12 +252,13 @@ def main(argv=None):
                                gpu.compare_steps(lambda: pulled_bar(direction), 14000, nodes="right"), exact=True)
         ok &= report_steps("bonded square sheared, 3,000 whole GPU steps",
                            gpu.compare_steps(sheared_square, 3000, nodes="top"), exact=True)
-        # 11. a model on device 'cuda' (each step() call a gpu.Steps) against the CPU, in chunks as a run's
-        cmp = gpu.compare_device(pulled_bar, 7, 2000)
+        # 11. a model on device 'cuda' (the GPU's steps kept between calls) against the CPU, in chunks as a run's
+        cmp = gpu.compare_device(pulled_bar, 7, 2000, nodes="right")
         print(f"[{'ok' if cmp['same'] else 'FAIL'}] Model(device='cuda'), bonded bar, 7 x 2,000 steps: "
               f"{'the CPU bits' if cmp['same'] else 'differs from the CPU'}; GPU steps {cmp['gpu_steps']}",
               flush=True)
         ok &= cmp["same"]
+        ok &= check_demo(a.demo_scenes, a.demo_travel)
         steps = gpu.Steps(driven_block(rng, "linear"))
         steps.step(100)
         t0 = time.perf_counter()
