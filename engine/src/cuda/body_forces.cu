@@ -19,10 +19,10 @@ namespace engine {
 
 namespace {
 
-constexpr int kBlock = 128;
+constexpr int kBlock = reducing_block(128);  // its per-block partial sums
 // Threads per body in the quadratic drag's sums (a layer body of the paper
 // mesh has ~9,000 triangles: a warp per body took ~200 us, latency-bound).
-constexpr int kBodyBlock = 256;
+constexpr int kBodyBlock = reducing_block(256);
 // The strain energy's final sum: one block of kSumThreads lanes over the
 // triangle blocks' partial sums.
 constexpr int kSumThreads = kWideBlock;

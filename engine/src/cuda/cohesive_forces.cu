@@ -19,7 +19,7 @@ namespace engine {
 
 namespace {
 
-constexpr int kBlock = 128;
+constexpr int kBlock = reducing_block(128);  // its per-block partial sums
 constexpr int kTerms = 3;  // work, stored, dissipation
 constexpr int kSumThreads = kWideBlock;
 

@@ -7,18 +7,24 @@
 
 namespace engine {
 
-// The lanes of a block that runs alone over a whole array: the final sums,
-// friction's colouring and sweeps. 1024 on a GPU. The CPU emulation
-// (cuda/emulation/) runs a block's lanes as fibers, switched at every
-// barrier (11 rounds of 1024 switches per sum): there the same kernels run
-// with 64 lanes, the same trees 4 levels shorter, so its sums add in another
-// order (to round-off) and its colours are the same (each is fixed by the
+// The lanes of a block that reduces with barriers: `on_gpu` on a GPU. The
+// CPU emulation (cuda/emulation/) runs a block's lanes as fibers, switched at
+// every barrier of the tree (a sum over 1024 lanes: 11 rounds of 1024
+// switches): there the same kernels run with at most 32 lanes, the same
+// trees a few levels shorter (a block's fibers' frames then stay in the
+// core's first cache), so its sums add in another fixed order (to
+// round-off) and nothing else changes (friction's colours are fixed by the
 // candidates' priorities, not by the lanes).
+constexpr int reducing_block(int on_gpu) {
 #ifdef ICERUBBLE_CUDA_EMULATION
-constexpr int kWideBlock = 64;
+  return on_gpu < 32 ? on_gpu : 32;
 #else
-constexpr int kWideBlock = 1024;
+  return on_gpu;
 #endif
+}
+// The lanes of a block that runs alone over a whole array: the final sums,
+// friction's colouring and sweeps.
+constexpr int kWideBlock = reducing_block(1024);
 
 // Sums in a fixed tree over a block's N lanes (N a power of two; every lane
 // calls it): every run gives the same bits, no atomics in any sum.

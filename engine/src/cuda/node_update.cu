@@ -15,7 +15,7 @@ namespace engine {
 
 namespace {
 
-constexpr int kBlock = 128;
+constexpr int kBlock = reducing_block(128);  // its per-block partial sums
 constexpr int kTerms = 13;  // NodeWork's fields
 constexpr int kSumThreads = kWideBlock;
 
