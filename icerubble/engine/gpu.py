@@ -382,6 +382,11 @@ class Steps:
     def host_steps(self):
         return self._d.host_steps
 
+    @property
+    def remakes(self):
+        """Times the stages were made again from the model (each a copy of the mesh and state)."""
+        return self._d.remakes
+
 
 # The bonds' totals the GPU sums over the pairs in another (fixed) order
 BOND_SUMS = ("work", "stored", "dissipation_effective")
@@ -453,7 +458,9 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
     both models after call k (the change must reach the GPU's next steps):
     {'same': positions, velocities, bond counts and, for node set `nodes`,
     the reaction equal after every call, 'gpu_steps': the steps the GPU took,
-    'remade': how many times the GPU's steps were made from the model}."""
+    'remade': how many times the GPU's steps were made from the model,
+    'makes': Model.timings' gpu_makes, 'host_makes': the steps the model took
+    (each followed by the stages made again)}."""
     cpu, on_gpu = make_model(), make_model()
     on_gpu.device = "cuda"
     same, made, steps = True, 0, None
@@ -469,4 +476,6 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
         if between is not None and k < chunks - 1:
             for m in (cpu, on_gpu):
                 between(m, k)
-    return dict(same=bool(same), gpu_steps=on_gpu.timings()["gpu_steps"], remade=made)
+    t = on_gpu.timings()
+    return dict(same=bool(same), gpu_steps=t["gpu_steps"], remade=made, makes=t["gpu_makes"],
+                host_makes=t["steps"] - t["gpu_steps"])

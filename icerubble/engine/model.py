@@ -124,7 +124,7 @@ class Model:
 
     def __init__(self, nodes, triangles, body, materials, node_sets=None, device="cpu"):
         self._device = check_device(device)   # before any work
-        self._gpu_timings = dict(steps=0, element_steps=0, total=0.0)
+        self._gpu_timings = dict(steps=0, element_steps=0, total=0.0, makes=0)
         self._gpu_steps = None   # device 'cuda': the GPU's steps, kept between calls (step)
         nodes = np.asarray(nodes, dtype=float)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or nodes.shape[0] < 3:
@@ -336,9 +336,10 @@ class Model:
             from . import gpu
             t0 = time.perf_counter()
             steps = self._gpu_steps
-            if steps is None or steps.step_count != self._m.step_count:
+            made = steps is None or steps.step_count != self._m.step_count
+            if made:
                 steps = self._gpu_steps = gpu.Steps(self)
-            host_before = int(steps.host_steps)
+            host_before, remakes_before = int(steps.host_steps), int(steps.remakes)
             try:
                 steps.step(int(n))
             except BaseException:
@@ -349,6 +350,7 @@ class Model:
             on_gpu = int(n) - (int(steps.host_steps) - host_before)
             g = self._gpu_timings
             g["steps"] += on_gpu
+            g["makes"] += int(steps.remakes) - remakes_before + (1 if made else 0)
             g["element_steps"] += on_gpu * self.n_triangles
             g["total"] += time.perf_counter() - t0
         else:
@@ -495,11 +497,14 @@ class Model:
         the element-steps (triangles computed, summed over the steps). On
         device 'cuda': 'gpu_steps' and 'gpu_total' [s, wall, copies included]
         are the GPU's, added to 'steps', 'element_steps' and 'total'; the
-        parts are the CPU's own steps."""
+        parts are the CPU's own steps; 'gpu_makes' counts the copies of the
+        mesh and state to the GPU (the first, those after a change to the
+        model, and the stages made again within the steps)."""
         t = self._m.timings()
         g = self._gpu_timings
         t.update(steps=t["steps"] + g["steps"], element_steps=t["element_steps"] + g["element_steps"],
-                 total=t["total"] + g["total"], gpu_steps=g["steps"], gpu_total=g["total"])
+                 total=t["total"] + g["total"], gpu_steps=g["steps"], gpu_total=g["total"],
+                 gpu_makes=g["makes"])
         return t
 
     def sleep_counts(self):

@@ -78,3 +78,5 @@ def test_a_model_changed_between_calls_on_the_gpu_steps_as_on_the_cpu():
                lambda m: m.set_velocities(0.5 * m.velocities)]
     cmp = gpu.compare_device(pulled_bar, 4, 1500, nodes="right", between=lambda m, k: changes[k](m))
     assert cmp["same"] and cmp["remade"] == 4, cmp
+    # the copies to the GPU: the four makings and the stages made again within the steps
+    assert cmp["makes"] >= 4 + cmp["host_makes"], cmp

@@ -233,7 +233,8 @@ void bind_device(py::module_& m) {
            }, py::arg("nodes"))
       .def_property_readonly("time", &DeviceStep::time)
       .def_property_readonly("step_count", &DeviceStep::step_count)
-      .def_property_readonly("host_steps", &DeviceStep::host_steps);
+      .def_property_readonly("host_steps", &DeviceStep::host_steps)
+      .def_property_readonly("remakes", &DeviceStep::remakes);
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceNodeUpdate::run)

@@ -134,6 +134,7 @@ struct DeviceStep::Impl {
   bool primed = false, primed_check = false;
   double dt = 0.0, time = 0.0;
   int64_t step_count = 0, host_steps = 0;
+  int64_t remakes = 0;  // the stages made again from the model (after a host step, a failure, a re-bound)
   EnergyLedger energy;
   cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
   // what a step copies back: the update's sums, the strain energy, the
@@ -183,6 +184,7 @@ struct DeviceStep::Impl {
   // (after a step of its own: the one that step built), on one stream.
   void make_stages() {
     const Model& cm = *model;
+    ++remakes;
     release_stages();
     // the boundary conditions: a node split off a held or driven node is held or driven too
     bcs = cm.boundary_conditions();
@@ -582,6 +584,7 @@ void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double&
 double DeviceStep::time() const { return impl_->time; }
 int64_t DeviceStep::step_count() const { return impl_->step_count; }
 int64_t DeviceStep::host_steps() const { return impl_->host_steps; }
+int64_t DeviceStep::remakes() const { return impl_->remakes - 1; }  // the first making is not a remake
 const EnergyLedger& DeviceStep::energy() const { return impl_->energy; }
 
 }  // namespace engine

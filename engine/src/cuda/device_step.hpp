@@ -54,6 +54,10 @@ class DeviceStep {
   // Steps the model took itself (its candidate list rebuilt there, or bond
   // points split) since this was made.
   int64_t host_steps() const;
+  // Times the stages were made again from the model since this was made
+  // (after each host step, a pair's full failure, a re-bound contact step):
+  // each copies the mesh and state to the GPU.
+  int64_t remakes() const;
   const EnergyLedger& energy() const;
 
  private:

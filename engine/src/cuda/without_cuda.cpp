@@ -82,6 +82,7 @@ void DeviceStep::reaction(const std::vector<int32_t>&, double&, double&) { no_gp
 double DeviceStep::time() const { no_gpu(); }
 int64_t DeviceStep::step_count() const { no_gpu(); }
 int64_t DeviceStep::host_steps() const { no_gpu(); }
+int64_t DeviceStep::remakes() const { no_gpu(); }
 const EnergyLedger& DeviceStep::energy() const { no_gpu(); }
 
 }  // namespace engine
