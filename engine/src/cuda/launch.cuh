@@ -10,7 +10,7 @@ namespace engine {
 template <class... Params, class... Args>
 inline void launch_kernel(void (*kernel)(Params...), dim3 grid, dim3 block, cudaStream_t stream, Args... args) {
 #ifdef ICERUBBLE_CUDA_EMULATION
-  cuda_emu::launch(stream, grid, block, reinterpret_cast<const void*>(kernel), [=] { kernel(args...); });
+  cuda_emu::launch(stream, grid, block, [=] { kernel(args...); });
 #else
   kernel<<<grid, block, 0, stream>>>(args...);
 #endif

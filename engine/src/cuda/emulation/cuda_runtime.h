@@ -93,8 +93,8 @@ namespace cuda_emu {
 extern uint3 thread_idx, block_idx;
 extern dim3 block_dim, grid_dim;
 // kernel<<<grid, block, 0, stream>>>: `lane` runs once per lane when the
-// stream's work runs; `kernel` names the launch in messages
-void launch(cudaStream_t stream, dim3 grid, dim3 block, const void* kernel, std::function<void()> lane);
+// stream's work runs
+void launch(cudaStream_t stream, dim3 grid, dim3 block, std::function<void()> lane);
 void syncthreads();
 int syncthreads_or(int predicate);
 }  // namespace cuda_emu

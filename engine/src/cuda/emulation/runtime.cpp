@@ -179,7 +179,6 @@ struct Block {
   bool on_fiber = false;     // lanes run on fibers (else one after another, on the host stack)
   bool reached_barrier = false;
   int or_sum = 0, or_result = 0;  // __syncthreads_or's, this barrier's and the last one's
-  const void* kernel = nullptr;
 };
 Block block;
 
@@ -249,18 +248,17 @@ void run_block(unsigned int n) {
 
 }  // namespace
 
-void launch(cudaStream_t stream, dim3 grid, dim3 blk, const void* kernel, std::function<void()> lane) {
+void launch(cudaStream_t stream, dim3 grid, dim3 blk, std::function<void()> lane) {
   const unsigned long long lanes = 1ull * blk.x * blk.y * blk.z;
   if (lanes == 0 || lanes > 1024 || blk.z > 64 || grid.x == 0 || grid.y == 0 || grid.z == 0 || grid.y > 65535 ||
       grid.z > 65535) {
     fail(cudaErrorInvalidConfiguration);
     return;
   }
-  enqueue(stream, [grid, blk, kernel, lane = std::move(lane)]() {
+  enqueue(stream, [grid, blk, lane = std::move(lane)]() {
     grid_dim = grid;
     block_dim = blk;
     block.lane = &lane;
-    block.kernel = kernel;
     const unsigned int n = unsigned(blk.x * blk.y * blk.z);
     for (unsigned int z = 0; z < grid.z; ++z)
       for (unsigned int y = 0; y < grid.y; ++y)

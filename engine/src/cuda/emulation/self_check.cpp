@@ -19,7 +19,7 @@ void ok(cudaError_t e, const char* what) {
 
 template <class F>
 void launch_lanes(cudaStream_t s, unsigned int blocks, unsigned int lanes, F lane) {
-  cuda_emu::launch(s, dim3(blocks), dim3(lanes), nullptr, lane);
+  cuda_emu::launch(s, dim3(blocks), dim3(lanes), lane);
 }
 
 }  // namespace
