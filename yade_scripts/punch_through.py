@@ -13,7 +13,9 @@ numerical preset, default paper: time step, mass scaling, contact reach,
 sleeping far field), ``device`` (cpu | cuda: where the steps run, default
 $ICERUBBLE_DEVICE, set by `icerubble study run --device`, else cpu;
 docs/gpu.md) and any Table 1 parameter (icerubble/parameters.py),
-e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel.
+e.g. mu, tau_cr, sigma_cr, G, force_direction, target_travel. The settle's
+limit is $ICERUBBLE_SETTLE_MAX_TIME [s], set by `icerubble study run
+--settle-max-time`, else the registry's.
 OUT_DIR is the out_dir column, else $ICERUBBLE_OUT_DIR (set by `icerubble
 study run --out`), else runs/ in this checkout.
 Piles and meshes are made on first use and cached in OUT_DIR/scenes; the
@@ -68,7 +70,9 @@ out_dir = os.path.join(os.environ.get("ICERUBBLE_WORKDIR", ""), table.out_dir)
 try:
     out = run_one(scene_name=table.scene, ridge=table.ridge, overrides=overrides, out_dir=out_dir,
                   description=description, resume=bool(table.resume), numerics_name=table.numerics or None,
-                  model=table.model, device=table.device or os.environ.get("ICERUBBLE_DEVICE") or "cpu")
+                  model=table.model, device=table.device or os.environ.get("ICERUBBLE_DEVICE") or "cpu",
+                  settle_max_time=float(os.environ["ICERUBBLE_SETTLE_MAX_TIME"])
+                  if os.environ.get("ICERUBBLE_SETTLE_MAX_TIME") else None)
 except RunInterrupted as e:   # a scheduler's signal or Ctrl-C: the checkpoint is written, a rerun resumes
     print(INTERRUPTED_MARK + str(e), file=sys.stderr, flush=True)
     sys.exit(EXIT_INTERRUPTED)

@@ -63,7 +63,7 @@ class RunOptions:
         for k in P.SETTLE_OPTIONS:
             setattr(self, k, P.check_value(k, locals()[k]))
         if not settle_min_time <= settle_max_time:
-            raise ValueError(f"settle_min_time={settle_min_time} must be in [0, settle_max_time] s")
+            raise ValueError(f"settle_min_time={settle_min_time} must be in [0, settle_max_time={settle_max_time}] s")
         self.checkpoint_every_s = checkpoint_every_s
         self.progress_every_s = progress_every_s
         self.threads = threads

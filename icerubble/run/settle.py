@@ -189,7 +189,8 @@ class Settle:
                     f"max node speed {vmax:.3g} m/s (settle_velocity={o.settle_velocity}), "
                     f"largest out-of-balance of a free body {imbalance:.3g} of its weight (body {body}, "
                     f"{self.body_kind_name(body)}; settle_accel={o.settle_accel}); "
-                    f"{self.fastest_block_text()}{hint}")
+                    f"{self.fastest_block_text()}{hint}; a settle allowed longer: icerubble study run "
+                    f"--settle-max-time S")
             self.driver._maybe_checkpoint()
         self.driver.state.settle_time = m.time - t_start
         self.driver.state.settle_max_speed = vmax

@@ -26,6 +26,7 @@ import shutil
 from .. import exit_status
 from ..engine.model import check_device
 from ..files.output_path import check_output_folder
+from ..run.punch_through_run import RunOptions
 from ..run.scene_cache import ROOT
 from . import outcome as SO
 from . import progress as study_progress
@@ -66,6 +67,10 @@ def main(argv=None):
     r.add_argument("--device", choices=("cpu", "cuda"), default=None,
                    help="where the lines' steps run: cpu (default) or cuda, whole steps on one GPU "
                         "(docs/gpu.md); a device column overrides it")
+    r.add_argument("--settle-max-time", type=float, default=None, metavar="S",
+                   help="simulated seconds a line's settle may take before it stops, saying it is not at "
+                        f"rest (default {RunOptions().settle_max_time:g}; not part of a run's identity: "
+                        "a settle that ends before the old limit is the same run)")
     s = sub.add_parser("submit", help=ACTIONS["submit"])
     s.add_argument("table")
     s.add_argument("--slurm", action="store_true", required=True, help="the scheduler (SLURM)")
@@ -85,13 +90,16 @@ def main(argv=None):
         for name, value in (("jobs", a.jobs), ("job-threads", a.job_threads)):
             if value < 1:
                 raise ValueError(f"--{name} = {value}: must be a whole number >= 1")
+        if a.settle_max_time is not None:   # its range, and settle_min_time below it
+            RunOptions(settle_max_time=a.settle_max_time)
     if a.action in ("run", "submit"):
         check_output_folder(a.out, "--out")
     if a.action in ("check", "run", "submit") and not check(a.table):
         return exit_status.USAGE   # refused before any line runs
     if a.action == "run":
         check_devices(a.table, a.device)
-        return run_local(a.table, a.out, a.jobs, a.job_threads, a.progress_every, device=a.device)
+        return run_local(a.table, a.out, a.jobs, a.job_threads, a.progress_every, device=a.device,
+                         settle_max_time=a.settle_max_time)
     if a.action == "submit":
         job, log_dir = slurm.submit(a.table, a.out, PUNCH_THROUGH, sbatch_options=dict(
             cpus_per_task=a.cpus_per_task, time=a.time, partition=a.partition, account=a.account,
@@ -122,18 +130,19 @@ def check_devices(table, device):
         check_device(d)
 
 
-def run_local(table, out, jobs=1, job_threads=2, progress_every=60.0, device=None):
+def run_local(table, out, jobs=1, job_threads=2, progress_every=60.0, device=None, settle_max_time=None):
     """Every line of `table` through yade-batch on this machine; prints each
     line's start, end and progress (study_progress.py) and then its outcome,
     and returns the exit status (1 if any line did not finish). device: where
-    the lines without a device column run (None: the CPU)."""
+    the lines without a device column run (None: the CPU); settle_max_time:
+    the settle's limit [s] of every line (None: the registry's)."""
     if shutil.which("yade-batch") is None:
         raise ValueError("yade-batch is not on PATH (make deps installs YADE)")
     with study_lock(study_dir(out, table)):   # one run of a table into a folder at a time
-        return _run_locked(table, out, jobs, job_threads, progress_every, device)
+        return _run_locked(table, out, jobs, job_threads, progress_every, device, settle_max_time)
 
 
-def _run_locked(table, out, jobs, job_threads, progress_every, device=None):
+def _run_locked(table, out, jobs, job_threads, progress_every, device=None, settle_max_time=None):
     log_dir, study = open_study(table, out, "local")
     for name in os.listdir(log_dir):   # a line's old log must not speak for this run
         if name.startswith("line") and name.endswith(".log"):
@@ -147,6 +156,8 @@ def _run_locked(table, out, jobs, job_threads, progress_every, device=None):
     env = dict(os.environ, ICERUBBLE_OUT_DIR=study["out"], ICERUBBLE_WORKDIR=os.getcwd())
     if device:   # the lines without a device column (yade_scripts/punch_through.py)
         env["ICERUBBLE_DEVICE"] = device
+    if settle_max_time is not None:   # every line's (yade_scripts/punch_through.py)
+        env["ICERUBBLE_SETTLE_MAX_TIME"] = repr(float(settle_max_time))
     print("[study] " + " ".join(cmd), flush=True)
     try:
         # its exit status says nothing about the lines

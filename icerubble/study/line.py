@@ -40,7 +40,8 @@ def result_name_problem(description):
 
 
 def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", description="",
-            resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True, device="cpu"):
+            resume=True, options=None, numerics_name=None, model="fem-dem", share_rest=True, device="cpu",
+            settle_max_time=None):
     """Make (or reuse) the pile and mesh, then run the punch-through; returns the result path.
     numerics_name: the scene's numerical preset (presets.NUMERICS; default DEFAULT_NUMERICS);
     model: "fem-dem", or "rigid-dem" (only inside YADE: the blocks are YADE polyhedra);
@@ -48,7 +49,8 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     scene that differ only in what the settle never reads (rest_states.py):
     the same result, bit for bit, without the settle;
     device: where the FEM-DEM's steps run, 'cpu' or 'cuda' (engine.DEVICES;
-    options, when given, carry their own)."""
+    options, when given, carry their own); settle_max_time: the settle's
+    limit [s] (None: the registry's; not part of the run's identity)."""
     if model not in MODELS:
         raise ValueError(f"model={model!r} is unknown: valid values are {', '.join(MODELS)}")
     if model == "rigid-dem" and device != "cpu":
@@ -56,6 +58,8 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})), scenes=SCENES)   # fail before any work
+    if settle_max_time is not None:
+        RunOptions(settle_max_time=settle_max_time)   # its range, before any work
     if not description or description == "default":
         description = run_name(scene_name, ridge, params) + ("_rigid" if model == "rigid-dem" else "")
     why = result_name_problem(description)
@@ -69,7 +73,8 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
         if "dt" in (overrides or {}):
             settings["dt_fraction"] = None
-        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, device=device)
+        limit = {} if settle_max_time is None else dict(settle_max_time=settle_max_time)
+        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, device=device, **limit)
     ident = RI.identity(params, read_mesh(mesh_path), options)
     if model != "fem-dem":   # absent: the FEM-DEM (identities of runs made before models)
         ident["model"] = model

@@ -84,3 +84,17 @@ def test_outcomes_are_read_from_what_each_line_left(tmp_path):
     assert queued["queued"]["state"] == "not run" and queued["pile"]["state"] == "pending"
     assert queued["killed"]["state"] == "running"
     assert os.path.basename(SO.log_path(str(tmp_path), 7)) == "line7.log"
+
+
+def test_the_settle_limit_reaches_every_line_and_a_bad_one_runs_none(tmp_path):
+    table = tmp_path / "one.table"
+    table.write_text("description scene mu tau_cr\nshort 'tiny' 0.3 50e3\n")
+    r = _study("run", "one.table", "--out", "out", "--settle-max-time", "0", cwd=tmp_path)
+    assert r.returncode == 2 and "settle_max_time=0.0 is out of range" in r.stderr, r.stdout + r.stderr
+    assert not (tmp_path / "out").exists()   # refused before any work
+    # the shortest limit there is (settle_min_time): the tiny pile is still moving then, so the line
+    # stops saying so, with this limit, where the default lets it come to rest (the test above)
+    r = _study("run", "one.table", "--out", "out", "--job-threads", "1", "--settle-max-time", "0.05", cwd=tmp_path)
+    text = r.stdout + r.stderr
+    assert r.returncode == 1 and "Traceback" not in text, text
+    assert "did not come to rest within settle_max_time=0.05 s" in text, text
