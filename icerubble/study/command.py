@@ -24,6 +24,7 @@ import os
 import shutil
 
 from .. import exit_status
+from .. import parameters as P
 from ..engine.model import check_device
 from ..files.output_path import check_output_folder
 from ..run.punch_through_run import RunOptions
@@ -69,7 +70,7 @@ def main(argv=None):
                         "(docs/gpu.md); a device column overrides it")
     r.add_argument("--settle-max-time", type=float, default=None, metavar="S",
                    help="simulated seconds a line's settle may take before it stops, saying it is not at "
-                        f"rest (default {RunOptions().settle_max_time:g}; not part of a run's identity: "
+                        f"rest (default {P.REGISTRY['settle_max_time'].default:g}; not part of a run's identity: "
                         "a settle that ends before the old limit is the same run)")
     s = sub.add_parser("submit", help=ACTIONS["submit"])
     s.add_argument("table")

@@ -58,8 +58,12 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})), scenes=SCENES)   # fail before any work
-    if settle_max_time is not None:
-        RunOptions(settle_max_time=settle_max_time)   # its range, before any work
+    if options is None:   # checked before any work
+        # a dt column is the step asked for; otherwise the scene's fraction of the stable step
+        if "dt" in (overrides or {}):
+            settings["dt_fraction"] = None
+        limit = {} if settle_max_time is None else dict(settle_max_time=settle_max_time)
+        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, device=device, **limit)
     if not description or description == "default":
         description = run_name(scene_name, ridge, params) + ("_rigid" if model == "rigid-dem" else "")
     why = result_name_problem(description)
@@ -69,12 +73,6 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     if os.path.exists(out):
         stored_identity(out)   # a damaged file there is refused before the scene is made
     _, mesh_path = scene_files(scene_name, ridge, root=out_dir)   # checks the ridge before it makes out_dir
-    if options is None:
-        # a dt column is the step asked for; otherwise the scene's fraction of the stable step
-        if "dt" in (overrides or {}):
-            settings["dt_fraction"] = None
-        limit = {} if settle_max_time is None else dict(settle_max_time=settle_max_time)
-        options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, device=device, **limit)
     ident = RI.identity(params, read_mesh(mesh_path), options)
     if model != "fem-dem":   # absent: the FEM-DEM (identities of runs made before models)
         ident["model"] = model

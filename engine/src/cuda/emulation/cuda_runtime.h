@@ -28,7 +28,6 @@
 #define __global__
 #define __device__
 #define __host__
-#define __forceinline__ inline
 #define __launch_bounds__(...)
 // one array per kernel: the blocks of a launch run one after another
 #define __shared__ static
@@ -46,8 +45,6 @@ enum cudaError_t {
   cudaErrorInvalidValue = 1,
   cudaErrorMemoryAllocation = 2,
   cudaErrorInvalidConfiguration = 9,
-  cudaErrorNoDevice = 100,
-  cudaErrorIllegalAddress = 700,
   cudaErrorLaunchFailure = 719,
   cudaErrorStreamCaptureUnsupported = 900,
 };
@@ -65,7 +62,6 @@ enum cudaStreamCaptureMode {
   cudaStreamCaptureModeThreadLocal = 1,
   cudaStreamCaptureModeRelaxed = 2,
 };
-constexpr unsigned int cudaStreamDefault = 0x0;
 constexpr unsigned int cudaStreamNonBlocking = 0x1;
 
 namespace cuda_emu {
@@ -107,9 +103,8 @@ int syncthreads_or(int predicate);
 inline void __syncthreads() { cuda_emu::syncthreads(); }
 inline int __syncthreads_or(int predicate) { return cuda_emu::syncthreads_or(predicate); }
 inline int __ffsll(long long x) { return __builtin_ffsll(x); }
-inline int __ffs(int x) { return __builtin_ffs(x); }
-inline int __popc(unsigned int x) { return __builtin_popcount(x); }
-inline int __popcll(unsigned long long x) { return __builtin_popcountll(x); }
+// CUDA's isnan, unqualified in device code (friction.cu)
+using std::isnan;
 // the lanes run one at a time: a read-modify-write is atomic
 template <class T>
 inline T atomicAdd(T* a, T v) {
@@ -123,24 +118,6 @@ inline T atomicMin(T* a, T v) {
   if (v < old) *a = v;
   return old;
 }
-template <class T>
-inline T atomicMax(T* a, T v) {
-  const T old = *a;
-  if (v > old) *a = v;
-  return old;
-}
-template <class T>
-inline T atomicExch(T* a, T v) {
-  const T old = *a;
-  *a = v;
-  return old;
-}
-template <class T>
-inline T atomicCAS(T* a, T compare, T v) {
-  const T old = *a;
-  if (old == compare) *a = v;
-  return old;
-}
 // CUDA's integer min and max
 inline int max(int a, int b) { return a > b ? a : b; }
 inline int min(int a, int b) { return a < b ? a : b; }
@@ -150,14 +127,10 @@ inline long long max(long long a, long long b) { return a > b ? a : b; }
 inline long long min(long long a, long long b) { return a < b ? a : b; }
 inline long max(long a, long b) { return a > b ? a : b; }
 inline long min(long a, long b) { return a < b ? a : b; }
-using std::isfinite;
-using std::isinf;
-using std::isnan;
 
 cudaError_t cudaGetDeviceCount(int* count);
 cudaError_t cudaGetDeviceProperties(cudaDeviceProp* prop, int device);
 cudaError_t cudaGetLastError();
-cudaError_t cudaPeekAtLastError();
 const char* cudaGetErrorString(cudaError_t e);
 cudaError_t cudaDeviceSynchronize();
 
@@ -178,7 +151,6 @@ cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, cudaMemcpy
 cudaError_t cudaMemset(void* p, int value, size_t bytes);
 cudaError_t cudaMemsetAsync(void* p, int value, size_t bytes, cudaStream_t s = nullptr);
 
-cudaError_t cudaStreamCreate(cudaStream_t* s);
 cudaError_t cudaStreamCreateWithFlags(cudaStream_t* s, unsigned int flags);
 cudaError_t cudaStreamDestroy(cudaStream_t s);
 cudaError_t cudaStreamSynchronize(cudaStream_t s);

@@ -62,6 +62,7 @@ double now() {
 // a stream's work runs; blocks handed out first-fit from a free list
 constexpr size_t kArenaBytes = size_t(64) << 30;  // address space only (MAP_NORESERVE)
 constexpr size_t kAlign = 256;
+size_t padded(size_t bytes) { return std::max(kAlign, (bytes + kAlign - 1) / kAlign * kAlign); }
 char* arena = nullptr;
 size_t arena_top = 0;                    // bytes handed out so far from the start
 std::multimap<size_t, size_t> free_blocks;  // size -> offset
@@ -109,7 +110,7 @@ void set_device_access(bool open) {
 
 // Runs `w` (device memory in reach: the caller opened it); a failure is kept
 // for the next wait.
-void run_work(Work& w) {
+void run_work(const Work& w) {
   try {
     w();
   } catch (const std::exception& e) {
@@ -155,11 +156,15 @@ cudaError_t waited() {
   fault.clear();
   return fail(cudaErrorLaunchFailure);
 }
-// The legacy stream's work waits for the blocking streams' work before it.
-void legacy_waits() {
+// A synchronous call on the legacy stream (cudaMemcpy, cudaMemset): after the
+// blocking streams' work before it, now, and said at once.
+cudaError_t run_on_legacy_stream(const Work& w) {
   drain(&legacy_stream);
   for (Stream* s : streams)
     if (s->blocking) drain(s);
+  DeviceAccess open;
+  run_work(w);
+  return waited();
 }
 
 void enqueue(cudaStream_t st, Work w) {
@@ -183,11 +188,7 @@ struct Block {
 Block block;
 
 void lane_entry() {
-  try {
-    (*block.lane)();
-  } catch (const std::exception& e) {
-    if (fault.empty()) fault = e.what();
-  }
+  run_work(*block.lane);
   block.done[block.running] = 1;
   for (;;) block.fibers[block.running].yield();
 }
@@ -315,7 +316,6 @@ cudaError_t cudaGetLastError() {
   last_error = cudaSuccess;
   return e;
 }
-cudaError_t cudaPeekAtLastError() { return last_error; }
 
 const char* cudaGetErrorString(cudaError_t e) {
   switch (e) {
@@ -323,8 +323,6 @@ const char* cudaGetErrorString(cudaError_t e) {
     case cudaErrorInvalidValue: return "invalid argument";
     case cudaErrorMemoryAllocation: return "out of memory";
     case cudaErrorInvalidConfiguration: return "invalid configuration argument";
-    case cudaErrorNoDevice: return "no CUDA-capable device is detected";
-    case cudaErrorIllegalAddress: return "an illegal memory access was encountered";
     case cudaErrorLaunchFailure: return fault_said.empty() ? "unspecified launch failure" : fault_said.c_str();
     case cudaErrorStreamCaptureUnsupported: return "operation not permitted when stream is capturing";
   }
@@ -338,7 +336,7 @@ cudaError_t cudaDeviceSynchronize() {
 
 cudaError_t cudaMalloc(void** p, size_t bytes) {
   reserve_arena();
-  const size_t size = std::max(kAlign, (bytes + kAlign - 1) / kAlign * kAlign);
+  const size_t size = padded(bytes);
   size_t at;
   auto it = free_blocks.lower_bound(size);
   if (it != free_blocks.end() && it->first == size) {
@@ -361,16 +359,17 @@ cudaError_t cudaMalloc(void** p, size_t bytes) {
 cudaError_t cudaFree(void* p) {
   if (!p) return cudaSuccess;
   drain_all();  // cudaFree waits for the device
-  const size_t at = size_t(static_cast<char*>(p) - arena);
-  auto it = used_blocks.find(at);
-  if (!arena || static_cast<char*>(p) < arena || it == used_blocks.end()) return fail(cudaErrorInvalidValue);
+  if (!arena || static_cast<char*>(p) < arena) return fail(cudaErrorInvalidValue);
+  auto it = used_blocks.find(size_t(static_cast<char*>(p) - arena));
+  if (it == used_blocks.end()) return fail(cudaErrorInvalidValue);
+  const size_t at = it->first;
   free_blocks.emplace(it->second, at);
   used_blocks.erase(it);
   return waited();
 }
 
 cudaError_t cudaMallocHost(void** p, size_t bytes) {
-  *p = std::aligned_alloc(kAlign, std::max(kAlign, (bytes + kAlign - 1) / kAlign * kAlign));
+  *p = std::aligned_alloc(kAlign, padded(bytes));
   return *p ? cudaSuccess : fail(cudaErrorMemoryAllocation);
 }
 
@@ -381,11 +380,7 @@ cudaError_t cudaFreeHost(void* p) {
 }
 
 cudaError_t cudaMemcpy(void* dst, const void* src, size_t bytes, cudaMemcpyKind) {
-  legacy_waits();
-  Work w = [=] { std::memcpy(dst, src, bytes); };
-  DeviceAccess open;
-  run_work(w);
-  return waited();
+  return run_on_legacy_stream([=] { std::memcpy(dst, src, bytes); });
 }
 
 cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, cudaMemcpyKind, cudaStream_t s) {
@@ -394,19 +389,13 @@ cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, cudaMemcpy
 }
 
 cudaError_t cudaMemset(void* p, int value, size_t bytes) {
-  legacy_waits();
-  Work w = [=] { std::memset(p, value, bytes); };
-  DeviceAccess open;
-  run_work(w);
-  return waited();
+  return run_on_legacy_stream([=] { std::memset(p, value, bytes); });
 }
 
 cudaError_t cudaMemsetAsync(void* p, int value, size_t bytes, cudaStream_t s) {
   enqueue(s, [=] { std::memset(p, value, bytes); });
   return cudaSuccess;
 }
-
-cudaError_t cudaStreamCreate(cudaStream_t* s) { return cudaStreamCreateWithFlags(s, cudaStreamDefault); }
 
 cudaError_t cudaStreamCreateWithFlags(cudaStream_t* s, unsigned int flags) {
   *s = new Stream();
