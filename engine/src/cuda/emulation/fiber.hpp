@@ -48,8 +48,9 @@ class Fiber {
 class FiberPool {
  public:
   ~FiberPool();
-  // Fiber t of a block of at least n lanes (the pool grows to n).
+  // Fiber t (t below the lanes reserved)
   Fiber& operator[](unsigned int t) { return *fibers_[t]; }
+  // At least n fibers (a block's lanes; at most 1024)
   void reserve(unsigned int n);
 
  private:
