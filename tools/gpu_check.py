@@ -264,7 +264,7 @@ def main(argv=None):
         t0 = time.perf_counter()
         steps.step(2000)
         print(f"[--] driven block ({driven_block(rng, 'linear').n_triangles} triangles): "
-              f"{1e6 * (time.perf_counter() - t0) / 2000:.1f} us per whole GPU step (wall, a copy-back per step)",
+              f"{1e6 * (time.perf_counter() - t0) / 2000:.1f} us per whole GPU step (wall, read back in batches of up to 32 steps)",
               flush=True)
     except Exception as e:  # reported, and the check fails
         print(f"[FAIL] whole GPU steps: {type(e).__name__}: {e}", flush=True)

@@ -8,6 +8,7 @@
 #include "cuda/emulation_check.hpp"
 #include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "element/cst_kernel.hpp"
 #include "loads/drag_kernel.hpp"
@@ -31,7 +32,9 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 // Quadratic drag, first each triangle's velocity term, stored at its place k
 // in the bodies' triangle lists (so that a body's terms are contiguous) ...
-__global__ void drag_terms_kernel(BodyDragArrays a, int32_t n_tri, double* term_x, double* term_y) {
+__global__ void drag_terms_kernel(const int32_t* halt, BodyDragArrays a, int32_t n_tri, double* term_x,
+                                  double* term_y) {
+  if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k < n_tri) drag_velocity_term(a, a.tri[k], term_x[k], term_y[k]);
 }
@@ -40,8 +43,9 @@ __global__ void drag_terms_kernel(BodyDragArrays a, int32_t n_tri, double* term_
 // ... in order and the lanes meet in a fixed tree, so every run gives the
 // same bits (they differ from the CPU's ascending sum by round-off alone);
 // the width's extremes are exact in any order.
-__global__ void __launch_bounds__(kBodyBlock) drag_kernel(BodyDragArrays a, const double* term_x,
+__global__ void __launch_bounds__(kBodyBlock) drag_kernel(const int32_t* halt, BodyDragArrays a, const double* term_x,
                                                           const double* term_y, double* c_b) {
+  if (halted(halt)) return;
   __shared__ double shared[kBodyBlock];
   const int32_t b = blockIdx.x;
   double Vx = 0.0, Vy = 0.0;
@@ -74,9 +78,10 @@ __global__ void __launch_bounds__(kBodyBlock) drag_kernel(BodyDragArrays a, cons
 
 // Elements and water loads per triangle; each block's strain energies summed
 // in a fixed tree into partial[block].
-__global__ void __launch_bounds__(kBlock) triangle_kernel(CstArrays e, WaterArrays w, CornerFields load,
-                                                          bool damping, bool water, int32_t n_tri,
+__global__ void __launch_bounds__(kBlock) triangle_kernel(const int32_t* halt, CstArrays e, WaterArrays w,
+                                                          CornerFields load, bool damping, bool water, int32_t n_tri,
                                                           int32_t* first_inverted, double* partial) {
+  if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t t = blockIdx.x * blockDim.x + threadIdx.x;
   double energy = 0.0;
@@ -90,13 +95,16 @@ __global__ void __launch_bounds__(kBlock) triangle_kernel(CstArrays e, WaterArra
   if (threadIdx.x == 0) partial[blockIdx.x] = s;
 }
 
-__global__ void gather_kernel(GatherArrays g, CornerFields load, int32_t n_nodes) {
+__global__ void gather_kernel(const int32_t* halt, GatherArrays g, CornerFields load, int32_t n_nodes) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n_nodes) gather_node_loads(g, load, i);
 }
 
 // The partial sums in a fixed order: lane l takes partials l, l + kSumThreads, ...
-__global__ void __launch_bounds__(kSumThreads) energy_sum_kernel(const double* partial, int32_t n, double* total) {
+__global__ void __launch_bounds__(kSumThreads) energy_sum_kernel(const int32_t* halt, const double* partial, int32_t n,
+                                                                 double* total) {
+  if (halted(halt)) return;
   __shared__ double shared[kSumThreads];
   double s = 0.0;
   for (int32_t k = threadIdx.x; k < n; k += kSumThreads) s += partial[k];
@@ -146,17 +154,18 @@ void DeviceBodyForces::Impl::launch() {
     const BodyDragArrays d{x.data(), y.data(), vx.data(), vy.data(), node.data(), area0.data(),
                            body_area0.data(), body_start.data(), body_tri.data(), surf_start.data(),
                            surf_tri.data(), 0.5 * ext.rho_w * ext.C_d};
-    launch_kernel(drag_terms_kernel, blocks(n_tri), kBlock, stream, d, n_tri, term_x.data(), term_y.data());
-    if (n_bodies) launch_kernel(drag_kernel, n_bodies, kBodyBlock, stream, d, term_x.data(), term_y.data(), c_b.data());
+    launch_kernel(drag_terms_kernel, blocks(n_tri), kBlock, stream, halt, d, n_tri, term_x.data(), term_y.data());
+    if (n_bodies) launch_kernel(drag_kernel, n_bodies, kBodyBlock, stream, halt, d, term_x.data(), term_y.data(),
+                                c_b.data());
   }
   mark(0);
   cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
-  launch_kernel(triangle_kernel, blocks(n_tri), kBlock, stream, e, w, load, damping, water, n_tri, inverted.data(),
-                partial.data());
+  launch_kernel(triangle_kernel, blocks(n_tri), kBlock, stream, halt, e, w, load, damping, water, n_tri,
+                inverted.data(), partial.data());
   mark(1);
-  launch_kernel(gather_kernel, blocks(n_nodes), kBlock, stream, g, load, n_nodes);
+  launch_kernel(gather_kernel, blocks(n_nodes), kBlock, stream, halt, g, load, n_nodes);
   mark(2);
-  launch_kernel(energy_sum_kernel, 1, kSumThreads, stream, partial.data(), blocks(n_tri), total.data());
+  launch_kernel(energy_sum_kernel, 1, kSumThreads, stream, halt, partial.data(), blocks(n_tri), total.data());
   mark(3);
   cuda_check(cudaGetLastError(), "kernel launch");
 }

@@ -30,6 +30,7 @@ struct DeviceBodyForces::Impl {
   }
   DeviceArray<int32_t> inverted;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
   cudaGraphExec_t graph = nullptr;
 
   // the stage's launches on `stream` (asynchronous)

@@ -8,6 +8,7 @@
 #include "cuda/bond_check_impl.cuh"
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
 
@@ -17,7 +18,9 @@ namespace {
 
 constexpr int kBlock = 128;
 
-__global__ void check_kernel(BondCheckArrays a, const int32_t* points, int32_t n, double mu, double* ratio) {
+__global__ void check_kernel(const int32_t* halt, BondCheckArrays a, const int32_t* points, int32_t n, double mu,
+                             double* ratio) {
+  if (halted(halt)) return;
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j < n) ratio[points[j]] = bond_point_ratio(a, points[j], mu);
 }
@@ -25,9 +28,10 @@ __global__ void check_kernel(BondCheckArrays a, const int32_t* points, int32_t n
 // FreezeBonds::check's loop body for one intact point in a committed step:
 // the same screening, the same flags; a point at the criterion sets *split
 // (the step is then the model's, whose check makes the plan).
-__global__ void screened_check_kernel(BondCheckArrays a, const int32_t* points, int32_t n, double mu, int64_t step,
-                                      int32_t k, double frac, const int8_t* near, int8_t* near_next, int32_t* split,
-                                      unsigned long long* evaluated) {
+__global__ void screened_check_kernel(const int32_t* halt, BondCheckArrays a, const int32_t* points, int32_t n,
+                                      double mu, int64_t step, int32_t k, double frac, const int8_t* near,
+                                      int8_t* near_next, int32_t* split, unsigned long long* evaluated) {
+  if (halted(halt)) return;
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= n) return;
   const int32_t p = points[j];
@@ -58,7 +62,7 @@ BondCheckArrays DeviceBondCheck::Impl::arrays(const double* at_x, const double* 
 
 void DeviceBondCheck::Impl::launch() {
   if (n_intact)
-    launch_kernel(check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream,
+    launch_kernel(check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream, halt,
                   arrays(x.data(), y.data(), stress.data()), intact.data(), n_intact, mu, ratio.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
@@ -66,7 +70,7 @@ void DeviceBondCheck::Impl::launch() {
 void DeviceBondCheck::Impl::launch_screened(const double* at_x, const double* at_y, const double* at_stress,
                                             int64_t step) {
   if (n_intact)
-    launch_kernel(screened_check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream,
+    launch_kernel(screened_check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream, halt,
                   arrays(at_x, at_y, at_stress), intact.data(), n_intact, mu, step, screen_interval, screen_fraction,
                   near.data(), near_next.data(), split.data(), evaluated.data());
   cuda_check(cudaGetLastError(), "kernel launch");

@@ -22,6 +22,7 @@ struct DeviceBondCheck::Impl {
   DeviceArray<int32_t> split;
   DeviceArray<unsigned long long> evaluated;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 
   // The check's arrays at the given positions and triangle stresses.
   BondCheckArrays arrays(const double* at_x, const double* at_y, const double* at_stress);

@@ -12,6 +12,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
 
@@ -24,9 +25,10 @@ constexpr int kTerms = 3;  // work, stored, dissipation
 constexpr int kSumThreads = kWideBlock;
 
 __global__ void __launch_bounds__(kBlock)
-    pair_kernel(CohesivePairArrays a, const int32_t* open, int32_t n, cohesive_law::ForceDirection dir, double dt,
-                double* fpx, double* fpy, double* delta_m, int8_t* failed, int8_t* mode, double* partial,
-                int32_t n_blocks) {
+    pair_kernel(const int32_t* halt, CohesivePairArrays a, const int32_t* open, int32_t n,
+                cohesive_law::ForceDirection dir, double dt, double* fpx, double* fpy, double* delta_m, int8_t* failed,
+                int8_t* mode, double* partial, int32_t n_blocks) {
+  if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   CohesivePairStep r;
@@ -49,9 +51,10 @@ __global__ void __launch_bounds__(kBlock)
 // The same, in a committed step: the pair's history and any full failure
 // written as FreezeBonds::apply(commit) writes them (each lane its own pair).
 __global__ void __launch_bounds__(kBlock)
-    committed_pair_kernel(CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
+    committed_pair_kernel(const int32_t* halt, CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
                           cohesive_law::ForceDirection dir, double dt, double time, double* fpx, double* fpy,
                           double* partial, int32_t n_blocks, int32_t* any_failed) {
+  if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   CohesivePairStep r;
@@ -72,8 +75,9 @@ __global__ void __launch_bounds__(kBlock)
 
 // A node's pairs in ascending order; entry e is pair (entry[e] >> 1) with the
 // + node's force where its low bit is 0 and the - node's (the opposite) where 1.
-__global__ void node_kernel(const int32_t* start, const int32_t* entry, const double* fpx, const double* fpy,
-                            int32_t n, double* f_x, double* f_y) {
+__global__ void node_kernel(const int32_t* halt, const int32_t* start, const int32_t* entry, const double* fpx,
+                            const double* fpy, int32_t n, double* f_x, double* f_y) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   double sx = 0.0, sy = 0.0;
@@ -89,10 +93,11 @@ __global__ void node_kernel(const int32_t* start, const int32_t* entry, const do
 
 // Each node's crack-closure forces added to its contact force, its split
 // pairs in ascending order as FreezeBonds::apply_crack_closure adds them.
-__global__ void closure_kernel(const double* x, const double* y, const int32_t* node_plus, const int32_t* node_minus,
-                               const double* fnx, const double* fny, double penalty, const int32_t* pair,
-                               const int32_t* start, const int32_t* entry, int32_t n, double* f_con_x,
-                               double* f_con_y) {
+__global__ void closure_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node_plus,
+                               const int32_t* node_minus, const double* fnx, const double* fny, double penalty,
+                               const int32_t* pair, const int32_t* start, const int32_t* entry, int32_t n,
+                               double* f_con_x, double* f_con_y) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n || start[i] == start[i + 1]) return;
   double sx = f_con_x[i], sy = f_con_y[i];
@@ -152,22 +157,24 @@ CohesiveHistory DeviceCohesiveForces::Impl::history() {
 void DeviceCohesiveForces::Impl::launch() {
   const CohesivePairArrays a = arrays(x.data(), y.data(), vx.data(), vy.data(), f_x.data(), f_y.data(),
                                       f_con_x.data(), f_con_y.data());
-  launch_kernel(pair_kernel, n_blocks(), kBlock, stream, a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
+  launch_kernel(pair_kernel, n_blocks(), kBlock, stream, halt, a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
                 delta_m.data(), failed.data(), mode.data(), partial.data(), n_blocks());
-  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, start.data(), entry.data(), fpx.data(),
-                fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
-  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, partial.data(), n_blocks(), sums.data());
+  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, start.data(), entry.data(),
+                fpx.data(), fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
+  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
+                sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
 void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, double time, double* f_con_x,
                                                    double* f_con_y) {
-  launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, a, history(), open.data(), n_open, dir, dt, time,
-                fpx.data(), fpy.data(), partial.data(), n_blocks(), any_failed.data());
-  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, start.data(), entry.data(), fpx.data(),
-                fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
-  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, partial.data(), n_blocks(), sums.data());
-  launch_kernel(closure_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, a.x, a.y, node_plus.data(),
+  launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, halt, a, history(), open.data(), n_open, dir, dt,
+                time, fpx.data(), fpy.data(), partial.data(), n_blocks(), any_failed.data());
+  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, start.data(), entry.data(),
+                fpx.data(), fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
+  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
+                sums.data());
+  launch_kernel(closure_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, a.x, a.y, node_plus.data(),
                 node_minus.data(), fnx.data(), fny.data(), penalty, closure_pair.data(), closure_start.data(),
                 closure_entry.data(), n_nodes, f_con_x, f_con_y);
   cuda_check(cudaGetLastError(), "kernel launch");

@@ -26,6 +26,7 @@ struct DeviceCohesiveForces::Impl {
   double penalty = 0.0;
   DeviceArray<int32_t> closure_pair, closure_start, closure_entry;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 
   int n_blocks() const;  // of the pair kernel
 

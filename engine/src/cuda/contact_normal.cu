@@ -11,6 +11,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
 
@@ -21,8 +22,9 @@ namespace {
 constexpr int kBlock = 128;
 constexpr int kSumThreads = kWideBlock;
 
-__global__ void pair_kernel(const double* x, const double* y, const int32_t* node, int64_t n, double s,
-                            double* fx, double* fy, uint8_t* hit, double* energy) {
+__global__ void pair_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node, int64_t n,
+                            double s, double* fx, double* fy, uint8_t* hit, double* energy) {
+  if (halted(halt)) return;
   const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
   if (p >= n) return;
   const int32_t* v = node + 6 * p;  // the contactor's nodes, then the target's
@@ -41,8 +43,9 @@ __global__ void pair_kernel(const double* x, const double* y, const int32_t* nod
 
 // Node i's normal contact force: its entries (6 p + k) in the CPU's order,
 // the touching ones only (the CPU adds nothing for the others).
-__global__ void node_sum_kernel(const int32_t* start, const int32_t* entry, const uint8_t* hit, const double* fx,
-                                const double* fy, int32_t n_nodes, double* f_con_x, double* f_con_y) {
+__global__ void node_sum_kernel(const int32_t* halt, const int32_t* start, const int32_t* entry, const uint8_t* hit,
+                                const double* fx, const double* fy, int32_t n_nodes, double* f_con_x, double* f_con_y) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n_nodes) return;
   double sx = 0.0, sy = 0.0;
@@ -56,8 +59,10 @@ __global__ void node_sum_kernel(const int32_t* start, const int32_t* entry, cons
   f_con_y[i] = sy;
 }
 
-__global__ void __launch_bounds__(kSumThreads) pair_sums_kernel(const double* energy, const uint8_t* hit, int64_t n,
-                                                                double* total, int32_t* touching) {
+__global__ void __launch_bounds__(kSumThreads) pair_sums_kernel(const int32_t* halt, const double* energy,
+                                                                const uint8_t* hit, int64_t n, double* total,
+                                                                int32_t* touching) {
+  if (halted(halt)) return;
   __shared__ double shared[kSumThreads];
   double e = 0.0, h = 0.0;
   for (int64_t p = threadIdx.x; p < n; p += kSumThreads) {
@@ -78,12 +83,12 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 void DeviceContactNormal::Impl::launch() {
   if (n_pairs) {
-    launch_kernel(pair_kernel, blocks(n_pairs), kBlock, stream, x.data(), y.data(), node.data(), n_pairs, penalty,
+    launch_kernel(pair_kernel, blocks(n_pairs), kBlock, stream, halt, x.data(), y.data(), node.data(), n_pairs, penalty,
                   fx.data(), fy.data(), hit.data(), pair_energy.data());
   }
-  launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, start.data(), entry.data(), hit.data(), fx.data(),
-                fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
-  launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, pair_energy.data(), hit.data(), n_pairs, total.data(),
+  launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, halt, start.data(), entry.data(), hit.data(),
+                fx.data(), fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
+  launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, halt, pair_energy.data(), hit.data(), n_pairs, total.data(),
                 touching.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }

@@ -14,6 +14,7 @@ struct DeviceContactNormal::Impl {
   DeviceArray<int32_t> node, start, entry, touching;
   DeviceArray<uint8_t> hit;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 
   // the stage's launches on `stream` (asynchronous)
   void launch();

@@ -27,9 +27,22 @@
 // contact step was bound; the model then re-bounds it after the step
 // (Model::guard_contact_reach: masses raised, or the run stopped), and the
 // stages are made again.
+//
+// Steps run in batches of up to kBatch: the host launches them one after
+// the other and reads them back in one copy (each step's ledger sums,
+// energies and flags in its StepRecord), then books each in order, as it
+// would have one by one. A step that ends in an event the host must handle
+// (the next step's check finds a point at eq 5, the list must be rebuilt, a
+// pair failed, a node moved past reach/2, an element inverted, a sum not
+// finite) sets the batch's halt word, and the batch's later kernels return
+// at once (cuda/halt.cuh): the GPU's state is that step's, as if the batch
+// had ended there. Only the energy alarm is the host's alone (it reads the
+// booked ledger): a run it stops reports the ledger of the step that fired
+// and the state of the batch's last step, up to kBatch - 1 steps later.
 #include "cuda/device_step.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <string>
 
@@ -42,6 +55,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/node_update_impl.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "loads/boundary_kernel.hpp"
 #include "model/assemble_kernel.hpp"
@@ -57,20 +71,24 @@ constexpr int kBlock = 128;
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
-__global__ void assemble_kernel(AssembleArrays a, int32_t n) {
+__global__ void assemble_kernel(const int32_t* halt, AssembleArrays a, int32_t n) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n) assemble_node(a, i);
 }
 
-__global__ void boundary_kernel(BoundaryComponent a, const int32_t* nodes, int32_t n, double v_bc, double inv_dt) {
+__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent a, const int32_t* nodes, int32_t n, double v_bc,
+                                double inv_dt) {
+  if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k < n) prescribe_component(a, nodes[k], v_bc, inv_dt);
 }
 
 // Whether a node of a surface triangle has moved past the skin since the
 // candidate list was built (ContactSolver::list_still_valid's test).
-__global__ void moved_kernel(const double* x, const double* y, const double* x0, const double* y0,
+__global__ void moved_kernel(const int32_t* halt, const double* x, const double* y, const double* x0, const double* y0,
                              const int32_t* nodes, int32_t n, double skin, int32_t* moved) {
+  if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k >= n) return;
   const int32_t i = nodes[k];
@@ -79,15 +97,18 @@ __global__ void moved_kernel(const double* x, const double* y, const double* x0,
 
 // Whether a node has moved past half the contact reach since the contact
 // step was bound (Model::guard_contact_reach's test).
-__global__ void reach_kernel(const double* x, const double* y, const double* x0, const double* y0, int32_t n,
-                             double half, int32_t* moved) {
+__global__ void reach_kernel(const int32_t* halt, const double* x, const double* y, const double* x0, const double* y0,
+                             int32_t n, double half, int32_t* moved) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n && moved_past_reach(x[i], y[i], x0[i], y0[i], half)) *moved = 1;  // any lane: the same 1
 }
 
 // The next step's warm start, per candidate: its tangential force if it
 // touched, else NaN (absent, as a pair that did not touch is from the CPU's).
-__global__ void warm_start_kernel(const uint8_t* hit, const double* lambda, int32_t n, double* prev_lambda) {
+__global__ void warm_start_kernel(const int32_t* halt, const uint8_t* hit, const double* lambda, int32_t n,
+                                  double* prev_lambda) {
+  if (halted(halt)) return;
   const int32_t c = blockIdx.x * blockDim.x + threadIdx.x;
   if (c < n) prev_lambda[c] = hit[c] ? lambda[c] : NAN;
 }
@@ -98,8 +119,69 @@ enum Term { t_kinetic2_new, t_kinetic2_old, t_viscous, t_local_damping, t_contac
 // What a step copies back after the update's sums, by name.
 enum Extra { x_elastic = n_terms, x_contact, x_friction_power, x_coh_work, x_coh_stored, x_coh_dissipation,
              n_copied };
-// ... and its flags.
-enum Flag { f_inverted, f_moved, f_split, f_failed, f_reach, n_flags };
+// ... and its flags (f_split: the next step's check found a point at eq 5;
+// f_nonfinite: a sum of the step is not finite).
+enum Flag { f_inverted, f_moved, f_split, f_failed, f_reach, f_nonfinite, n_flags };
+
+// Steps of a batch, launched before one copy back. A batch costs the host a
+// copy and a wait instead of one per step; a longer one saves little more
+// and runs further past an energy alarm (the header above).
+constexpr int kBatch = 32;
+
+// What one step leaves for the host.
+struct StepRecord {
+  double sums[n_copied];
+  int32_t flags[n_flags];
+  unsigned long long evaluated;  // bond points the next step's check evaluated
+};
+
+// Where a step's scalars are on the GPU (nullptr: the model has none of it,
+// or, reach, not checked in this step).
+struct StepScalars {
+  const double* update;    // n_terms, the update's sums
+  const double* elastic;   // the strain energy
+  const int32_t* inverted;  // the first inverted element, 0x7f7f7f7f if none
+  const double* contact;   // the contact energy
+  const double* power;     // the friction power
+  const int32_t* moved;    // a node past the skin
+  const int32_t* reach;    // a node past reach/2
+  const double* cohesive;  // work, stored, effective dissipation
+  const int32_t* failed;   // a pair failed
+};
+
+__device__ inline bool finite_sum(double v) { return fabs(v) <= DBL_MAX; }  // false for NaN too
+
+// The step's sums and flags into its record (one lane); an event halts the batch.
+__global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) {
+  if (halted(halt)) return;
+  double* t = r->sums;
+  for (int k = 0; k < n_terms; ++k) t[k] = s.update[k];
+  t[x_elastic] = *s.elastic;
+  t[x_contact] = s.contact ? *s.contact : 0.0;
+  t[x_friction_power] = s.power ? *s.power : 0.0;
+  for (int k = 0; k < 3; ++k) t[x_coh_work + k] = s.cohesive ? s.cohesive[k] : 0.0;
+  bool finite = true;
+  for (int k = 0; k < n_copied; ++k) finite = finite && finite_sum(t[k]);
+  int32_t* f = r->flags;
+  f[f_inverted] = *s.inverted;
+  f[f_moved] = s.moved ? *s.moved : 0;
+  f[f_failed] = s.failed ? *s.failed : 0;
+  f[f_reach] = s.reach ? *s.reach : 0;
+  f[f_nonfinite] = finite ? 0 : 1;
+  f[f_split] = 0;
+  r->evaluated = 0;
+  if (f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite]) *halt = 1;
+}
+
+// The next step's check into the step's record (nullptr: no check); a point
+// at eq 5 halts the batch.
+__global__ void record_check_kernel(int32_t* halt, const int32_t* split, const unsigned long long* evaluated,
+                                    StepRecord* r) {
+  if (halted(halt)) return;
+  r->flags[f_split] = split ? *split : 0;
+  r->evaluated = evaluated ? *evaluated : 0;
+  if (r->flags[f_split]) *halt = 1;
+}
 
 }  // namespace
 
@@ -130,18 +212,20 @@ struct DeviceStep::Impl {
   DeviceArray<int32_t> reach_moved;
   double skin = 0.0;
   bool list_valid = true;
-  // the next step's prologue has run (and its flags are here); it checked bonds
-  bool primed = false, primed_check = false;
+  // the next step's prologue has run; it checked bonds, found a point at
+  // eq 5, evaluated this many points
+  bool primed = false, primed_check = false, next_split = false;
+  unsigned long long next_evaluated = 0;
   double dt = 0.0, time = 0.0;
   int64_t step_count = 0, host_steps = 0;
   int64_t remakes = 0;  // the stages made again from the model (after a host step, a failure, a re-bound)
   EnergyLedger energy;
   cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
-  // what a step copies back: the update's sums, the strain energy, the
-  // contact energy, the friction power; the first inverted element, moved
-  double* host_sums = nullptr;  // pinned, n_copied
-  int32_t* host_flags = nullptr;  // pinned, n_flags
-  unsigned long long* host_evaluated = nullptr;  // pinned, 1: bond points the step's check evaluated
+  // a batch's records (kBatch, then prime's) and where they are read; its halt word
+  DeviceArray<StepRecord> records;
+  StepRecord* host_records = nullptr;  // pinned, kBatch + 1
+  DeviceArray<int32_t> halt_word;
+  int32_t* halt = nullptr;  // halt_word's
 
   DeviceBodyForces::Impl& f() { return *forces->impl_; }
   DeviceNodeUpdate::Impl& u() { return *update->impl_; }
@@ -151,8 +235,9 @@ struct DeviceStep::Impl {
   DeviceCohesiveForces::Impl& co() { return *cohesive->impl_; }
 
   template <class T>
-  void fetch(T* host, const DeviceArray<T>& from, size_t n) {
-    cuda_check(cudaMemcpyAsync(host, from.data(), n * sizeof(T), cudaMemcpyDeviceToHost, stream), "copy from GPU");
+  void fetch(T* host, const DeviceArray<T>& from, size_t first, size_t n) {
+    cuda_check(cudaMemcpyAsync(host, from.data() + first, n * sizeof(T), cudaMemcpyDeviceToHost, stream),
+               "copy from GPU");
   }
   template <class T>
   void zero(DeviceArray<T>& a) {
@@ -203,6 +288,7 @@ struct DeviceStep::Impl {
     primed = false;
     if (!contact) {
       share_arrays();
+      give_halt();
       return settle_uploads();
     }
     normal.reset(new DeviceContactNormal(cm));
@@ -242,11 +328,22 @@ struct DeviceStep::Impl {
       reach_moved.resize(1);
     }
     share_arrays();
+    give_halt();
     settle_uploads();
   }
 
+  // Every stage's kernels return once the batch's halt word is set.
+  void give_halt() {
+    forces->impl_->halt = halt;
+    u().halt = halt;
+    if (normal) cn().halt = halt;
+    if (friction) fr().halt = halt;
+    if (check) bc().halt = halt;
+    if (cohesive) co().halt = halt;
+  }
+
   // One array for each quantity a stage writes and another reads, in the
-  // step's order (one_step): the node state is the update's; the body-force
+  // step's order (launch_step): the node state is the update's; the body-force
   // stage's outputs are what the update books and what the force assembly
   // starts from; friction reads the assembly's total and writes the step's
   // total over the body forces (read before it by the cohesive pairs and the
@@ -294,37 +391,107 @@ struct DeviceStep::Impl {
 
   // A step's first part, which reads only the state at its start: (1) the
   // elements and (6) the water loads and gravity, gathered onto the nodes,
-  // and (4) the bond check of step number `step`, its flags fetched. It runs
-  // at the end of the step before (after the update, in the same wait), so
-  // that a step whose check splits a point is known before anything of it
-  // is committed, without a wait of its own; after the stages are made
-  // again, it runs on its own (prime).
-  void prologue(int64_t step) {
+  // and (4) the bond check of step number `step`, its result into `r`. It
+  // runs at the end of the step before (after the update, in the same
+  // batch), so that a step whose check splits a point is known before
+  // anything of it is committed; after the stages are made again, it runs on
+  // its own (prime).
+  void prologue(int64_t step, StepRecord* r) {
     DeviceBodyForces::Impl& F = f();
     F.launch();
     primed_check = checking && bc().n_intact > 0;
-    if (!primed_check) return;
+    if (!primed_check) return launch_kernel(record_check_kernel, 1, 1, stream, halt, nullptr, nullptr, r);
     DeviceBondCheck::Impl& K = bc();
     zero(K.split);
     zero(K.evaluated);
     K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), step);
-    fetch(host_flags + f_split, K.split, 1);
-    fetch(host_evaluated, K.evaluated, 1);
+    launch_kernel(record_check_kernel, 1, 1, stream, halt, K.split.data(), K.evaluated.data(), r);
   }
   void prime() {
-    prologue(step_count);
+    zero(halt_word);
+    prologue(step_count, records.data() + kBatch);
+    fetch(host_records + kBatch, records, kBatch, 1);
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
     primed = true;
+    next_split = host_records[kBatch].flags[f_split] != 0;
+    next_evaluated = host_records[kBatch].evaluated;
   }
 
-  void one_step() {
-    if (!list_valid) return host_step();
-    if (!primed) prime();
-    // the step's check (its prologue) found a point at eq 5: the step is the
-    // model's, from the state at its start, which nothing has changed yet
-    if (primed_check && host_flags[f_split]) return host_step();
-    const bool checked = primed_check;
-    const unsigned long long evaluated = checked ? *host_evaluated : 0;  // before the next prologue's copy
+  // n steps: the model's where the list must be rebuilt or the next step's
+  // check found a point at eq 5, the GPU's in batches otherwise.
+  void advance(int64_t n) {
+    const int64_t end = step_count + n;
+    while (step_count < end) {
+      if (!list_valid) {
+        host_step();
+        continue;
+      }
+      if (!primed) prime();
+      // the step's check (its prologue) found a point at eq 5: the step is the
+      // model's, from the state at its start, which nothing has changed yet
+      if (primed_check && next_split) {
+        host_step();
+        continue;
+      }
+      run_batch(int(std::min<int64_t>(end - step_count, kBatch)));
+    }
+  }
+
+  // k steps launched, read back in one copy and booked in order, up to the
+  // first that ended in an event (the GPU halted after it), which is then
+  // handled as a step on its own was.
+  void run_batch(int k) {
+    const bool checked = primed_check;  // alike in every step of the batch: n_intact changes with the stages only
+    zero(halt_word);
+    double t = time;  // each step's start, as book() advances it
+    for (int s = 0; s < k; ++s) {
+      launch_step(t, step_count + s, records.data() + s);
+      if (checked) bc().near.swap(bc().near_next);  // the step's flags are the points' now
+      prologue(step_count + s + 1, records.data() + s);  // the next step's first part
+      t += dt;
+    }
+    fetch(host_records, records, 0, size_t(k));
+    cuda_check(cudaStreamSynchronize(stream), "GPU step");
+    int last = k - 1;
+    for (int s = 0; s < k; ++s)
+      if (step_event(host_records[s]) || host_records[s].flags[f_split]) {
+        last = s;
+        break;
+      }
+    // the halted steps' turns of the double buffer taken back
+    if (checked && (k - 1 - last) % 2) bc().near.swap(bc().near_next);
+    for (int s = 0; s <= last; ++s) {
+      if (checked) bond_checks += int64_t(next_evaluated);  // the step's check, run before it
+      next_evaluated = host_records[s].evaluated;
+      book(host_records[s]);
+    }
+    const StepRecord& r = host_records[last];
+    // after an event of the step itself the GPU halted before the next step's
+    // first part: it runs again on the stages as they will be
+    primed = !step_event(r);
+    next_split = r.flags[f_split] != 0;
+    // a pair failed: the opened pairs are others from the next step on; a
+    // node moved past reach/2: the model re-bounds the contact step
+    if (r.flags[f_failed] || r.flags[f_reach]) {
+      to_model();
+      if (r.flags[f_reach]) model->guard_contact_reach();
+      // this step's reactions (the new stages start from the model's, of its own last step)
+      const std::vector<double> r_x = u().r_x.download(), r_y = u().r_y.download();
+      make_stages();
+      u().r_x.upload(r_x);
+      u().r_y.upload(r_y);
+      settle_uploads();
+    }
+    list_valid = r.flags[f_moved] == 0;
+  }
+  static bool step_event(const StepRecord& r) {
+    const int32_t* f = r.flags;
+    return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite];
+  }
+
+  // A step's launches after its prologue, from time t (step number `step`),
+  // its sums and flags into r.
+  void launch_step(double t, int64_t step, StepRecord* r) {
     DeviceBodyForces::Impl& F = f();
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
@@ -334,24 +501,24 @@ struct DeviceStep::Impl {
       zero(C.any_failed);
       const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
-      C.launch_committed(a, time, U.f_con_x.data(), U.f_con_y.data());
+      C.launch_committed(a, t, U.f_con_x.data(), U.f_con_y.data());
     }
     // (the body forces, the contact forces with the crack closure and the
     // cohesive forces are the update's arrays already: share_arrays)
     // the total before friction
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
-    launch_kernel(assemble_kernel, blocks(n), kBlock, stream, a, n);
+    launch_kernel(assemble_kernel, blocks(n), kBlock, stream, halt, a, n);
     if (contact) {  // (3b) friction, from the total before it
       DeviceFriction::Impl& R = fr();
       R.launch();  // the step's total into U.f_x, U.f_y (share_arrays)
       if (R.n_cand)
-        launch_kernel(warm_start_kernel, blocks(R.n_cand), kBlock, stream, R.hit.data(), R.lambda.data(), R.n_cand,
-                      R.prev_lambda.data());
+        launch_kernel(warm_start_kernel, blocks(R.n_cand), kBlock, stream, halt, R.hit.data(), R.lambda.data(),
+                      R.n_cand, R.prev_lambda.data());
     }
     // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions
     const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
-    const double t_half = time + 0.5 * dt;
+    const double t_half = t + 0.5 * dt;
     const BoundaryComponent cx{U.mass.data(), U.vx.data(), U.f_x.data(), U.v_bc_x.data(), U.r_x.data()};
     const BoundaryComponent cy{U.mass.data(), U.vy.data(), U.f_y.data(), U.v_bc_y.data(), U.r_y.data()};
     for (size_t k = 0; k < bcs.size(); ++k) {
@@ -359,59 +526,35 @@ struct DeviceStep::Impl {
       const double s = bc.history.at(t_half);
       const int32_t m = int32_t(bc.nodes.size());
       // the CPU sets x, then y, per node; the components are apart, so the order is moot
-      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, cx,
+      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx,
                               bc_nodes[k]->data(), m, bc.dir_x * s, inv_dt);
-      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, cy,
+      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cy,
                               bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
     }
     U.launch();  // (7) the central difference and the ledger's sums
-    fetch(host_sums, U.sums, n_terms);
-    fetch(host_sums + x_elastic, F.total, 1);
-    fetch(host_flags + f_inverted, F.inverted, 1);
-    host_sums[x_contact] = host_sums[x_friction_power] = 0.0;
-    host_flags[f_moved] = host_flags[f_failed] = host_flags[f_reach] = 0;
+    StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr,
+                   nullptr,       nullptr};
     if (bonded) {
-      fetch(host_sums + x_coh_work, co().sums, 3);
-      fetch(host_flags + f_failed, co().any_failed, 1);
+      sc.cohesive = co().sums.data();
+      sc.failed = co().any_failed.data();
     }
     if (contact) {
       DeviceFriction::Impl& R = fr();
-      cuda_check(cudaMemsetAsync(moved.data(), 0, sizeof(int32_t), stream), "memset");
+      zero(moved);
       const int32_t m = int32_t(list_nodes.size());
-      if (m) launch_kernel(moved_kernel, blocks(m), kBlock, stream, U.x.data(), U.y.data(), list_x.data(),
+      if (m) launch_kernel(moved_kernel, blocks(m), kBlock, stream, halt, U.x.data(), U.y.data(), list_x.data(),
                            list_y.data(), list_nodes.data(), m, skin, moved.data());
-      fetch(host_sums + x_contact, cn().total, 1);
-      fetch(host_sums + x_friction_power, R.power, 1);
-      fetch(host_flags + f_moved, moved, 1);
-      if (reach_guard && (step_count + 1) % Model::kReachCheckEvery == 0) {  // the step number after this one
+      sc.contact = cn().total.data();
+      sc.power = R.power.data();
+      sc.moved = moved.data();
+      if (reach_guard && (step + 1) % Model::kReachCheckEvery == 0) {  // the step number after this one
         zero(reach_moved);
-        launch_kernel(reach_kernel, blocks(n), kBlock, stream, U.x.data(), U.y.data(), reach_x.data(), reach_y.data(),
-                      n, reach_half, reach_moved.data());
-        fetch(host_flags + f_reach, reach_moved, 1);
+        launch_kernel(reach_kernel, blocks(n), kBlock, stream, halt, U.x.data(), U.y.data(), reach_x.data(),
+                      reach_y.data(), n, reach_half, reach_moved.data());
+        sc.reach = reach_moved.data();
       }
     }
-    if (checked) {  // the step is the GPU's: its screening flags are the points' now
-      bc().near.swap(bc().near_next);
-      bond_checks += int64_t(evaluated);
-    }
-    prologue(step_count + 1);  // the next step's first part, after this one's reads of F's outputs
-    cuda_check(cudaStreamSynchronize(stream), "GPU step");
-    book();
-    const bool valid = host_flags[f_moved] == 0;
-    // a pair failed: the opened pairs are others from the next step on; a
-    // node moved past reach/2: the model re-bounds the contact step (the
-    // next step's prologue then runs again on the new stages)
-    if (host_flags[f_failed] || host_flags[f_reach]) {
-      to_model();
-      if (host_flags[f_reach]) model->guard_contact_reach();
-      // this step's reactions (the new stages start from the model's, of its own last step)
-      const std::vector<double> r_x = u().r_x.download(), r_y = u().r_y.download();
-      make_stages();
-      u().r_x.upload(r_x);
-      u().r_y.upload(r_y);
-      settle_uploads();
-    }
-    list_valid = valid;
+    launch_kernel(record_step_kernel, 1, 1, stream, halt, sc, r);
   }
 
   // The model takes the step (the candidate list is rebuilt there), and the
@@ -429,8 +572,8 @@ struct DeviceStep::Impl {
   // The ledger as Model::update_positions books it (the CPU's sums of
   // gravity and drag are the negated sums of NodeWork's terms), with the
   // contact module's accounts as Model::compute_forces keeps them.
-  void book() {
-    const double* t = host_sums;
+  void book(const StepRecord& r) {
+    const double* t = r.sums;
     if (bonded) {  // FreezeBonds::apply's accounts and Model::apply_cohesive_forces' booking
       const double stored = t[x_coh_stored];
       bond_work += t[x_coh_work];
@@ -458,7 +601,7 @@ struct DeviceStep::Impl {
     energy.book_step(s, dt, t[x_contact]);
     time += dt;
     ++step_count;
-    const int32_t inverted = host_flags[f_inverted] == 0x7f7f7f7f ? -1 : host_flags[f_inverted];
+    const int32_t inverted = r.flags[f_inverted] == 0x7f7f7f7f ? -1 : r.flags[f_inverted];
     const std::string at = "GPU step: run stopped at step " + std::to_string(step_count) + " (t = " + num(time) + " s): ";
     if (!std::isfinite(energy.kinetic) || !std::isfinite(energy.elastic))
       throw InstabilityError(at + "non-finite " + (std::isfinite(energy.kinetic) ? "elastic" : "kinetic") +
@@ -541,26 +684,26 @@ DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   if (d.contact) m.evaluate();  // a candidate list at this state (the warm start left as it was)
   d.model = &m;
   d.make_stages();
+  d.halt_word.resize(1);  // after the stages, which say so when no GPU is visible
+  d.halt = d.halt_word.data();
+  d.give_halt();
+  d.records.resize(kBatch + 1);
+  cuda_check(cudaMallocHost(&d.host_records, (kBatch + 1) * sizeof(StepRecord)), "cudaMallocHost");
   d.dt = m.dt();
   d.time = m.time();
   d.step_count = m.step_count();
   d.energy = m.energy();
-  cuda_check(cudaMallocHost(&d.host_sums, n_copied * sizeof(double)), "cudaMallocHost");
-  cuda_check(cudaMallocHost(&d.host_flags, n_flags * sizeof(int32_t)), "cudaMallocHost");
-  cuda_check(cudaMallocHost(&d.host_evaluated, sizeof(unsigned long long)), "cudaMallocHost");
 }
 
 DeviceStep::~DeviceStep() {
   Impl& d = *impl_;
   d.release_stages();
-  if (d.host_sums) cudaFreeHost(d.host_sums);
-  if (d.host_flags) cudaFreeHost(d.host_flags);
-  if (d.host_evaluated) cudaFreeHost(d.host_evaluated);
+  if (d.host_records) cudaFreeHost(d.host_records);
 }
 
 void DeviceStep::step(int64_t n) {
   if (n < 0) bad("n (number of steps) must be >= 0");
-  for (int64_t k = 0; k < n; ++k) impl_->one_step();
+  impl_->advance(n);
 }
 
 void DeviceStep::download(Model& m) {

@@ -5,10 +5,11 @@
 // conditions and the force assembly of the CPU's per-node functions
 // (loads/boundary_kernel.hpp, model/assemble_kernel.hpp). A step whose
 // candidate list would be rebuilt, or whose bond check finds a point at the
-// criterion, is taken by the model itself (cuda/device_step.cu). Each step
-// copies back its ledger sums, its energies and its flags (an element
-// inverted, the list must be rebuilt, a pair failed): the host books the
-// ledger and guards the run; the state stays on the GPU until `download`.
+// criterion, is taken by the model itself (cuda/device_step.cu). Steps run
+// in batches, read back in one copy: each step's ledger sums, energies and
+// flags (an element inverted, the list must be rebuilt, a pair failed); the
+// host books the ledger and guards the run; the state stays on the GPU until
+// `download`.
 // A plain C++ header (no CUDA types); in a build without CUDA every call
 // says so.
 #pragma once
@@ -35,7 +36,8 @@ class DeviceStep {
   DeviceStep& operator=(const DeviceStep&) = delete;
 
   // n steps. Throws InstabilityError (model.hpp) when the energies stop
-  // being finite or an element inverts; the state is then that step's.
+  // being finite or an element inverts; the state is then that step's (on the
+  // energy alarm, the ledger is that step's and the state its batch's last).
   void step(int64_t n);
   // The state on the GPU into `model` (the one it was made from): positions,
   // velocities, clock, ledger, friction warm start and the bonds' state (the

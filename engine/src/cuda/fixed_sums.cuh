@@ -5,6 +5,8 @@
 
 #include <cstdint>
 
+#include "cuda/halt.cuh"
+
 namespace engine {
 
 // The lanes of a block that reduces with barriers: `on_gpu` on a GPU. The
@@ -61,7 +63,9 @@ __device__ inline double block_extreme(double v, double* shared) {
 // fixed order by one block of N lanes per term (launch with as many blocks as
 // terms): sums[k]. The second level of the per-block trees above.
 template <int N>
-__global__ void __launch_bounds__(N) term_sums_kernel(const double* partial, int32_t n_blocks, double* sums) {
+__global__ void __launch_bounds__(N) term_sums_kernel(const int32_t* halt, const double* partial, int32_t n_blocks,
+                                                      double* sums) {
+  if (halted(halt)) return;
   __shared__ double shared[N];
   const double* p = partial + size_t(blockIdx.x) * n_blocks;
   double s = 0.0;

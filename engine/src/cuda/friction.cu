@@ -24,6 +24,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
 
@@ -39,8 +40,9 @@ constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not to
 
 // Whether candidate c touches, and its contact point and normal force's
 // resultant: the CPU's ContactPair of that pair, bit for bit.
-__global__ void pair_kernel(const double* x, const double* y, const int32_t* node, int64_t n, double penalty,
-                            uint8_t* hit, double* nc, double* nt, double* nx, double* ny, double* fn) {
+__global__ void pair_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node, int64_t n,
+                            double penalty, uint8_t* hit, double* nc, double* nt, double* nx, double* ny, double* fn) {
+  if (halted(halt)) return;
   const int64_t c = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
   if (c >= n) return;
   const int32_t* v = node + 6 * c;
@@ -57,9 +59,10 @@ __global__ void pair_kernel(const double* x, const double* y, const int32_t* nod
   contact_resultant(r, fn[c], nx[c], ny[c]);
 }
 
-__global__ void predict_kernel(const double* mass, const uint8_t* constrained, const double* vx, const double* vy,
-                               const double* f_pre_x, const double* f_pre_y, int32_t n, double dt, double* imx,
-                               double* imy, double* wx, double* wy) {
+__global__ void predict_kernel(const int32_t* halt, const double* mass, const uint8_t* constrained, const double* vx,
+                               const double* vy, const double* f_pre_x, const double* f_pre_y, int32_t n, double dt,
+                               double* imx, double* imy, double* wx, double* wy) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   friction_predict_node(mass[i], constrained[i], vx[i], vy[i], f_pre_x[i], f_pre_y[i], nullptr, nullptr, i, dt,
@@ -72,8 +75,9 @@ __global__ void predict_kernel(const double* mass, const uint8_t* constrained, c
 // a neighbour's colour in the round it is written sees either -1 (and waits a
 // round) or the final value.
 __global__ void __launch_bounds__(kSolveThreads)
-    colour_kernel(const int32_t* node, const uint8_t* hit, const uint64_t* key, const int32_t* start,
-                  const int32_t* entry, int32_t n, int32_t* colour_out, int32_t* counts) {
+    colour_kernel(const int32_t* halt, const int32_t* node, const uint8_t* hit, const uint64_t* key,
+                  const int32_t* start, const int32_t* entry, int32_t n, int32_t* colour_out, int32_t* counts) {
+  if (halted(halt)) return;
   __shared__ int32_t most[kSolveThreads];
   volatile int32_t* colour = colour_out;
   for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) colour[p] = hit[p] ? -1 : kNotTouching;
@@ -130,9 +134,11 @@ __global__ void __launch_bounds__(kSolveThreads)
 }
 
 __global__ void __launch_bounds__(kSolveThreads)
-    solve_kernel(FrictionPairArrays P, int32_t n, const int32_t* colour, const int32_t* counts, const uint64_t* prev_key,
-                 const double* prev_lambda, int64_t n_prev, double mu, double dt, const double* imx,
-                 const double* imy, double* wx, double* wy, double* kinv, double* lambda, double* power) {
+    solve_kernel(const int32_t* halt, FrictionPairArrays P, int32_t n, const int32_t* colour, const int32_t* counts,
+                 const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu, double dt,
+                 const double* imx, const double* imy, double* wx, double* wy, double* kinv, double* lambda,
+                 double* power) {
+  if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
   const int32_t colours = counts[0];
   for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
@@ -181,8 +187,10 @@ __global__ void __launch_bounds__(kSolveThreads)
 // Node i's force with its pairs' friction added in the CPU's order: pairs
 // ascending, a pair's corners as the CPU visits them (contactor's j, then
 // target's j, j = 0, 1, 2); entry 6 c + k names candidate c's node slot k.
-__global__ void apply_kernel(FrictionPairArrays P, const int32_t* start, const int32_t* entry, const double* lambda,
-                             const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x, double* f_y) {
+__global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* start, const int32_t* entry,
+                             const double* lambda, const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x,
+                             double* f_y) {
+  if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   double sx = f_pre_x[i], sy = f_pre_y[i];
@@ -209,17 +217,17 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 void DeviceFriction::Impl::launch() {
   if (n_cand) {
-    launch_kernel(pair_kernel, blocks(n_cand), kBlock, stream, x.data(), y.data(), node.data(), n_cand, penalty,
+    launch_kernel(pair_kernel, blocks(n_cand), kBlock, stream, halt, x.data(), y.data(), node.data(), n_cand, penalty,
                   hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data());
   }
-  launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, mass.data(), constrained.data(), vx.data(), vy.data(),
-                f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
-  launch_kernel(colour_kernel, 1, kSolveThreads, stream, node.data(), hit.data(), key.data(), start.data(),
+  launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, mass.data(), constrained.data(), vx.data(),
+                vy.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
+  launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, node.data(), hit.data(), key.data(), start.data(),
                 entry.data(), n_cand, colour.data(), counts.data());
-  launch_kernel(solve_kernel, 1, kSolveThreads, stream, pairs(), n_cand, colour.data(), counts.data(), prev_key.data(),
-                prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
-                lambda.data(), power.data());
-  launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, pairs(), start.data(), entry.data(), lambda.data(),
+  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), n_cand, colour.data(), counts.data(),
+                prev_key.data(), prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(), wx.data(), wy.data(),
+                kinv.data(), lambda.data(), power.data());
+  launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(), lambda.data(),
                 f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }

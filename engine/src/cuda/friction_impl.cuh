@@ -28,6 +28,7 @@ struct DeviceFriction::Impl {
   DeviceArray<int32_t> node, colour, counts, start, entry;
   DeviceArray<uint64_t> key, prev_key;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 
   FrictionPairArrays pairs() {
     return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};

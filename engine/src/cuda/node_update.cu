@@ -7,6 +7,7 @@
 #include "cuda/device_array.cuh"
 #include "cuda/stream.cuh"
 #include "cuda/fixed_sums.cuh"
+#include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
 #include "model/update_kernel.hpp"
@@ -19,7 +20,9 @@ constexpr int kBlock = reducing_block(128);  // its per-block partial sums
 constexpr int kTerms = 13;  // NodeWork's fields
 constexpr int kSumThreads = kWideBlock;
 
-__global__ void __launch_bounds__(kBlock) update_kernel(UpdateArrays a, int32_t n, double* partial, int32_t n_blocks) {
+__global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, UpdateArrays a, int32_t n, double* partial,
+                                                        int32_t n_blocks) {
+  if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   NodeWork w{};
@@ -45,8 +48,9 @@ void DeviceNodeUpdate::Impl::launch() {
                        f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
                        r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
                        dt,             g,              alpha};
-  launch_kernel(update_kernel, n_blocks(), kBlock, stream, a, n, partial.data(), n_blocks());
-  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, partial.data(), n_blocks(), sums.data());
+  launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks());
+  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
+                sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

@@ -13,6 +13,7 @@ struct DeviceNodeUpdate::Impl {
       f_visc_y, f_con_x, f_con_y, f_coh_x, f_coh_y, f_buoy_y, drag_k, r_x, r_y, v_bc_x, v_bc_y, partial, sums;
   DeviceArray<uint8_t> constrained;
   cudaStream_t stream = nullptr;
+  const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 
   int n_blocks() const;  // of the update kernel
 
