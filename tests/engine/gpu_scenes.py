@@ -180,6 +180,17 @@ def pulled_bar(direction="paper"):
     return pull_bar(direction=direction)[0]
 
 
+def shaken_bar(direction="paper"):
+    """pulled_bar with every node set moving at random (0.3 m/s, no
+    damping): its points split within a few steps of one another while the
+    bar rings, so the GPU's batches halt on splits amid steps whose
+    screening flags change, and a split step's neighbour search (before the
+    split, on the CPU) is followed by one on the split mesh."""
+    m = pulled_bar(direction)
+    m.set_velocities(np.random.default_rng(3).normal(0.0, 0.3, m.positions.shape))
+    return m
+
+
 def sheared_square(direction="paper"):
     """Two blocks bonded along the diagonal of a square in pure shear
     (freeze_bonds_scenes.py loaded_diagonal_square): within 1,000 steps its

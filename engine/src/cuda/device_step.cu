@@ -558,10 +558,17 @@ struct DeviceStep::Impl {
   }
 
   // The model takes the step (the candidate list is rebuilt there), and the
-  // stages are made again from it.
+  // stages are made again from it. A step that split points searched for
+  // neighbours before it split (Model::compute_forces' order), so the list it
+  // leaves is of the mesh before: the model's next step searches again, on
+  // the split mesh, and evaluate() builds that list now, at the same state,
+  // for the stages to start from (the forces it computes leave the history
+  // as it was).
   void host_step() {
     to_model();
+    const int32_t nodes_before = static_cast<const Model&>(*model).nodes().size();
     model->step(1);
+    if (contact && static_cast<const Model&>(*model).nodes().size() != nodes_before) model->evaluate();
     ++host_steps;
     time = model->time();
     step_count = model->step_count();
