@@ -399,8 +399,9 @@ def compare_steps(make_model, n, nodes=None):
     x, y, vx, vy, 'ledger' (the ledger's terms' largest difference relative
     to the largest of them: the GPU sums in another fixed order), 'reaction'
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
-    (steps the model took itself: candidate list rebuilt, bond points split)
-    and 'ok'. A bonded model adds 'bonds': the bond state's array fields
+    (steps the model took itself: candidate list rebuilt, bond points split),
+    'remakes' (times the GPU's stages were made again from the model: after
+    those steps, a pair's failure, a re-bound contact reach) and 'ok'. A bonded model adds 'bonds': the bond state's array fields
     whose bits differ anywhere (a list of names; the split and failure
     records, the pairs' history, the screening flags), 'bond_sums' (the
     largest relative difference of BOND_SUMS), 'bond_counts' ((split,
@@ -415,6 +416,7 @@ def compare_steps(make_model, n, nodes=None):
         out["reaction"] = float(np.abs(r_gpu - r_cpu).max() / max(np.abs(r_cpu).max(), 1e-300))
     steps.download()
     out["host_steps"] = steps.host_steps
+    out["remakes"] = steps.remakes
 
     def state(m):
         xy, v = m.positions, m.velocities

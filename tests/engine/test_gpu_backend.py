@@ -119,6 +119,21 @@ def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
 
 
 @on_gpu_or_emulation
+def test_whole_gpu_steps_with_a_bounded_contact_reach_are_the_cpus_steps():
+    # the presets' bounded contact step (contact_reach): the GPU tests in the
+    # model's turns whether a node moved past reach/2, and the model re-bounds
+    # the step (here its origins move; no mass needs raising), the stages
+    # made again with the step's reactions
+    def make():
+        m = sliding_block(np.random.default_rng(9))
+        m.set(contact_reach=0.001)
+        return m
+    cmp = gpu.compare_steps(make, 4000, nodes="slab_bottom")
+    assert cmp["remakes"] > 2 * cmp["host_steps"], cmp  # re-bound, beyond the list's rebuilds
+    assert cmp["ok"], cmp
+
+
+@on_gpu_or_emulation
 @pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
 def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
     # its points split in steps the model takes; their pairs soften and fail

@@ -29,12 +29,13 @@ __global__ void check_kernel(const int32_t* halt, BondCheckArrays a, const int32
 // the same screening, the same flags; a point at the criterion sets *split
 // (the step is then the model's, whose check makes the plan).
 __global__ void screened_check_kernel(const int32_t* halt, BondCheckArrays a, const int32_t* points, int32_t n,
-                                      double mu, int64_t step, int32_t k, double frac, const int8_t* near,
+                                      double mu, const int64_t* step_at, int32_t k, double frac, const int8_t* near,
                                       int8_t* near_next, int32_t* split, unsigned long long* evaluated) {
   if (halted(halt)) return;
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
   if (j >= n) return;
   const int32_t p = points[j];
+  const int64_t step = *step_at;
   if (k > 1 && !near[p] && (step + p) % k != 0) {
     near_next[p] = near[p];
     return;
@@ -68,7 +69,7 @@ void DeviceBondCheck::Impl::launch() {
 }
 
 void DeviceBondCheck::Impl::launch_screened(const double* at_x, const double* at_y, const double* at_stress,
-                                            int64_t step) {
+                                            const int64_t* step) {
   if (n_intact)
     launch_kernel(screened_check_kernel, (n_intact + kBlock - 1) / kBlock, kBlock, stream, halt,
                   arrays(at_x, at_y, at_stress), intact.data(), n_intact, mu, step, screen_interval, screen_fraction,

@@ -28,12 +28,13 @@ struct DeviceBondCheck::Impl {
   BondCheckArrays arrays(const double* at_x, const double* at_y, const double* at_stress);
   // the check of every intact point at the stage's own state (asynchronous)
   void launch();
-  // FreezeBonds::check as a committed step of step number `step` runs it,
-  // at these positions and stresses: a point is evaluated when its flag is
-  // set or in its turn of the screening; near_next gets the flags after the
-  // check, split 1 when a point reaches eq 5, evaluated the count. The
-  // caller zeroes split and evaluated first (asynchronous).
-  void launch_screened(const double* at_x, const double* at_y, const double* at_stress, int64_t step);
+  // FreezeBonds::check as a committed step of step number *step (GPU
+  // memory: a batch's step reads its own) runs it, at these positions and
+  // stresses: a point is evaluated when its flag is set or in its turn of
+  // the screening; near_next gets the flags after the check, split 1 when a
+  // point reaches eq 5, evaluated the count. The caller zeroes split and
+  // evaluated first (asynchronous).
+  void launch_screened(const double* at_x, const double* at_y, const double* at_stress, const int64_t* step);
 };
 
 }  // namespace engine

@@ -52,7 +52,7 @@ __global__ void __launch_bounds__(kBlock)
 // written as FreezeBonds::apply(commit) writes them (each lane its own pair).
 __global__ void __launch_bounds__(kBlock)
     committed_pair_kernel(const int32_t* halt, CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
-                          cohesive_law::ForceDirection dir, double dt, double time, double* fpx, double* fpy,
+                          cohesive_law::ForceDirection dir, double dt, const double* time, double* fpx, double* fpy,
                           double* partial, int32_t n_blocks, int32_t* any_failed) {
   if (halted(halt)) return;
   __shared__ double shared[kBlock];
@@ -63,7 +63,7 @@ __global__ void __launch_bounds__(kBlock)
     r = cohesive_pair_step(a, k, dir, dt);
     fpx[j] = r.fpx;
     fpy[j] = r.fpy;
-    if (commit_pair_step(h, a, k, r, time)) *any_failed = 1;  // any lane: the same 1
+    if (commit_pair_step(h, a, k, r, *time)) *any_failed = 1;  // any lane: the same 1
   }
   const double terms[kTerms] = {r.work, r.stored, r.dissipation};
   #pragma unroll
@@ -166,7 +166,7 @@ void DeviceCohesiveForces::Impl::launch() {
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
-void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, double time, double* f_con_x,
+void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x,
                                                    double* f_con_y) {
   launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, halt, a, history(), open.data(), n_open, dir, dt,
                 time, fpx.data(), fpy.data(), partial.data(), n_blocks(), any_failed.data());

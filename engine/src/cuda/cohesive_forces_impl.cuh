@@ -37,15 +37,15 @@ struct DeviceCohesiveForces::Impl {
   CohesiveHistory history();
   // the stage at its own state, history left (asynchronous)
   void launch();
-  // FreezeBonds::apply(commit) of a step starting at `time` with the kernel
-  // arrays `a` (this stage's pair arrays, the step's node state and forces):
-  // the pairs' forces into f_coh_x/y, their history and failures written
-  // (any_failed 1 when one failed: the caller zeroes it), the energy terms
-  // into sums (asynchronous).
+  // FreezeBonds::apply(commit) of a step starting at *time (GPU memory: a
+  // batch's step reads its own) with the kernel arrays `a` (this stage's
+  // pair arrays, the step's node state and forces): the pairs' forces into
+  // f_coh_x/y, their history and failures written (any_failed 1 when one
+  // failed: the caller zeroes it), the energy terms into sums (asynchronous).
   // Then the crack closure's forces added to f_con_x/y in the CPU's order
   // (positions a.x, a.y): the caller's contact forces after the pair kernel
   // has read a.f_con_x/y.
-  void launch_committed(const CohesivePairArrays& a, double time, double* f_con_x, double* f_con_y);
+  void launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x, double* f_con_y);
 };
 
 }  // namespace engine

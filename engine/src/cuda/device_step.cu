@@ -39,6 +39,9 @@
 // had ended there. Only the energy alarm is the host's alone (it reads the
 // booked ledger): a run it stops reports the ledger of the step that fired
 // and the state of the batch's last step, up to kBatch - 1 steps later.
+// A whole batch is one CUDA graph, captured on the stages and replayed until
+// they are made again; what changes from step to step is read from GPU
+// memory (the per-step arguments, written before each batch).
 #include "cuda/device_step.hpp"
 
 #include <algorithm>
@@ -77,11 +80,13 @@ __global__ void assemble_kernel(const int32_t* halt, AssembleArrays a, int32_t n
   if (i < n) assemble_node(a, i);
 }
 
-__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent a, const int32_t* nodes, int32_t n, double v_bc,
-                                double inv_dt) {
+// v_bc: the component's prescribed velocity at the step's midpoint (GPU
+// memory: a batch's step reads its own).
+__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent a, const int32_t* nodes, int32_t n,
+                                const double* v_bc, double inv_dt) {
   if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < n) prescribe_component(a, nodes[k], v_bc, inv_dt);
+  if (k < n) prescribe_component(a, nodes[k], *v_bc, inv_dt);
 }
 
 // Whether a node of a surface triangle has moved past the skin since the
@@ -96,10 +101,11 @@ __global__ void moved_kernel(const int32_t* halt, const double* x, const double*
 }
 
 // Whether a node has moved past half the contact reach since the contact
-// step was bound (Model::guard_contact_reach's test).
-__global__ void reach_kernel(const int32_t* halt, const double* x, const double* y, const double* x0, const double* y0,
-                             int32_t n, double half, int32_t* moved) {
-  if (halted(halt)) return;
+// step was bound (Model::guard_contact_reach's test), in the steps that test
+// it (*now, GPU memory: every kReachCheckEvery steps, as Model::advance).
+__global__ void reach_kernel(const int32_t* halt, const int64_t* now, const double* x, const double* y,
+                             const double* x0, const double* y0, int32_t n, double half, int32_t* moved) {
+  if (halted(halt) || !*now) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n && moved_past_reach(x[i], y[i], x0[i], y0[i], half)) *moved = 1;  // any lane: the same 1
 }
@@ -127,6 +133,9 @@ enum Flag { f_inverted, f_moved, f_split, f_failed, f_reach, f_nonfinite, n_flag
 // copy and a wait instead of one per step; a longer one saves little more
 // and runs further past an energy alarm (the header above).
 constexpr int kBatch = 32;
+// A whole batch turns the bond check's double buffer an even number of times,
+// so a captured batch starts each replay from the buffer it was captured on.
+static_assert(kBatch % 2 == 0, "kBatch must be even");
 
 // What one step leaves for the host.
 struct StepRecord {
@@ -226,6 +235,20 @@ struct DeviceStep::Impl {
   StepRecord* host_records = nullptr;  // pinned, kBatch + 1
   DeviceArray<int32_t> halt_word;
   int32_t* halt = nullptr;  // halt_word's
+  // A batch's per-step arguments in GPU memory, so that a batch captured
+  // once replays with the next batch's: per row (a step of the batch; row
+  // kBatch, prime's), its start time and the boundary conditions' values at
+  // its midpoint (values, `width` per row), whether it tests the reach and
+  // the step number of the next step's check (counts, 2 per row).
+  int width = 1;  // 1 + the boundary components launched
+  DeviceArray<double> values;
+  DeviceArray<int64_t> counts;
+  double* host_values = nullptr;  // pinned, as values
+  int64_t* host_counts = nullptr;  // pinned, as counts
+  // a whole batch's launches captured on these stages (a CUDA graph), the
+  // check's flags array it reads first
+  cudaGraphExec_t batch_graph = nullptr;
+  const int8_t* graph_near = nullptr;
 
   DeviceBodyForces::Impl& f() { return *forces->impl_; }
   DeviceNodeUpdate::Impl& u() { return *update->impl_; }
@@ -247,6 +270,7 @@ struct DeviceStep::Impl {
   // Every stage runs on the body-force stage's stream, destroyed with it:
   // the others forget theirs before they go.
   void release_stages() {
+    drop_graph();
     if (update) u().stream = nullptr;
     if (normal) cn().stream = nullptr;
     if (friction) fr().stream = nullptr;
@@ -259,6 +283,28 @@ struct DeviceStep::Impl {
     cohesive.reset();
     forces.reset();
   }
+  void drop_graph() {
+    if (batch_graph) cudaGraphExecDestroy(batch_graph);
+    batch_graph = nullptr;
+  }
+  // The per-step arguments' arrays for the boundary conditions made now.
+  void size_arguments() {
+    int w = 1;
+    for (const BoundaryCondition& bc : bcs) w += int(bc.x) + int(bc.y);
+    if (w == width && host_values) return;
+    width = w;
+    values.resize(size_t(kBatch + 1) * size_t(width));
+    counts.resize(2 * size_t(kBatch + 1));
+    if (host_values) cudaFreeHost(host_values);
+    host_values = nullptr;
+    cuda_check(cudaMallocHost(&host_values, values.size() * sizeof(double)), "cudaMallocHost");
+    if (!host_counts) cuda_check(cudaMallocHost(&host_counts, counts.size() * sizeof(int64_t)), "cudaMallocHost");
+  }
+  const double* time_at(int row) const { return values.data() + size_t(row) * width; }
+  const double* boundary_at(int row, int j) const { return values.data() + size_t(row) * width + 1 + j; }
+  const int64_t* reach_now_at(int row) const { return counts.data() + 2 * size_t(row); }
+  const int64_t* check_step_at(int row) const { return counts.data() + 2 * size_t(row) + 1; }
+
   // A stage made with a stream of its own moves onto the step's.
   void adopt(cudaStream_t& s) {
     cuda_check(cudaStreamDestroy(s), "cudaStreamDestroy");
@@ -279,6 +325,7 @@ struct DeviceStep::Impl {
       bc_nodes.back()->upload(bc.nodes);
     }
     forces.reset(new DeviceBodyForces(cm));
+    size_arguments();
     update.reset(new DeviceNodeUpdate(cm));
     stream = f().stream;
     adopt(u().stream);
@@ -391,12 +438,13 @@ struct DeviceStep::Impl {
 
   // A step's first part, which reads only the state at its start: (1) the
   // elements and (6) the water loads and gravity, gathered onto the nodes,
-  // and (4) the bond check of step number `step`, its result into `r`. It
+  // and (4) the bond check of the step number in argument row `row`, its
+  // result into `r`. It
   // runs at the end of the step before (after the update, in the same
   // batch), so that a step whose check splits a point is known before
   // anything of it is committed; after the stages are made again, it runs on
   // its own (prime).
-  void prologue(int64_t step, StepRecord* r) {
+  void prologue(int row, StepRecord* r) {
     DeviceBodyForces::Impl& F = f();
     F.launch();
     primed_check = checking && bc().n_intact > 0;
@@ -404,12 +452,16 @@ struct DeviceStep::Impl {
     DeviceBondCheck::Impl& K = bc();
     zero(K.split);
     zero(K.evaluated);
-    K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), step);
+    K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), check_step_at(row));
     launch_kernel(record_check_kernel, 1, 1, stream, halt, K.split.data(), K.evaluated.data(), r);
   }
   void prime() {
+    host_counts[2 * kBatch + 1] = step_count;
+    cuda_check(cudaMemcpyAsync(counts.data() + 2 * kBatch + 1, host_counts + 2 * kBatch + 1, sizeof(int64_t),
+                               cudaMemcpyHostToDevice, stream),
+               "copy to GPU");
     zero(halt_word);
-    prologue(step_count, records.data() + kBatch);
+    prologue(kBatch, records.data() + kBatch);
     fetch(host_records + kBatch, records, kBatch, 1);
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
     primed = true;
@@ -439,16 +491,38 @@ struct DeviceStep::Impl {
 
   // k steps launched, read back in one copy and booked in order, up to the
   // first that ended in an event (the GPU halted after it), which is then
-  // handled as a step on its own was.
+  // handled as a step on its own was. A whole batch is launched as a CUDA
+  // graph, captured once on these stages and replayed with each batch's
+  // arguments.
   void run_batch(int k) {
     const bool checked = primed_check;  // alike in every step of the batch: n_intact changes with the stages only
-    zero(halt_word);
     double t = time;  // each step's start, as book() advances it
     for (int s = 0; s < k; ++s) {
-      launch_step(t, step_count + s, records.data() + s);
-      if (checked) bc().near.swap(bc().near_next);  // the step's flags are the points' now
-      prologue(step_count + s + 1, records.data() + s);  // the next step's first part
+      double* v = host_values + size_t(s) * width;
+      v[0] = t;
+      const double t_half = t + 0.5 * dt;  // the boundary conditions at the step's midpoint
+      int j = 1;
+      for (const BoundaryCondition& bc : bcs) {
+        const double h = bc.history.at(t_half);
+        if (bc.x) v[j++] = bc.dir_x * h;
+        if (bc.y) v[j++] = bc.dir_y * h;
+      }
+      const int64_t step = step_count + s;
+      host_counts[2 * s] = reach_guard && (step + 1) % Model::kReachCheckEvery == 0;  // the step number after this one
+      host_counts[2 * s + 1] = step + 1;  // the next step's check
       t += dt;
+    }
+    cuda_check(cudaMemcpyAsync(values.data(), host_values, size_t(k) * width * sizeof(double), cudaMemcpyHostToDevice,
+                               stream),
+               "copy to GPU");
+    cuda_check(cudaMemcpyAsync(counts.data(), host_counts, 2 * size_t(k) * sizeof(int64_t), cudaMemcpyHostToDevice,
+                               stream),
+               "copy to GPU");
+    if (k < kBatch) {
+      launch_batch(k, checked);
+    } else {
+      if (!batch_graph || (checked && bc().near.data() != graph_near)) capture_batch(checked);
+      cuda_check(cudaGraphLaunch(batch_graph, stream), "graph launch");
     }
     fetch(host_records, records, 0, size_t(k));
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
@@ -484,14 +558,35 @@ struct DeviceStep::Impl {
     }
     list_valid = r.flags[f_moved] == 0;
   }
+  // The launches of a batch of k steps.
+  void launch_batch(int k, bool checked) {
+    zero(halt_word);
+    for (int s = 0; s < k; ++s) {
+      launch_step(s, records.data() + s);
+      if (checked) bc().near.swap(bc().near_next);  // the step's flags are the points' now
+      prologue(s, records.data() + s);  // the next step's first part
+    }
+  }
+  // A whole batch's launches captured (not run) into batch_graph.
+  void capture_batch(bool checked) {
+    drop_graph();
+    const int8_t* near = checked ? bc().near.data() : nullptr;
+    cudaGraph_t g;
+    cuda_check(cudaStreamBeginCapture(stream, cudaStreamCaptureModeThreadLocal), "graph capture");
+    launch_batch(kBatch, checked);  // turns the double buffer kBatch times: back where it was
+    cuda_check(cudaStreamEndCapture(stream, &g), "graph capture");
+    cuda_check(cudaGraphInstantiate(&batch_graph, g, 0), "graph instantiate");
+    cudaGraphDestroy(g);
+    graph_near = near;
+  }
   static bool step_event(const StepRecord& r) {
     const int32_t* f = r.flags;
     return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite];
   }
 
-  // A step's launches after its prologue, from time t (step number `step`),
+  // A step's launches after its prologue, with the arguments of row `row`,
   // its sums and flags into r.
-  void launch_step(double t, int64_t step, StepRecord* r) {
+  void launch_step(int row, StepRecord* r) {
     DeviceBodyForces::Impl& F = f();
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
@@ -501,7 +596,7 @@ struct DeviceStep::Impl {
       zero(C.any_failed);
       const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
-      C.launch_committed(a, t, U.f_con_x.data(), U.f_con_y.data());
+      C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data());
     }
     // (the body forces, the contact forces with the crack closure and the
     // cohesive forces are the update's arrays already: share_arrays)
@@ -518,18 +613,17 @@ struct DeviceStep::Impl {
     }
     // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions
     const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
-    const double t_half = t + 0.5 * dt;
     const BoundaryComponent cx{U.mass.data(), U.vx.data(), U.f_x.data(), U.v_bc_x.data(), U.r_x.data()};
     const BoundaryComponent cy{U.mass.data(), U.vy.data(), U.f_y.data(), U.v_bc_y.data(), U.r_y.data()};
+    int j = 0;  // the row's boundary values, in the order run_batch wrote them
     for (size_t k = 0; k < bcs.size(); ++k) {
       const BoundaryCondition& bc = bcs[k];
-      const double s = bc.history.at(t_half);
       const int32_t m = int32_t(bc.nodes.size());
       // the CPU sets x, then y, per node; the components are apart, so the order is moot
-      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx,
-                              bc_nodes[k]->data(), m, bc.dir_x * s, inv_dt);
-      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cy,
-                              bc_nodes[k]->data(), m, bc.dir_y * s, inv_dt);
+      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, bc_nodes[k]->data(), m,
+                              boundary_at(row, j++), inv_dt);
+      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cy, bc_nodes[k]->data(), m,
+                              boundary_at(row, j++), inv_dt);
     }
     U.launch();  // (7) the central difference and the ledger's sums
     StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr,
@@ -547,10 +641,10 @@ struct DeviceStep::Impl {
       sc.contact = cn().total.data();
       sc.power = R.power.data();
       sc.moved = moved.data();
-      if (reach_guard && (step + 1) % Model::kReachCheckEvery == 0) {  // the step number after this one
+      if (reach_guard) {  // tested in the steps the row says
         zero(reach_moved);
-        launch_kernel(reach_kernel, blocks(n), kBlock, stream, halt, U.x.data(), U.y.data(), reach_x.data(),
-                      reach_y.data(), n, reach_half, reach_moved.data());
+        launch_kernel(reach_kernel, blocks(n), kBlock, stream, halt, reach_now_at(row), U.x.data(), U.y.data(),
+                      reach_x.data(), reach_y.data(), n, reach_half, reach_moved.data());
         sc.reach = reach_moved.data();
       }
     }
@@ -706,6 +800,8 @@ DeviceStep::~DeviceStep() {
   Impl& d = *impl_;
   d.release_stages();
   if (d.host_records) cudaFreeHost(d.host_records);
+  if (d.host_values) cudaFreeHost(d.host_values);
+  if (d.host_counts) cudaFreeHost(d.host_counts);
 }
 
 void DeviceStep::step(int64_t n) {
