@@ -23,7 +23,7 @@ constexpr int kBlock = 128;
 constexpr int kSumThreads = kWideBlock;
 
 __global__ void pair_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node, int64_t n,
-                            double s, double* fx, double* fy, uint8_t* hit, double* energy) {
+                            double s, double* fx, double* fy, uint8_t* hit, double* energy, FrictionPairOut out) {
   if (halted(halt)) return;
   const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
   if (p >= n) return;
@@ -39,6 +39,12 @@ __global__ void pair_kernel(const int32_t* halt, const double* x, const double* 
     fx[6 * p + k] = r.fx[k];
     fy[6 * p + k] = r.fy[k];
   }
+  if (!out.nc) return;  // friction's pair kernel's outputs, from the same PairContact
+  for (int k = 0; k < 3; ++k) {
+    out.nc[3 * p + k] = r.nc[k];
+    out.nt[3 * p + k] = r.nt[k];
+  }
+  contact_resultant(r, out.fn[p], out.nx[p], out.ny[p]);
 }
 
 // Node i's normal contact force: its entries (6 p + k) in the CPU's order,
@@ -84,7 +90,7 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 void DeviceContactNormal::Impl::launch() {
   if (n_pairs) {
     launch_kernel(pair_kernel, blocks(n_pairs), kBlock, stream, halt, x.data(), y.data(), node.data(), n_pairs, penalty,
-                  fx.data(), fy.data(), hit.data(), pair_energy.data());
+                  fx.data(), fy.data(), hit.data(), pair_energy.data(), friction_pairs);
   }
   launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, halt, start.data(), entry.data(), hit.data(),
                 fx.data(), fy.data(), n_nodes, f_con_x.data(), f_con_y.data());

@@ -6,6 +6,17 @@
 
 namespace engine {
 
+// Friction's per-candidate pair arrays (cuda/friction_impl.cuh), which the
+// pair kernel also writes, as friction's own pair kernel would, where the
+// whole step shares the candidates between the two (nc nullptr: not written).
+struct FrictionPairOut {
+  double* nc = nullptr;
+  double* nt = nullptr;
+  double* nx = nullptr;
+  double* ny = nullptr;
+  double* fn = nullptr;
+};
+
 struct DeviceContactNormal::Impl {
   int32_t n_nodes = 0;
   int64_t n_pairs = 0;
@@ -13,6 +24,7 @@ struct DeviceContactNormal::Impl {
   DeviceArray<double> x, y, fx, fy, pair_energy, f_con_x, f_con_y, total;
   DeviceArray<int32_t> node, start, entry, touching;
   DeviceArray<uint8_t> hit;
+  FrictionPairOut friction_pairs;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 

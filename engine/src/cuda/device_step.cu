@@ -429,6 +429,15 @@ struct DeviceStep::Impl {
     R.f_pre_y.alias(U.f_pre_y);
     R.f_x.alias(F.f_x);
     R.f_y.alias(F.f_y);
+    // friction's pair results are the normal pass's: both stages lay out the
+    // model's candidates alike (contact/candidate_layout.hpp) and evaluate
+    // them at the step's positions with the same penalty, so one pass of the
+    // pair kernel serves both
+    if (N.n_pairs != R.n_cand || N.penalty != R.penalty)
+      throw std::logic_error("GPU step: the normal pass and friction were made from different candidates");
+    R.hit.alias(N.hit);
+    N.friction_pairs = {R.nc.data(), R.nt.data(), R.nx.data(), R.ny.data(), R.fn.data()};
+    R.pairs_given = true;
   }
 
   // The uploads (cudaMemcpy, on the legacy stream) done before the first

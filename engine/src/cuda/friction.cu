@@ -216,7 +216,7 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 }  // namespace
 
 void DeviceFriction::Impl::launch() {
-  if (n_cand) {
+  if (n_cand && !pairs_given) {
     launch_kernel(pair_kernel, blocks(n_cand), kBlock, stream, halt, x.data(), y.data(), node.data(), n_cand, penalty,
                   hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data());
   }

@@ -29,6 +29,9 @@ struct DeviceFriction::Impl {
   DeviceArray<uint64_t> key, prev_key;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
+  // hit, nc, nt, nx, ny and fn are written by the step's normal pass (the
+  // whole step: the same candidates, positions and penalty), not by launch()
+  bool pairs_given = false;
 
   FrictionPairArrays pairs() {
     return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
