@@ -134,6 +134,24 @@ def test_whole_gpu_steps_with_a_bounded_contact_reach_are_the_cpus_steps():
 
 
 @on_gpu_or_emulation
+def test_a_mass_raise_in_a_gpu_re_bound_is_booked_as_on_the_cpu():
+    # test_contact_reach.py's approach with mass scaling, taken on the CPU to
+    # just before its first re-bound whose step needs a raise: the GPU's
+    # re-bound raises the node the CPU raises, and the kinetic energy the
+    # raise takes is in the GPU run's ledger (damping), as in the CPU's
+    from tests.engine.test_contact_reach import towards_with_mass_scaling
+
+    def make():
+        m, _ = towards_with_mass_scaling()
+        m.step(180000)   # the first raise is within the next 6,000 steps
+        assert m._m.raised_nodes() == 0
+        return m
+    cmp = gpu.compare_steps(make, 10000)
+    assert cmp["remakes"] >= 1 and cmp["host_steps"] == 0, cmp  # re-bound on the GPU's turn
+    assert cmp["ok"], cmp
+
+
+@on_gpu_or_emulation
 @pytest.mark.parametrize("direction", ["paper", "work_conjugate"])
 def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
     # its points split in steps the model takes; their pairs soften and fail

@@ -557,7 +557,10 @@ struct DeviceStep::Impl {
     // node moved past reach/2: the model re-bounds the contact step
     if (r.flags[f_failed] || r.flags[f_reach]) {
       to_model();
-      if (r.flags[f_reach]) model->guard_contact_reach();
+      if (r.flags[f_reach]) {
+        model->guard_contact_reach();
+        energy = model->energy();  // a raise books the kinetic energy it takes as damping
+      }
       // this step's reactions (the new stages start from the model's, of its own last step)
       const std::vector<double> r_x = u().r_x.download(), r_y = u().r_y.download();
       make_stages();
