@@ -49,6 +49,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/host_device.hpp"
 #include "common/input_errors.hpp"
 #include "cuda/body_forces_impl.cuh"
 #include "cuda/bond_check_impl.cuh"
@@ -161,6 +162,12 @@ struct StepScalars {
 
 __device__ inline bool finite_sum(double v) { return fabs(v) <= DBL_MAX; }  // false for NaN too
 
+// An event of the step itself (its record's flags) that the host handles
+// after it: the record kernel halts the batch on it, the host finds it.
+ICERUBBLE_HD bool step_event(const int32_t* f) {
+  return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite];
+}
+
 // The step's sums and flags into its record (one lane); an event halts the batch.
 __global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) {
   if (halted(halt)) return;
@@ -180,7 +187,7 @@ __global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) 
   f[f_nonfinite] = finite ? 0 : 1;
   f[f_split] = 0;
   r->evaluated = 0;
-  if (f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite]) *halt = 1;
+  if (step_event(f)) *halt = 1;
 }
 
 // The next step's check into the step's record (nullptr: no check); a point
@@ -288,8 +295,15 @@ struct DeviceStep::Impl {
     if (batch_graph) cudaGraphExecDestroy(batch_graph);
     batch_graph = nullptr;
   }
-  // The per-step arguments' arrays for the boundary conditions made now.
-  void size_arguments() {
+  // The batch's buffers: the halt word and the records once, the per-step
+  // arguments' arrays for the boundary conditions made now.
+  void size_batch_buffers() {
+    if (!halt) {
+      halt_word.resize(1);
+      halt = halt_word.data();
+      records.resize(kBatch + 1);
+      cuda_check(cudaMallocHost(&host_records, (kBatch + 1) * sizeof(StepRecord)), "cudaMallocHost");
+    }
     int w = 1;
     for (const BoundaryCondition& bc : bcs) w += int(bc.x) + int(bc.y);
     if (w == width && host_values) return;
@@ -326,7 +340,7 @@ struct DeviceStep::Impl {
       bc_nodes.back()->upload(bc.nodes);
     }
     forces.reset(new DeviceBodyForces(cm));
-    size_arguments();
+    size_batch_buffers();  // after a stage, which says so when no GPU is visible
     update.reset(new DeviceNodeUpdate(cm));
     stream = f().stream;
     adopt(u().stream);
@@ -538,7 +552,7 @@ struct DeviceStep::Impl {
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
     int last = k - 1;
     for (int s = 0; s < k; ++s)
-      if (step_event(host_records[s]) || host_records[s].flags[f_split]) {
+      if (step_event(host_records[s].flags) || host_records[s].flags[f_split]) {
         last = s;
         break;
       }
@@ -552,7 +566,7 @@ struct DeviceStep::Impl {
     const StepRecord& r = host_records[last];
     // after an event of the step itself the GPU halted before the next step's
     // first part: it runs again on the stages as they will be
-    primed = !step_event(r);
+    primed = !step_event(r.flags);
     next_split = r.flags[f_split] != 0;
     // a pair failed: the opened pairs are others from the next step on; a
     // node moved past reach/2: the model re-bounds the contact step
@@ -591,10 +605,6 @@ struct DeviceStep::Impl {
     cuda_check(cudaGraphInstantiate(&batch_graph, g, 0), "graph instantiate");
     cudaGraphDestroy(g);
     graph_near = near;
-  }
-  static bool step_event(const StepRecord& r) {
-    const int32_t* f = r.flags;
-    return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite];
   }
 
   // A step's launches after its prologue, with the arguments of row `row`,
@@ -798,11 +808,6 @@ DeviceStep::DeviceStep(Model& m) : impl_(new Impl) {
   if (d.contact) m.evaluate();  // a candidate list at this state (the warm start left as it was)
   d.model = &m;
   d.make_stages();
-  d.halt_word.resize(1);  // after the stages, which say so when no GPU is visible
-  d.halt = d.halt_word.data();
-  d.give_halt();
-  d.records.resize(kBatch + 1);
-  cuda_check(cudaMallocHost(&d.host_records, (kBatch + 1) * sizeof(StepRecord)), "cudaMallocHost");
   d.dt = m.dt();
   d.time = m.time();
   d.step_count = m.step_count();
