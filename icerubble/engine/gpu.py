@@ -401,8 +401,9 @@ def compare_steps(make_model, n, nodes=None):
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
     (steps the model took itself: candidate list rebuilt, bond points split),
     'remakes' (times the GPU's stages were made again from the model: after
-    those steps, a pair's failure, a re-bound contact reach) and 'ok'. A bonded model adds 'bonds': the bond state's array fields
-    whose bits differ anywhere (a list of names; the split and failure
+    those steps, a pair's failure, a re-bound contact reach) and 'ok'. A
+    bonded model adds 'bonds': the bond state's array fields whose bits
+    differ anywhere (a list of names; the split and failure
     records, the pairs' history, the screening flags), 'bond_sums' (the
     largest relative difference of BOND_SUMS), 'bond_counts' ((split,
     failed) on the CPU, on the GPU) and 'checks' (points evaluated: equal)."""
