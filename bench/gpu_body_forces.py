@@ -22,6 +22,8 @@ import time
 
 import numpy as np
 
+import result_file
+
 from icerubble import parameters as P
 from icerubble.engine import gpu
 from icerubble.code_identity import code_version, source_hash
@@ -168,10 +170,7 @@ def main(argv=None):
         print(f"  as the CPU: {'yes' if cmp['ok'] else 'NO'} ({cmp})")
     else:
         print(f"GPU: {gpu.why_unavailable()}")
-    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
-    with open(a.out, "w") as f:
-        json.dump(out, f, indent=1)
-    print(f"wrote {a.out}")
+    result_file.write(a.out, out)
 
 
 if __name__ == "__main__":

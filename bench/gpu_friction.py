@@ -19,6 +19,8 @@ import time
 
 import numpy as np
 
+import result_file
+
 from icerubble import _engine, engine
 from icerubble.code_identity import code_version, source_hash
 from icerubble.engine import gpu
@@ -100,10 +102,7 @@ def main(argv=None):
               f"{cmp['rounds']} rounds; the CPU's colours and bits: {'yes' if cmp['ok'] else 'NO'} ({cmp})")
     else:
         print(f"GPU: {gpu.why_unavailable()}")
-    os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)
-    with open(a.out, "w") as f:
-        json.dump(out, f, indent=1)
-    print(f"wrote {a.out}")
+    result_file.write(a.out, out)
 
 
 if __name__ == "__main__":

@@ -243,7 +243,28 @@ def gpu_body_forces(d):
                       f"{c['threads']} threads, nearly all of it the splits of points still reaching eq 5 "
                       f"(topology changes, on the host in either backend): the CPU's cohesive pass is not timed "
                       f"apart."]
+        if "whole_step_us" in g:
+            lines += ["", f"GPU: whole steps (gpu.Steps) of that state, {g['whole_steps']:,} of them with "
+                      f"{g['whole_host_steps']} taken by the model on the host (splits, list rebuilds, each "
+                      f"followed by the stages made again), took {g['whole_step_us']:.0f} µs a step (wall), against "
+                      + ", ".join(f"{fmt(r['ms_per_step'])} ms at {r['threads']} threads" for r in d["cpu"])
+                      + " (the load phase before the nudge). gpu_step_profile.json says where it goes."]
     return lines
+
+
+def gpu_step_profile(d):
+    lines = [f"Whole GPU steps of `{d['mesh']}` in the load phase on {d['device']}, each kernel's duration "
+             f"(Nsight Compute's hardware timer), per step:", ""]
+    states = list(d["states"])
+    names = []
+    for st in states:
+        for r in d["states"][st]["kernels"]:
+            if r["kernel"] not in names:
+                names.append(r["kernel"])
+    per = {st: {r["kernel"]: r for r in d["states"][st]["kernels"]} for st in states}
+    rows = [[f"`{n}`"] + [fmt(per[st][n]["us_per_step"]) if n in per[st] else "" for st in states] for n in names[:12]]
+    rows.append(["all kernels"] + [f"{d['states'][st]['us_per_step']:.0f}" for st in states])
+    return lines + table(["kernel"] + [f"{st} (µs per step)" for st in states], rows)
 
 
 def deep_vs_paper(d):
@@ -309,7 +330,7 @@ FORMATS = {"demo_reference.json": demo_reference, "paper_cost.json": paper_cost,
            "runtime_vs_error.json": runtime_vs_error, "sleeping_wide.json": sleeping,
            "rigid_cost.json": rigid_cost, "bonds.json": bonds, "collision.json": collision,
            "time_vs_error.json": time_vs_error, "gpu_body_forces.json": gpu_body_forces,
-           "gpu_friction.json": gpu_friction,
+           "gpu_friction.json": gpu_friction, "gpu_step_profile.json": gpu_step_profile,
            "deep_vs_paper.json": deep_vs_paper, "force_direction.json": force_direction}
 
 

@@ -16,12 +16,14 @@ import stamps  # noqa: E402
 LONG = {"paper_peak.py": "the paper scene's cohesive peak under each preset: ~0.7-1 h for `fast` "
                          "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle",
         "force_direction.py": "it measures finished runs of the paper-depth study (--measure RESULT.h5 ...), "
-                              "each ~30-60 min on one core"}
+                              "each ~30-60 min on one core",
+        "gpu_paper_run.py": "a punch-through timed whole on a device (--device cuda on a GPU machine: "
+                            "tools/gpu_lease.sh runs it; hours on a CPU)"}
 # The GPU backend's benchmarks, run where a GPU is visible (make gpu-check runs
 # them too): elsewhere they would replace a GPU machine's figures with none.
-GPU_ONLY = {"gpu_body_forces.py", "gpu_friction.py"}
+GPU_ONLY = {"gpu_body_forces.py", "gpu_friction.py", "gpu_step_profile.py"}
 # Not benchmarks: the stamps and the measured figures' page.
-HELPERS = {"run_all.py", "stamps.py", "make_readme.py"}
+HELPERS = {"run_all.py", "stamps.py", "make_readme.py", "result_file.py"}
 RESULTS = os.path.join(HERE, "results")
 
 

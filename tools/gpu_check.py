@@ -138,36 +138,53 @@ def report_steps(name, cmp, exact):
     return ok
 
 
-def check_demo(scenes_dir, travel):
-    """12.: the demo's run on 'cpu' and on 'cuda' (a fresh folder each, its
-    pile and mesh copied from scenes_dir/scenes): True if they agree."""
+def demo_run(scenes_dir, travel, device, out_dir):
+    """The demo's run on device (cpu or cuda) in out_dir (its pile and mesh
+    copied from scenes_dir/scenes): the result's path, or None where no demo
+    scene is there. Its wall time is stored in the result's attributes by the
+    run itself."""
     import glob
     import shutil
-    import tempfile
-
-    import h5py
 
     from icerubble.study.line import run_one
     files = sorted(glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_pile.h5"))
                    + glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_mesh.h5")))
     if len(files) < 2:
-        print(f"[--] demo run skipped: no demo pile and mesh in {scenes_dir}/scenes (make demo there, or carry "
-              "runs/scenes/demo_ridge1_*)", flush=True)
-        return True
+        return None
+    os.makedirs(os.path.join(out_dir, "scenes"), exist_ok=True)
+    for f in files:
+        shutil.copy(f, os.path.join(out_dir, "scenes"))
+    return run_one("demo", 1, overrides=dict(target_travel=travel), out_dir=out_dir, description=f"demo_{device}",
+                   numerics_name="fast", share_rest=False, device=device)
+
+
+def read_demo(path, wall):
+    import h5py
+    with h5py.File(path, "r") as h:
+        return dict(y=h["force/y_I"][()], F=h["force/F"][()], settle=float(h.attrs["settle_time"]),
+                    F_rest=float(h.attrs["F_at_rest"]), split=int(np.isfinite(h["bonds/y_I_split"][()]).sum()),
+                    wall=wall)
+
+
+def check_demo(scenes_dir, travel, cpu_result=None):
+    """12.: the demo's run on 'cpu' and on 'cuda' (a fresh folder each):
+    True if they agree. cpu_result: the CPU's run made beforehand by this
+    code with the same travel (--demo-cpu-run; e.g. beside the checks above,
+    on cores of its own), instead of running it here."""
+    import tempfile
     runs = {}
     with tempfile.TemporaryDirectory() as tmp:
-        os.makedirs(os.path.join(tmp, "scenes"))
-        for f in files:
-            shutil.copy(f, os.path.join(tmp, "scenes"))
         for device in ("cpu", "cuda"):
+            if device == "cpu" and cpu_result:
+                runs[device] = read_demo(cpu_result, float("nan"))
+                continue
             t0 = time.perf_counter()
-            path = run_one("demo", 1, overrides=dict(target_travel=travel), out_dir=tmp,
-                           description=f"demo_{device}", numerics_name="fast", share_rest=False, device=device)
-            with h5py.File(path, "r") as h:
-                runs[device] = dict(y=h["force/y_I"][()], F=h["force/F"][()], settle=float(h.attrs["settle_time"]),
-                                    F_rest=float(h.attrs["F_at_rest"]),
-                                    split=int(np.isfinite(h["bonds/y_I_split"][()]).sum()),
-                                    wall=time.perf_counter() - t0)
+            path = demo_run(scenes_dir, travel, device, os.path.join(tmp, device))
+            if path is None:
+                print(f"[--] demo run skipped: no demo pile and mesh in {scenes_dir}/scenes (make demo there, or "
+                      "carry runs/scenes/demo_ridge1_*)", flush=True)
+                return True
+            runs[device] = read_demo(path, time.perf_counter() - t0)
     c, g = runs["cpu"], runs["cuda"]
     peak = float(np.max(c["F"]))
     same_record = c["y"].shape == g["y"].shape and np.array_equal(c["y"], g["y"])
@@ -189,13 +206,28 @@ def main(argv=None):
     ap.add_argument("--demo-scenes", default=os.path.join(ROOT, "runs"),
                     help="a folder whose scenes/ holds the demo's pile and mesh (default: runs/ of this checkout)")
     ap.add_argument("--demo-travel", type=float, default=0.001, help="the demo runs' travel [m] (default 1 mm)")
+    ap.add_argument("--demo-cpu-run", metavar="DIR",
+                    help="only run the demo on the CPU into DIR (e.g. in the background, on cores of its own) and "
+                         "print its result's path; then --demo-cpu-result takes it")
+    ap.add_argument("--demo-cpu-result", metavar="H5", help="the CPU's demo run made with --demo-cpu-run")
+    ap.add_argument("--demo", choices=("with", "skip", "only"), default="with",
+                    help="item 12 with the others (default), left out, or alone")
     a = ap.parse_args(argv)
+    if a.demo_cpu_run:   # needs no GPU
+        t0 = time.perf_counter()
+        path = demo_run(a.demo_scenes, a.demo_travel, "cpu", a.demo_cpu_run)
+        print(f"demo on the CPU: {path} ({time.perf_counter() - t0:.0f} s)", flush=True)
+        return 0 if path else 1
     if not gpu.available():
         print(f"GPU check skipped: {gpu.why_unavailable()}")
         return 0
     seed = a.seed if a.seed is not None else int(time.time()) % 100000
     print(f"GPU: {gpu.device_name()}; seed {seed}")
     rng = np.random.default_rng(seed)
+    if a.demo == "only":
+        ok = check_demo(a.demo_scenes, a.demo_travel, a.demo_cpu_result)
+        print("GPU check passed" if ok else "GPU check FAILED")
+        return 0 if ok else 1
     ok = True
     for drag_model in ("linear", "quadratic", "none"):
         m = floating_blocks(rng, drag_model)
@@ -258,7 +290,8 @@ def main(argv=None):
               f"{'the CPU bits' if cmp['same'] else 'differs from the CPU'}; GPU steps {cmp['gpu_steps']}",
               flush=True)
         ok &= cmp["same"]
-        ok &= check_demo(a.demo_scenes, a.demo_travel)
+        if a.demo == "with":
+            ok &= check_demo(a.demo_scenes, a.demo_travel, a.demo_cpu_result)
         steps = gpu.Steps(driven_block(rng, "linear"))
         steps.step(100)
         t0 = time.perf_counter()

@@ -1,0 +1,60 @@
+#!/bin/bash
+# Everything a lent GPU machine is for, in one call that fits a short lease
+# (docs/gpu.md): the build, tools/gpu_check.py, the CPU step by thread count
+# and the GPU's stages and whole steps on the paper mesh
+# (bench/gpu_body_forces.py), then the paper scene's run on the GPU
+# (bench/gpu_paper_run.py) with what time is left; bench/gpu_step_profile.py
+# (each kernel's time, Nsight Compute) before it. Each part is capped so the
+# parts after it still run; logs go to $OUT (or bench/results/lease).
+# The demo's CPU run (item 12's reference) runs in the background on cores of
+# its own beside the checks, which use the GPU and a few cores.
+#   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh)
+PY=${PY:-python3}
+BUILD=${BUILD:-build-gpu}
+BUDGET=${BUDGET:-540}        # seconds for the whole script
+OUT=${OUT:-bench/results/lease}
+MESH=${MESH:-runs/scenes/paper_ridge1_pilemu0.3_mesh.h5}
+cd "$(dirname "$0")/.."
+mkdir -p "$OUT"
+t0=$(date +%s)
+left() { echo $(( BUDGET - ($(date +%s) - t0) )); }
+cap() { local c=$1 l; l=$(left); [ "$l" -lt "$c" ] && c=$l; [ "$c" -lt 1 ] && c=1; echo "$c"; }
+# PYTHONPATH: the bench scripts import icerubble from this checkout (no install there)
+export PYTHONUNBUFFERED=1 PATH="$PATH:/usr/local/cuda/bin" PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
+echo "== machine"; nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm --format=csv
+nproc; command -v nvcc && nvcc --version | tail -2
+echo "== build ($(left) s left)"
+cmake -S . -B "$BUILD" -DPython3_EXECUTABLE="$(command -v "$PY")" \
+      -Dpybind11_DIR="$("$PY" -m pybind11 --cmakedir)" -DCMAKE_BUILD_TYPE=Release >"$OUT/build.log" 2>&1
+grep icerubble "$OUT/build.log"
+timeout "$(cap 300)" cmake --build "$BUILD" -j"$(nproc)" >>"$OUT/build.log" 2>&1 || { tail -60 "$OUT/build.log"; exit 1; }
+echo "built in $(( $(date +%s) - t0 )) s"
+"$PY" -c "from icerubble.engine import gpu; print('gpu available:', gpu.available(), gpu.why_unavailable() if not gpu.available() else gpu.device_name())"
+triad=()
+${CXX:-g++} -O3 -fopenmp bench/stream_triad.cpp -o "$BUILD/stream_triad" && triad=(--triad "$BUILD/stream_triad")
+echo "== demo on the CPU, in the background (4 threads)"
+rm -rf /tmp/demo_cpu
+OMP_NUM_THREADS=4 timeout "$(cap 330)" "$PY" tools/gpu_check.py --demo-cpu-run /tmp/demo_cpu >/tmp/demo_cpu.log 2>&1 &
+demo_pid=$!
+echo "== tools/gpu_check.py, items 1-11 ($(left) s left)"
+status=0
+OMP_NUM_THREADS=8 timeout "$(cap 200)" "$PY" tools/gpu_check.py --mesh "$MESH" --demo skip 2>&1 | tee "$OUT/gpu_check.log" \
+  | grep -v "^\[ok\]" ; [ "${PIPESTATUS[0]}" = 0 ] || status=1
+grep -c "^\[ok\]" "$OUT/gpu_check.log" | sed 's/^/checks ok: /'
+echo "== item 12, the demo ($(left) s left)"
+wait $demo_pid; tail -1 /tmp/demo_cpu.log
+cpu=$(ls /tmp/demo_cpu/demo_cpu.h5 2>/dev/null)
+if [ -n "$cpu" ]; then
+  timeout "$(cap 150)" "$PY" tools/gpu_check.py --demo only --demo-cpu-result "$cpu" 2>&1 | tee "$OUT/demo.log" | tail -3
+  [ "${PIPESTATUS[0]}" = 0 ] || status=1
+else status=1; fi
+echo "== bench/gpu_body_forces.py ($(left) s left)"
+timeout "$(cap 150)" "$PY" bench/gpu_body_forces.py --mesh "$MESH" --threads 1 2 4 8 16 "${triad[@]}" \
+  --out "$OUT/gpu_body_forces.json" 2>&1 | tee "$OUT/gpu_body_forces.log" | grep -v "^triad"
+echo "== bench/gpu_step_profile.py: each kernel's time ($(left) s left)"
+timeout "$(cap 150)" "$PY" bench/gpu_step_profile.py --mesh "$MESH" --out "$OUT/gpu_step_profile.json" 2>&1 | tail -4
+echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
+timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1
+echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_run.log" | tail -8
+cp runs/gpu_paper_run/*/gpu_paper_run.json "$OUT/" 2>/dev/null
+exit $status
