@@ -309,7 +309,7 @@ class Friction(_Stage):
         return self._d.candidates
 
 
-def compare_friction(model):
+def compare_friction(model, earlier_list=None):
     """Evaluate `model` on the CPU (which leaves the friction's warm start as
     it was), then solve the same friction on the GPU from the same candidate
     list and warm start (the GPU finds the touching pairs itself).
@@ -319,10 +319,14 @@ def compare_friction(model):
     (summed in another order: relative to the power's scale, sum |lambda| times
     the largest node speed), 'pairs' (touching: CPU, GPU), 'colours' (CPU, GPU), 'colour' (pairs
     the GPU's colouring put in another colour than the CPU's), 'rounds' (the
-    GPU colouring's parallel rounds) and 'ok'."""
+    GPU colouring's parallel rounds) and 'ok'. earlier_list: how many of a
+    pair's earlier neighbours the GPU's colouring keeps listed (None: its
+    default; fewer makes more pairs walk their nodes, to test that walk)."""
     model.evaluate()
     cpu = _engine.friction_fields(model._m)
     stage = Friction(model)
+    if earlier_list is not None:
+        stage._d.set_earlier_list(int(earlier_list))
     stage.run()
     gpu = stage.fields()
     free_x = (cpu["constrained"] & 1) == 0

@@ -87,13 +87,23 @@ def test_the_gpu_cohesive_forces_are_the_cpus(direction):
 
 @on_gpu_or_emulation
 @pytest.mark.parametrize("seed", [3, 8])
-def test_the_gpu_friction_is_the_cpus(seed):
-    cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)))
+@pytest.mark.parametrize("earlier_list", [None, 1, 0])
+def test_the_gpu_friction_is_the_cpus(seed, earlier_list):
+    # earlier_list: the colouring's list of a pair's earlier neighbours, as
+    # built (None), or so short that some (1) or all (0) pairs walk their nodes
+    cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)), earlier_list=earlier_list)
     assert cmp["pairs"][0] > 10 and cmp["pairs"][0] == cmp["pairs"][1]   # the GPU finds the CPU's touching pairs
     assert cmp["colours"][0] > 1 and cmp["colours"][0] == cmp["colours"][1]
     assert cmp["colour"] == 0  # the GPU's parallel colouring is the CPU's greedy one
     assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
     assert cmp["power_rel"] <= gpu.ROUND_OFF
+
+
+@on_gpu_or_emulation
+def test_a_friction_list_length_out_of_range_is_refused():
+    stage = gpu.Friction(rubbing_blocks(np.random.default_rng(3)))
+    with pytest.raises(ValueError, match="earlier_list=17: valid values are 0 to 16"):
+        stage._d.set_earlier_list(17)
 
 
 @on_gpu_or_emulation

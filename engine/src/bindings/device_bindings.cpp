@@ -210,6 +210,7 @@ void bind_device(py::module_& m) {
       .def("time_per_run", &DeviceFriction::time_per_run, py::arg("repeats"),
            py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("candidates", &DeviceFriction::candidates)
+      .def("set_earlier_list", &DeviceFriction::set_earlier_list, py::arg("n"))
       .def("fields", [](DeviceFriction& d) {
         const FrictionFields f = d.fields();
         py::dict out;

@@ -15,6 +15,8 @@
 #include "cuda/friction.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "cuda/friction_impl.cuh"
 
@@ -36,6 +38,7 @@ constexpr int kBlock = 128;
 constexpr int kSolveThreads = kWideBlock;
 constexpr int kSweeps = 4;           // contact/friction.cpp's
 constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
+constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours listed (more: walked each round)
 
 
 // Whether candidate c touches, and its contact point and normal force's
@@ -69,44 +72,141 @@ __global__ void predict_kernel(const int32_t* halt, const double* mass, const ui
                         imx[i], imy[i], wx[i], wy[i]);
 }
 
+// The touching candidates, compacted: tp[0, m) in ascending order (the CPU's
+// pair order), m in counts[2]; every candidate's colour reset (-1 touching,
+// kNotTouching not) and its lambda zeroed (the node sums read every
+// candidate's). One block: a lane counts a contiguous chunk, a scan over the
+// lanes places the chunks. The kernels after it visit the m touching pairs
+// alone: a step of the paper mesh has ~80-3,000 touching pairs among ~15,000
+// candidates, and a lane per candidate in one block made each colouring round
+// and each colour's sweep walk them all (bench/results/gpu_step_profile.json).
+__global__ void __launch_bounds__(kSolveThreads)
+    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* colour, double* lambda,
+                   int32_t* counts) {
+  if (halted(halt)) return;
+  __shared__ int32_t before[kSolveThreads];
+  for (int32_t c = threadIdx.x; c < n; c += kSolveThreads) {
+    colour[c] = hit[c] ? -1 : kNotTouching;
+    lambda[c] = 0.0;
+  }
+  const int32_t chunk = (n + kSolveThreads - 1) / kSolveThreads;
+  const int32_t lo = min(n, int32_t(threadIdx.x) * chunk), hi = min(n, lo + chunk);
+  int32_t own = 0;
+  for (int32_t c = lo; c < hi; ++c) own += hit[c] ? 1 : 0;
+  before[threadIdx.x] = own;
+  __syncthreads();
+  for (int w = 1; w < kSolveThreads; w *= 2) {  // inclusive scan (Hillis-Steele)
+    const int32_t add = int(threadIdx.x) >= w ? before[threadIdx.x - w] : 0;
+    __syncthreads();
+    before[threadIdx.x] += add;
+    __syncthreads();
+  }
+  int32_t at = before[threadIdx.x] - own;
+  for (int32_t c = lo; c < hi; ++c)
+    if (hit[c]) tp[at++] = c;
+  if (threadIdx.x == kSolveThreads - 1) counts[2] = before[threadIdx.x];
+}
+
 // A touching candidate's neighbours are the touching candidates of the
-// entries of its six nodes (entry 6 q + k: candidate q). colour[p] is -1
-// until p is coloured; a colour, once written, is final, so a lane that reads
-// a neighbour's colour in the round it is written sees either -1 (and waits a
-// round) or the final value.
+// entries of its six nodes (entry 6 q + k: candidate q); those coloured
+// before it (coloured_before: the priority order of the CPU's greedy
+// colouring) decide its colour.
+// (__restrict__: the list's stores alias none of the loads, so the loads of
+// one entry need not wait for the store of the last)
+__device__ inline bool earlier_neighbours_walk(int32_t p, const int32_t* __restrict__ node,
+                                               const uint8_t* __restrict__ hit, const uint64_t* __restrict__ key,
+                                               const int32_t* __restrict__ start, const int32_t* __restrict__ entry,
+                                               int32_t* __restrict__ list, int32_t cap, int32_t& count) {
+  const uint64_t pp = friction_priority(key[p]);
+  count = 0;
+  for (int k = 0; k < 6; ++k) {
+    const int32_t v = node[6 * p + k];
+    for (int32_t j = start[v]; j < start[v + 1]; ++j) {
+      const int32_t q = entry[j] / 6;
+      if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
+      if (count == cap) return false;  // more than the list holds: the colouring walks the nodes itself
+      list[count++] = q;
+    }
+  }
+  return true;
+}
+
+// Per touching pair (slot s < m, candidate p = tp[s]), what does not change
+// while it is coloured and solved: its earlier neighbours (up to kEarlier, a
+// pair sharing two nodes listed twice; n_earlier = -1 where there are more),
+// its inverse effective mass, and its warm start (NaN: none), which the CPU
+// looks up as it pushes it. A lane per slot, many blocks: each walk is a
+// chain of dependent loads, so they run side by side here, not one round and
+// one colour at a time in the single block.
+__global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* counts,
+                               const int32_t* start, const int32_t* entry, const uint64_t* prev_key,
+                               const double* prev_lambda, int64_t n_prev, double mu, const double* imx,
+                               const double* imy, int32_t listed, int32_t* earlier, int32_t* n_earlier, double* kinv,
+                               double* warm) {
+  if (halted(halt)) return;
+  const int32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  if (s >= counts[2]) return;
+  const int32_t p = tp[s];
+  int32_t count;
+  n_earlier[s] =
+      earlier_neighbours_walk(p, P.node, P.hit, P.key, start, entry, earlier + int64_t(kEarlier) * s, listed, count)
+          ? count
+          : -1;
+  const double k = friction_inverse_mass(P.node + 6 * p, P.nc + 3 * p, P.nt + 3 * p, P.nx[p], P.ny[p], imx, imy);
+  kinv[p] = k;
+  const int64_t at = find_key(prev_key, n_prev, P.key[p]);
+  // NaN: a candidate that did not touch in the step before (the whole step
+  // keeps the warm start per candidate, cuda/device_step.cu)
+  warm[s] = (at < 0 || k == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
+}
+
+// colour[p] is -1 until p is coloured; a colour, once written, is final, so a
+// lane that reads a neighbour's colour in the round it is written sees either
+// -1 (and waits a round) or the final value. A pair takes the smallest colour
+// none of its earlier neighbours has once they all have one.
 __global__ void __launch_bounds__(kSolveThreads)
     colour_kernel(const int32_t* halt, const int32_t* node, const uint8_t* hit, const uint64_t* key,
-                  const int32_t* start, const int32_t* entry, int32_t n, int32_t* colour_out, int32_t* counts) {
+                  const int32_t* start, const int32_t* entry, const int32_t* tp, const int32_t* earlier,
+                  const int32_t* n_earlier, int32_t* colour_out, int32_t* counts) {
   if (halted(halt)) return;
   __shared__ int32_t most[kSolveThreads];
   volatile int32_t* colour = colour_out;
-  for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) colour[p] = hit[p] ? -1 : kNotTouching;
-  __syncthreads();
+  const int32_t m = counts[2];
   int32_t rounds = 0;
   for (;;) {
     ++rounds;
     int waiting = 0;
-    for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) {
+    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+      const int32_t p = tp[s];
       if (colour[p] != -1) continue;
-      const uint64_t pp = friction_priority(key[p]);
+      // n_earlier -1: more than the list holds; the nodes are walked (each round)
+      const int32_t count = n_earlier[s];
+      const int32_t* list = count >= 0 ? earlier + int64_t(kEarlier) * s : nullptr;
       bool ready = true;
-      // the smallest colour no neighbour before p has, 64 colours at a time
       for (int32_t base = 0; ready; base += 64) {
         uint64_t taken = 0;
-        for (int k = 0; k < 6 && ready; ++k) {
-          const int32_t v = node[6 * p + k];
-          for (int32_t j = start[v]; j < start[v + 1]; ++j) {
-            const int32_t q = entry[j] / 6;
-            if (q == p) continue;
-            const int32_t c = colour[q];
-            if (c == kNotTouching) continue;
+        if (list) {
+          for (int32_t j = 0; j < count; ++j) {
+            const int32_t c = colour[list[j]];
             if (c < 0) {
-              if (coloured_before(friction_priority(key[q]), q, pp, p)) {
+              ready = false;
+              break;
+            }
+            if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
+          }
+        } else {
+          const uint64_t pp = friction_priority(key[p]);
+          for (int k = 0; k < 6 && ready; ++k) {
+            const int32_t v = node[6 * p + k];
+            for (int32_t j = start[v]; j < start[v + 1]; ++j) {
+              const int32_t q = entry[j] / 6;
+              if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
+              const int32_t c = colour[q];
+              if (c < 0) {
                 ready = false;
                 break;
               }
-            } else if (c >= base && c < base + 64) {
-              taken |= uint64_t(1) << (c - base);
+              if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
             }
           }
         }
@@ -119,9 +219,9 @@ __global__ void __launch_bounds__(kSolveThreads)
     }
     if (!__syncthreads_or(waiting)) break;
   }
-  int32_t m = -1;
-  for (int32_t p = threadIdx.x; p < n; p += kSolveThreads) m = max(m, int32_t(colour[p]));
-  most[threadIdx.x] = m;
+  int32_t most_own = -1;
+  for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) most_own = max(most_own, int32_t(colour[tp[s]]));
+  most[threadIdx.x] = most_own;
   __syncthreads();
   for (int w = kSolveThreads / 2; w > 0; w /= 2) {
     if (int(threadIdx.x) < w) most[threadIdx.x] = max(most[threadIdx.x], most[threadIdx.x + w]);
@@ -134,36 +234,26 @@ __global__ void __launch_bounds__(kSolveThreads)
 }
 
 __global__ void __launch_bounds__(kSolveThreads)
-    solve_kernel(const int32_t* halt, FrictionPairArrays P, int32_t n, const int32_t* colour, const int32_t* counts,
-                 const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu, double dt,
-                 const double* imx, const double* imy, double* wx, double* wy, double* kinv, double* lambda,
-                 double* power) {
+    solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* colour,
+                 const int32_t* counts, const double* warm, double mu, double dt, const double* imx, const double* imy,
+                 double* wx, double* wy, const double* kinv, double* lambda, double* power) {
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
-  const int32_t colours = counts[0];
-  for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
-    kinv[i] = P.hit[i] ? friction_inverse_mass(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], imx, imy)
-                       : 0.0;
-    lambda[i] = 0.0;
-  }
-  __syncthreads();
+  const int32_t colours = counts[0], m = counts[2];
   // the warm start, colour by colour as the CPU pushes it
   for (int32_t c = 0; c < colours; ++c) {
-    for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
-      if (colour[i] != c) continue;
-      const int64_t at = find_key(prev_key, n_prev, P.key[i]);
-      // NaN: a candidate that did not touch in the step before (the whole
-      // step keeps the warm start per candidate, cuda/device_step.cu)
-      if (at < 0 || kinv[i] == 0.0 || isnan(prev_lambda[at])) continue;
-      const double lam = clamp_to_cone(prev_lambda[at], mu * P.fn[i]);
-      lambda[i] = lam;
-      friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], lam, dt, imx, imy, wx, wy);
+    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+      const int32_t i = tp[s];
+      if (colour[i] != c || isnan(warm[s])) continue;
+      lambda[i] = warm[s];
+      friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], warm[s], dt, imx, imy, wx, wy);
     }
     __syncthreads();
   }
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (int32_t c = 0; c < colours; ++c) {
-      for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
+      for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+        const int32_t i = tp[s];
         if (colour[i] != c || kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
         const int32_t* node = P.node + 6 * i;
         const double* nc = P.nc + 3 * i;
@@ -176,7 +266,8 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   // the power with the velocities the nodes will move with, summed in a fixed tree
   double p = 0.0;
-  for (int32_t i = threadIdx.x; i < n; i += kSolveThreads) {
+  for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+    const int32_t i = tp[s];
     if (lambda[i] != 0.0)
       p -= lambda[i] * friction_slip(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], wx, wy);
   }
@@ -222,11 +313,17 @@ void DeviceFriction::Impl::launch() {
   }
   launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, mass.data(), constrained.data(), vx.data(),
                 vy.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
+  launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), colour.data(),
+                lambda.data(), counts.data());
+  if (n_cand)
+    launch_kernel(prepare_kernel, blocks(n_cand), kBlock, stream, halt, pairs(), tp.data(), counts.data(),
+                  start.data(), entry.data(), prev_key.data(), prev_lambda.data(), n_prev, mu, imx.data(), imy.data(),
+                  earlier_list, earlier.data(), n_earlier.data(), kinv.data(), warm.data());
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, node.data(), hit.data(), key.data(), start.data(),
-                entry.data(), n_cand, colour.data(), counts.data());
-  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), n_cand, colour.data(), counts.data(),
-                prev_key.data(), prev_lambda.data(), n_prev, mu, dt, imx.data(), imy.data(), wx.data(), wy.data(),
-                kinv.data(), lambda.data(), power.data());
+                entry.data(), tp.data(), earlier.data(), n_earlier.data(), colour.data(), counts.data());
+  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), colour.data(), counts.data(),
+                warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(), lambda.data(),
+                power.data());
   launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(), lambda.data(),
                 f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
@@ -264,7 +361,12 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.nc.resize(3 * cand.size());
   d.nt.resize(3 * cand.size());
   d.colour.resize(cand.size());
-  d.counts.resize(2);
+  d.tp.resize(cand.size());
+  d.n_earlier.resize(cand.size());
+  d.warm.resize(cand.size());
+  d.earlier.resize(size_t(kEarlier) * cand.size());
+  d.earlier_list = kEarlier;
+  d.counts.resize(3);
   const std::vector<uint64_t>& wk = C.warm_start_keys();
   const std::vector<double>& wl = C.warm_start_forces();
   if (warm_start == WarmStart::model_keys) {
@@ -291,6 +393,13 @@ DeviceFriction::~DeviceFriction() {
 void DeviceFriction::run() { impl_->launch(); }
 
 int32_t DeviceFriction::candidates() const { return impl_->n_cand; }
+
+void DeviceFriction::set_earlier_list(int32_t n) {
+  if (n < 0 || n > kEarlier)
+    throw std::invalid_argument("earlier_list=" + std::to_string(n) + ": valid values are 0 to " +
+                                std::to_string(kEarlier));
+  impl_->earlier_list = n;
+}
 
 double DeviceFriction::time_per_run(int repeats) {
   Impl& d = *impl_;

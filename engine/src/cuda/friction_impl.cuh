@@ -26,6 +26,12 @@ struct DeviceFriction::Impl {
       prev_lambda, f_x, f_y, power;
   DeviceArray<uint8_t> constrained, hit;
   DeviceArray<int32_t> node, colour, counts, start, entry;
+  // the touching pairs of a launch (compact_kernel): tp[s] the candidate of
+  // slot s; per slot its earlier neighbours (kEarlier each), their count (-1:
+  // more) and its warm start; counts = {colours, rounds, touching pairs}
+  DeviceArray<int32_t> tp, earlier, n_earlier;
+  DeviceArray<double> warm;
+  int32_t earlier_list = 0;  // kept in a list per pair (DeviceFriction::set_earlier_list)
   DeviceArray<uint64_t> key, prev_key;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
