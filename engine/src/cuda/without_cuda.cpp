@@ -66,7 +66,7 @@ ContactNormalFields DeviceContactNormal::fields() { no_gpu(); }
 int64_t DeviceContactNormal::candidates() const { no_gpu(); }
 
 struct DeviceFriction::Impl {};
-DeviceFriction::DeviceFriction(const Model&) { no_gpu(); }
+DeviceFriction::DeviceFriction(const Model&, WarmStart) { no_gpu(); }
 DeviceFriction::~DeviceFriction() = default;
 void DeviceFriction::run() { no_gpu(); }
 double DeviceFriction::time_per_run(int) { no_gpu(); }
