@@ -391,6 +391,16 @@ class Steps:
         """Times the stages were made again from the model (each a copy of the mesh and state)."""
         return self._d.remakes
 
+    @property
+    def host_step_seconds(self):
+        """Wall time [s] in the steps the model took itself (the state to it, its step)."""
+        return self._d.host_step_seconds
+
+    @property
+    def make_seconds(self):
+        """Wall time [s] making the stages from the model (the first making too: allocations, copies)."""
+        return self._d.make_seconds
+
 
 # The bonds' totals the GPU sums over the pairs in another (fixed) order
 BOND_SUMS = ("work", "stored", "dissipation_effective")

@@ -44,6 +44,7 @@
 // memory (the per-step arguments, written before each batch).
 #include "cuda/device_step.hpp"
 
+#include <chrono>
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -235,6 +236,9 @@ struct DeviceStep::Impl {
   unsigned long long next_evaluated = 0;
   double dt = 0.0, time = 0.0;
   int64_t step_count = 0, host_steps = 0;
+  // wall time [s]: the host steps (state to the model, its step, its next
+  // list after a split) and the stages made from the model (copies included)
+  double host_step_seconds = 0.0, make_seconds = 0.0;
   int64_t remakes = 0;  // the stages made again from the model (after a host step, a failure, a re-bound)
   EnergyLedger energy;
   cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
@@ -329,6 +333,12 @@ struct DeviceStep::Impl {
   // The stages made from the model as it is now, with its candidate list
   // (after a step of its own: the one that step built), on one stream.
   void make_stages() {
+    const auto t0 = std::chrono::steady_clock::now();
+    make_stages_timed();
+    make_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  void make_stages_timed() {
     const Model& cm = *model;
     ++remakes;
     release_stages();
@@ -682,11 +692,13 @@ struct DeviceStep::Impl {
   // for the stages to start from (the forces it computes leave the history
   // as it was).
   void host_step() {
+    const auto t0 = std::chrono::steady_clock::now();
     to_model();
     const int32_t nodes_before = static_cast<const Model&>(*model).nodes().size();
     model->step(1);
     if (contact && static_cast<const Model&>(*model).nodes().size() != nodes_before) model->evaluate();
     ++host_steps;
+    host_step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     time = model->time();
     step_count = model->step_count();
     energy = model->energy();
@@ -848,6 +860,8 @@ void DeviceStep::reaction(const std::vector<int32_t>& nodes, double& rx, double&
 double DeviceStep::time() const { return impl_->time; }
 int64_t DeviceStep::step_count() const { return impl_->step_count; }
 int64_t DeviceStep::host_steps() const { return impl_->host_steps; }
+double DeviceStep::host_step_seconds() const { return impl_->host_step_seconds; }
+double DeviceStep::make_seconds() const { return impl_->make_seconds; }
 int64_t DeviceStep::remakes() const { return impl_->remakes - 1; }  // the first making is not a remake
 const EnergyLedger& DeviceStep::energy() const { return impl_->energy; }
 

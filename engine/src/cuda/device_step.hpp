@@ -60,6 +60,11 @@ class DeviceStep {
   // (after each host step, a pair's full failure, a re-bound contact step):
   // each copies the mesh and state to the GPU.
   int64_t remakes() const;
+  // Wall time [s] since this was made: in the host steps (the state to the
+  // model, its step, its next list after a split), and in making the stages
+  // from the model (the first making included: allocations and copies).
+  double host_step_seconds() const;
+  double make_seconds() const;
   const EnergyLedger& energy() const;
 
  private:
