@@ -354,6 +354,15 @@ def api_study_unknown_scene(d, g):
     return lambda: run_one("huge", 1, out_dir=os.path.join(d, "runs"))
 
 
+@case("api", r"settle_max_time=9.0 and options.settle_max_time=5.0 differ: options, when given, carry the "
+             r"settle's limit")
+def api_study_settle_limit_beside_options(d, g):
+    from icerubble.run.punch_through_run import RunOptions
+    from icerubble.study.line import run_one
+    return lambda: run_one("tiny", 1, out_dir=os.path.join(d, "runs"), options=RunOptions(settle_max_time=5.0),
+                           settle_max_time=9.0)
+
+
 @case("api", "numerics='turbo' is unknown")
 def api_study_unknown_preset(d, g):
     from icerubble.study.line import run_one

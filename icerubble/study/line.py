@@ -58,6 +58,10 @@ def run_one(scene_name="demo", ridge=1, overrides=None, out_dir="runs", descript
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)   # fails on an unknown preset before any work
     params = P.validate(dict(sc["params"], **(overrides or {})), scenes=SCENES)   # fail before any work
+    if options is not None and settle_max_time is not None and settle_max_time != options.settle_max_time:
+        raise ValueError(f"settle_max_time={settle_max_time} and options.settle_max_time="
+                         f"{options.settle_max_time} differ: options, when given, carry the settle's limit "
+                         "(give it in RunOptions, or leave options out)")
     if options is None:   # checked before any work
         # a dt column is the step asked for; otherwise the scene's fraction of the stable step
         if "dt" in (overrides or {}):
