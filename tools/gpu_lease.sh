@@ -5,14 +5,14 @@
 # (bench/gpu_body_forces.py), then the paper scene's run on the GPU
 # (bench/gpu_paper_run.py) with what time is left; bench/gpu_step_profile.py
 # (each kernel's time, Nsight Compute) before it. Each part is capped so the
-# parts after it still run; logs go to $OUT (or bench/results/lease).
+# parts after it still run; logs go to $OUT (or runs/lease).
 # The demo's CPU run (item 12's reference) runs in the background on cores of
 # its own beside the checks, which use the GPU and a few cores.
 #   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh)
 PY=${PY:-python3}
 BUILD=${BUILD:-build-gpu}
 BUDGET=${BUDGET:-540}        # seconds for the whole script
-OUT=${OUT:-bench/results/lease}
+OUT=${OUT:-runs/lease}
 MESH=${MESH:-runs/scenes/paper_ridge1_pilemu0.3_mesh.h5}
 cd "$(dirname "$0")/.."
 mkdir -p "$OUT"
