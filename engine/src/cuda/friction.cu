@@ -167,7 +167,8 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 __global__ void __launch_bounds__(kSolveThreads)
     colour_kernel(const int32_t* halt, const int32_t* node, const uint8_t* hit, const uint64_t* key,
                   const int32_t* start, const int32_t* entry, const int32_t* tp, const int32_t* earlier,
-                  const int32_t* n_earlier, int32_t* colour_out, int32_t* counts) {
+                  const int32_t* n_earlier, int32_t* colour_out, int32_t* counts, int32_t* slot_colour,
+                  int32_t* order, int32_t* colour_start) {
   if (halted(halt)) return;
   __shared__ int32_t most[kSolveThreads];
   volatile int32_t* colour = colour_out;
@@ -220,31 +221,62 @@ __global__ void __launch_bounds__(kSolveThreads)
     if (!__syncthreads_or(waiting)) break;
   }
   int32_t most_own = -1;
-  for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) most_own = max(most_own, int32_t(colour[tp[s]]));
+  for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+    const int32_t c = colour[tp[s]];
+    slot_colour[s] = c;
+    most_own = max(most_own, c);
+  }
   most[threadIdx.x] = most_own;
   __syncthreads();
   for (int w = kSolveThreads / 2; w > 0; w /= 2) {
     if (int(threadIdx.x) < w) most[threadIdx.x] = max(most[threadIdx.x], most[threadIdx.x + w]);
     __syncthreads();
   }
+  const int32_t colours = most[0] + 1;
   if (threadIdx.x == 0) {
-    counts[0] = most[0] + 1;  // colours
+    counts[0] = colours;
     counts[1] = rounds;
   }
+  __syncthreads();  // `most` is the scan's buffer from here
+  // The slots colour by colour, ascending within a colour: the sweeps then
+  // visit a colour's pairs alone (a scan per colour over the lanes' chunks)
+  const int32_t chunk = (m + kSolveThreads - 1) / kSolveThreads;
+  const int32_t lo = min(m, int32_t(threadIdx.x) * chunk), hi = min(m, lo + chunk);
+  int32_t base = 0;
+  for (int32_t c = 0; c < colours; ++c) {
+    int32_t own = 0;
+    for (int32_t s = lo; s < hi; ++s) own += slot_colour[s] == c ? 1 : 0;
+    most[threadIdx.x] = own;
+    __syncthreads();
+    for (int w = 1; w < kSolveThreads; w *= 2) {  // inclusive scan (Hillis-Steele)
+      const int32_t add = int(threadIdx.x) >= w ? most[threadIdx.x - w] : 0;
+      __syncthreads();
+      most[threadIdx.x] += add;
+      __syncthreads();
+    }
+    int32_t at = base + most[threadIdx.x] - own;
+    for (int32_t s = lo; s < hi; ++s)
+      if (slot_colour[s] == c) order[at++] = s;
+    if (threadIdx.x == 0) colour_start[c] = base;
+    base += most[kSolveThreads - 1];
+    __syncthreads();  // every lane has read the total before the next colour's counts
+  }
+  if (threadIdx.x == 0) colour_start[colours] = base;
 }
 
 __global__ void __launch_bounds__(kSolveThreads)
-    solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* colour,
-                 const int32_t* counts, const double* warm, double mu, double dt, const double* imx, const double* imy,
-                 double* wx, double* wy, const double* kinv, double* lambda, double* power) {
+    solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* order,
+                 const int32_t* colour_start, const int32_t* counts, const double* warm, double mu, double dt,
+                 const double* imx, const double* imy, double* wx, double* wy, const double* kinv, double* lambda,
+                 double* power) {
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
   const int32_t colours = counts[0], m = counts[2];
   // the warm start, colour by colour as the CPU pushes it
   for (int32_t c = 0; c < colours; ++c) {
-    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
-      const int32_t i = tp[s];
-      if (colour[i] != c || isnan(warm[s])) continue;
+    for (int32_t j = colour_start[c] + threadIdx.x; j < colour_start[c + 1]; j += kSolveThreads) {
+      const int32_t s = order[j], i = tp[s];
+      if (isnan(warm[s])) continue;
       lambda[i] = warm[s];
       friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], warm[s], dt, imx, imy, wx, wy);
     }
@@ -252,9 +284,9 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (int32_t c = 0; c < colours; ++c) {
-      for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
-        const int32_t i = tp[s];
-        if (colour[i] != c || kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
+      for (int32_t j = colour_start[c] + threadIdx.x; j < colour_start[c + 1]; j += kSolveThreads) {
+        const int32_t i = tp[order[j]];
+        if (kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
         const int32_t* node = P.node + 6 * i;
         const double* nc = P.nc + 3 * i;
         const double* nt = P.nt + 3 * i;
@@ -320,10 +352,11 @@ void DeviceFriction::Impl::launch() {
                   start.data(), entry.data(), prev_key.data(), prev_lambda.data(), n_prev, mu, imx.data(), imy.data(),
                   earlier_list, earlier.data(), n_earlier.data(), kinv.data(), warm.data());
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, node.data(), hit.data(), key.data(), start.data(),
-                entry.data(), tp.data(), earlier.data(), n_earlier.data(), colour.data(), counts.data());
-  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), colour.data(), counts.data(),
-                warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(), lambda.data(),
-                power.data());
+                entry.data(), tp.data(), earlier.data(), n_earlier.data(), colour.data(), counts.data(),
+                slot_colour.data(), order.data(), colour_start.data());
+  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
+                counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
+                lambda.data(), power.data());
   launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(), lambda.data(),
                 f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
@@ -362,6 +395,9 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.nt.resize(3 * cand.size());
   d.colour.resize(cand.size());
   d.tp.resize(cand.size());
+  d.slot_colour.resize(cand.size());
+  d.order.resize(cand.size());
+  d.colour_start.resize(cand.size() + 1);  // at most as many colours as touching pairs
   d.n_earlier.resize(cand.size());
   d.warm.resize(cand.size());
   d.earlier.resize(size_t(kEarlier) * cand.size());

@@ -30,6 +30,9 @@ struct DeviceFriction::Impl {
   // slot s; per slot its earlier neighbours (kEarlier each), their count (-1:
   // more) and its warm start; counts = {colours, rounds, touching pairs}
   DeviceArray<int32_t> tp, earlier, n_earlier;
+  // after the colouring: each slot's colour, the slots colour by colour
+  // (order), and where colour c starts in it (colour_start[c], c <= colours)
+  DeviceArray<int32_t> slot_colour, order, colour_start;
   DeviceArray<double> warm;
   int32_t earlier_list = 0;  // kept in a list per pair (DeviceFriction::set_earlier_list)
   DeviceArray<uint64_t> key, prev_key;
