@@ -3,15 +3,18 @@
 // ((contactor, target)), a lane per candidate finding whether it touches and,
 // if so, its contact point's shape functions and its normal force's resultant
 // with the pair kernel of contact/potential_contact_kernel.hpp (the CPU's
-// touching pairs are these, in this order). One block colours the touching
-// candidates as the CPU colours its pairs (contact/friction_order.cpp), in
-// parallel rounds: a pair takes its colour once every neighbour that comes
-// before it has one (Jones-Plassmann), which gives the greedy colouring's
-// colours exactly. One block then solves the sweeps: the pairs of a colour
-// share no node, so its lanes update them at once and a barrier closes the
-// colour; a pair's updates see exactly what they see in the CPU's serial sweep
-// (contact/friction.cpp), so the tangential forces are the CPU's bits. Then a
-// lane per node adds its pairs' friction in the CPU's order.
+// touching pairs are these, in this order). The touching candidates are
+// listed (compact_kernel), and each one's earlier touching neighbours, inverse
+// mass and warm start found in many blocks (prepare_kernel). One block colours
+// them as the CPU colours its pairs (contact/friction_order.cpp), in parallel
+// rounds: a pair takes its colour once every neighbour that comes before it
+// has one (Jones-Plassmann), which gives the greedy colouring's colours
+// exactly; it then orders them colour by colour. One block then solves the
+// sweeps: the pairs of a colour share no node, so its lanes update them at
+// once and a barrier closes the colour; a pair's updates see exactly what they
+// see in the CPU's serial sweep (contact/friction.cpp), so the tangential
+// forces are the CPU's bits. Then a lane per node adds its pairs' friction in
+// the CPU's order.
 #include "cuda/friction.hpp"
 
 #include <cmath>
