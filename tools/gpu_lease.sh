@@ -4,7 +4,8 @@
 # and the GPU's stages and whole steps on the paper mesh
 # (bench/gpu_body_forces.py), then the paper scene's run on the GPU
 # (bench/gpu_paper_run.py) with what time is left; bench/gpu_step_profile.py
-# (each kernel's time, Nsight Compute) before it. Each part is capped so the
+# (each kernel's time, Nsight Compute) right after the checks, since what the
+# next change should be is read from it. Each part is capped so the
 # parts after it still run; logs go to $OUT (or runs/lease).
 # The demo's CPU run (item 12's reference) runs in the background on cores of
 # its own beside the checks, which use the GPU and a few cores.
@@ -41,6 +42,8 @@ status=0
 OMP_NUM_THREADS=8 timeout "$(cap 200)" "$PY" tools/gpu_check.py --mesh "$MESH" --demo skip 2>&1 | tee "$OUT/gpu_check.log" \
   | grep -v "^\[ok\]" ; [ "${PIPESTATUS[0]}" = 0 ] || status=1
 grep -c "^\[ok\]" "$OUT/gpu_check.log" | sed 's/^/checks ok: /'
+echo "== bench/gpu_step_profile.py: each kernel's time ($(left) s left)"
+timeout "$(cap 150)" "$PY" bench/gpu_step_profile.py --mesh "$MESH" --out "$OUT/gpu_step_profile.json" 2>&1 | tail -4
 echo "== item 12, the demo ($(left) s left)"
 wait $demo_pid; tail -1 /tmp/demo_cpu.log
 cpu=$(ls /tmp/demo_cpu/demo_cpu.h5 2>/dev/null)
@@ -51,8 +54,6 @@ else status=1; fi
 echo "== bench/gpu_body_forces.py ($(left) s left)"
 timeout "$(cap 150)" "$PY" bench/gpu_body_forces.py --mesh "$MESH" --threads 1 2 4 8 16 "${triad[@]}" \
   --out "$OUT/gpu_body_forces.json" 2>&1 | tee "$OUT/gpu_body_forces.log" | grep -v "^triad"
-echo "== bench/gpu_step_profile.py: each kernel's time ($(left) s left)"
-timeout "$(cap 150)" "$PY" bench/gpu_step_profile.py --mesh "$MESH" --out "$OUT/gpu_step_profile.json" 2>&1 | tail -4
 echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
 timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1
 echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_run.log" | tail -8
