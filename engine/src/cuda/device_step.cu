@@ -44,13 +44,13 @@
 // memory (the per-step arguments, written before each batch).
 #include "cuda/device_step.hpp"
 
-#include <chrono>
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <string>
 
 #include "common/host_device.hpp"
+#include "common/stopwatch.hpp"
 #include "common/input_errors.hpp"
 #include "cuda/body_forces_impl.cuh"
 #include "cuda/bond_check_impl.cuh"
@@ -333,12 +333,7 @@ struct DeviceStep::Impl {
   // The stages made from the model as it is now, with its candidate list
   // (after a step of its own: the one that step built), on one stream.
   void make_stages() {
-    const auto t0 = std::chrono::steady_clock::now();
-    make_stages_timed();
-    make_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-
-  void make_stages_timed() {
+    Stopwatch sw(make_seconds);
     const Model& cm = *model;
     ++remakes;
     release_stages();
@@ -692,13 +687,14 @@ struct DeviceStep::Impl {
   // for the stages to start from (the forces it computes leave the history
   // as it was).
   void host_step() {
-    const auto t0 = std::chrono::steady_clock::now();
-    to_model();
-    const int32_t nodes_before = static_cast<const Model&>(*model).nodes().size();
-    model->step(1);
-    if (contact && static_cast<const Model&>(*model).nodes().size() != nodes_before) model->evaluate();
+    {
+      Stopwatch sw(host_step_seconds);
+      to_model();
+      const int32_t nodes_before = static_cast<const Model&>(*model).nodes().size();
+      model->step(1);
+      if (contact && static_cast<const Model&>(*model).nodes().size() != nodes_before) model->evaluate();
+    }
     ++host_steps;
-    host_step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     time = model->time();
     step_count = model->step_count();
     energy = model->energy();

@@ -43,6 +43,23 @@ __device__ inline double block_sum(double v, double* shared) {
   return total;
 }
 
+// Each lane's inclusive prefix sum of v over a block's N lanes (Hillis-Steele;
+// every lane calls it): integer counts, so any order gives the same result.
+template <int N>
+__device__ inline int32_t block_inclusive_scan(int32_t v, int32_t* shared) {
+  shared[threadIdx.x] = v;
+  __syncthreads();
+  for (int w = 1; w < N; w *= 2) {
+    const int32_t add = int(threadIdx.x) >= w ? shared[threadIdx.x - w] : 0;
+    __syncthreads();
+    shared[threadIdx.x] += add;
+    __syncthreads();
+  }
+  const int32_t s = shared[threadIdx.x];
+  __syncthreads();  // the buffer is free again
+  return s;
+}
+
 template <int N, bool kMax>
 __device__ inline double block_extreme(double v, double* shared) {
   shared[threadIdx.x] = v;

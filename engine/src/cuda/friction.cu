@@ -75,6 +75,14 @@ __global__ void predict_kernel(const int32_t* halt, const double* mass, const ui
                         imx[i], imy[i], wx[i], wy[i]);
 }
 
+// This lane's contiguous chunk [lo, hi) of n entries, chunks in lane order
+// (a scan over the lanes then places what each chunk holds in order).
+__device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
+  const int32_t chunk = (n + kSolveThreads - 1) / kSolveThreads;
+  lo = min(n, int32_t(threadIdx.x) * chunk);
+  hi = min(n, lo + chunk);
+}
+
 // The touching candidates, compacted: tp[0, m) in ascending order (the CPU's
 // pair order), m in counts[2]; every candidate's colour reset (-1 touching,
 // kNotTouching not) and its lambda zeroed (the node sums read every
@@ -87,48 +95,41 @@ __global__ void __launch_bounds__(kSolveThreads)
     compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* colour, double* lambda,
                    int32_t* counts) {
   if (halted(halt)) return;
-  __shared__ int32_t before[kSolveThreads];
+  __shared__ int32_t scan[kSolveThreads];
   for (int32_t c = threadIdx.x; c < n; c += kSolveThreads) {
     colour[c] = hit[c] ? -1 : kNotTouching;
     lambda[c] = 0.0;
   }
-  const int32_t chunk = (n + kSolveThreads - 1) / kSolveThreads;
-  const int32_t lo = min(n, int32_t(threadIdx.x) * chunk), hi = min(n, lo + chunk);
+  int32_t lo, hi;
+  lane_chunk(n, lo, hi);
   int32_t own = 0;
   for (int32_t c = lo; c < hi; ++c) own += hit[c] ? 1 : 0;
-  before[threadIdx.x] = own;
-  __syncthreads();
-  for (int w = 1; w < kSolveThreads; w *= 2) {  // inclusive scan (Hillis-Steele)
-    const int32_t add = int(threadIdx.x) >= w ? before[threadIdx.x - w] : 0;
-    __syncthreads();
-    before[threadIdx.x] += add;
-    __syncthreads();
-  }
-  int32_t at = before[threadIdx.x] - own;
+  const int32_t upto = block_inclusive_scan<kSolveThreads>(own, scan);
+  int32_t at = upto - own;
   for (int32_t c = lo; c < hi; ++c)
     if (hit[c]) tp[at++] = c;
-  if (threadIdx.x == kSolveThreads - 1) counts[2] = before[threadIdx.x];
+  if (threadIdx.x == kSolveThreads - 1) counts[2] = upto;
 }
 
 // A touching candidate's neighbours are the touching candidates of the
 // entries of its six nodes (entry 6 q + k: candidate q); those coloured
 // before it (coloured_before: the priority order of the CPU's greedy
-// colouring) decide its colour.
-// (__restrict__: the list's stores alias none of the loads, so the loads of
-// one entry need not wait for the store of the last)
-__device__ inline bool earlier_neighbours_walk(int32_t p, const int32_t* __restrict__ node,
-                                               const uint8_t* __restrict__ hit, const uint64_t* __restrict__ key,
-                                               const int32_t* __restrict__ start, const int32_t* __restrict__ entry,
-                                               int32_t* __restrict__ list, int32_t cap, int32_t& count) {
+// colouring) decide its colour. visit(q) for each of them, in the nodes'
+// entry order, until it returns false; false then. (__restrict__: what a
+// visit stores aliases none of these, so one entry's loads need not wait for
+// the last entry's store.)
+template <class Visit>
+__device__ inline bool visit_earlier_neighbours(int32_t p, const int32_t* __restrict__ node,
+                                                const uint8_t* __restrict__ hit, const uint64_t* __restrict__ key,
+                                                const int32_t* __restrict__ start, const int32_t* __restrict__ entry,
+                                                Visit visit) {
   const uint64_t pp = friction_priority(key[p]);
-  count = 0;
   for (int k = 0; k < 6; ++k) {
     const int32_t v = node[6 * p + k];
     for (int32_t j = start[v]; j < start[v + 1]; ++j) {
       const int32_t q = entry[j] / 6;
       if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
-      if (count == cap) return false;  // more than the list holds: the colouring walks the nodes itself
-      list[count++] = q;
+      if (!visit(q)) return false;
     }
   }
   return true;
@@ -150,11 +151,14 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
   const int32_t s = blockIdx.x * blockDim.x + threadIdx.x;
   if (s >= counts[2]) return;
   const int32_t p = tp[s];
-  int32_t count;
-  n_earlier[s] =
-      earlier_neighbours_walk(p, P.node, P.hit, P.key, start, entry, earlier + int64_t(kEarlier) * s, listed, count)
-          ? count
-          : -1;
+  int32_t* list = earlier + int64_t(kEarlier) * s;
+  int32_t count = 0;
+  const bool all = visit_earlier_neighbours(p, P.node, P.hit, P.key, start, entry, [&](int32_t q) {
+    if (count == listed) return false;  // more than the list holds: the colouring walks the nodes itself
+    list[count++] = q;
+    return true;
+  });
+  n_earlier[s] = all ? count : -1;
   const double k = friction_inverse_mass(P.node + 6 * p, P.nc + 3 * p, P.nt + 3 * p, P.nx[p], P.ny[p], imx, imy);
   kinv[p] = k;
   const int64_t at = find_key(prev_key, n_prev, P.key[p]);
@@ -189,30 +193,16 @@ __global__ void __launch_bounds__(kSolveThreads)
       bool ready = true;
       for (int32_t base = 0; ready; base += 64) {
         uint64_t taken = 0;
+        // an earlier neighbour's colour: false (stop) while it has none
+        const auto see = [&](int32_t q) {
+          const int32_t c = colour[q];
+          if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
+          return c >= 0;
+        };
         if (list) {
-          for (int32_t j = 0; j < count; ++j) {
-            const int32_t c = colour[list[j]];
-            if (c < 0) {
-              ready = false;
-              break;
-            }
-            if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
-          }
+          for (int32_t j = 0; j < count && ready; ++j) ready = see(list[j]);
         } else {
-          const uint64_t pp = friction_priority(key[p]);
-          for (int k = 0; k < 6 && ready; ++k) {
-            const int32_t v = node[6 * p + k];
-            for (int32_t j = start[v]; j < start[v + 1]; ++j) {
-              const int32_t q = entry[j] / 6;
-              if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
-              const int32_t c = colour[q];
-              if (c < 0) {
-                ready = false;
-                break;
-              }
-              if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
-            }
-          }
+          ready = visit_earlier_neighbours(p, node, hit, key, start, entry, see);
         }
         if (ready && ~taken) {
           colour[p] = base + __ffsll((long long)~taken) - 1;
@@ -243,26 +233,22 @@ __global__ void __launch_bounds__(kSolveThreads)
   __syncthreads();  // `most` is the scan's buffer from here
   // The slots colour by colour, ascending within a colour: the sweeps then
   // visit a colour's pairs alone (a scan per colour over the lanes' chunks)
-  const int32_t chunk = (m + kSolveThreads - 1) / kSolveThreads;
-  const int32_t lo = min(m, int32_t(threadIdx.x) * chunk), hi = min(m, lo + chunk);
+  int32_t lo, hi;
+  lane_chunk(m, lo, hi);
   int32_t base = 0;
   for (int32_t c = 0; c < colours; ++c) {
     int32_t own = 0;
     for (int32_t s = lo; s < hi; ++s) own += slot_colour[s] == c ? 1 : 0;
-    most[threadIdx.x] = own;
-    __syncthreads();
-    for (int w = 1; w < kSolveThreads; w *= 2) {  // inclusive scan (Hillis-Steele)
-      const int32_t add = int(threadIdx.x) >= w ? most[threadIdx.x - w] : 0;
-      __syncthreads();
-      most[threadIdx.x] += add;
-      __syncthreads();
-    }
-    int32_t at = base + most[threadIdx.x] - own;
+    const int32_t upto = block_inclusive_scan<kSolveThreads>(own, most);
+    int32_t at = base + upto - own;
     for (int32_t s = lo; s < hi; ++s)
       if (slot_colour[s] == c) order[at++] = s;
     if (threadIdx.x == 0) colour_start[c] = base;
-    base += most[kSolveThreads - 1];
-    __syncthreads();  // every lane has read the total before the next colour's counts
+    // the colour's total: the last lane's, read through the buffer after the scan
+    if (threadIdx.x == kSolveThreads - 1) most[0] = upto;
+    __syncthreads();
+    base += most[0];
+    __syncthreads();  // every lane has read the total before the next colour's scan
   }
   if (threadIdx.x == 0) colour_start[colours] = base;
 }
