@@ -14,7 +14,6 @@ update's, the normal contact pass's and the bond check's times on the GPU,
 and last the wall time of whole GPU steps (gpu.Steps) of the load phase.
 """
 import argparse
-import json
 import os
 import re
 import subprocess
@@ -50,6 +49,17 @@ def load_phase_model(mesh, scene_name, preset, threads):
     t, v = smooth_ramp_table(0.0, params["v_final"], params["ramp_time"])
     m.prescribe_velocity("indenter_top", direction=(0.0, -1.0), table=(t, v))
     return m
+
+
+def open_pairs_by_nudge(m):
+    """Every node of `m` nudged by up to 0.1 mm (as tools/gpu_check.py nudges
+    them), bond failure checked, 20 steps: ~2,800 points of the paper mesh
+    pass eq 5 and split (a topology change each: ~0.1 s a step on the CPU),
+    their pairs opened, the splits over."""
+    xy = m.positions
+    m.set_positions(xy + np.random.default_rng(1).uniform(-1e-4, 1e-4, xy.shape))
+    m.set_bond_params(check_failure=True)
+    m.step(20)
 
 
 def per_step(m, steps):
@@ -132,13 +142,9 @@ def main(argv=None):
         print(f"  bond check ({out['gpu']['bond_points_intact']} intact points, all of them) {bond_us:.1f} us; "
               f"against {a.threads[-1]} threads' bonds part {rows[-1]['bonds_ms']:.3f} ms (screened, and the "
               f"cohesive forces)")
-        # last, as it splits bond points: every node nudged by up to 0.1 mm (as
-        # tools/gpu_check.py) puts ~2,800 points past eq 5; the cohesive forces of
-        # the pairs they open, against the CPU's bonds part over the same steps
-        xy = m.positions
-        m.set_positions(xy + np.random.default_rng(1).uniform(-1e-4, 1e-4, xy.shape))
-        m.set_bond_params(check_failure=True)
-        m.step(20)   # the splits (a topology change each: ~0.1 s a step on the CPU) are over
+        # last, as it splits bond points: the cohesive forces of the pairs the
+        # nudge opens, against the CPU's bonds part over the same steps
+        open_pairs_by_nudge(m)
         cpu_coh = dict(threads=a.threads[-1], **per_step(m, 20))
         m._m.evaluate_before_cohesive()
         coh = gpu.CohesiveForces(m)

@@ -13,7 +13,6 @@ the sweeps, the node sums; device events), and whether the GPU gives the
 CPU's colours and bits.
 """
 import argparse
-import json
 import os
 import time
 

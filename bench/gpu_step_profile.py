@@ -32,18 +32,13 @@ STATES = {"load phase": False, "opened pairs": True}
 
 def inner(mesh, opened, steps):
     """Run under ncu --profile-from-start off: only `steps` whole steps are profiled."""
-    import numpy as np
-
-    from gpu_body_forces import load_phase_model
+    from gpu_body_forces import load_phase_model, open_pairs_by_nudge
     from icerubble.engine import gpu
     from icerubble.files.mesh_file import read_mesh
     m = load_phase_model(read_mesh(mesh), "paper", "fast", os.cpu_count())
     m.step(50)
     if opened:
-        xy = m.positions
-        m.set_positions(xy + np.random.default_rng(1).uniform(-1e-4, 1e-4, xy.shape))
-        m.set_bond_params(check_failure=True)
-        m.step(20)
+        open_pairs_by_nudge(m)
     s = gpu.Steps(m)
     s.step(700)   # past the splits' host steps and a graph's capture
     h0 = s.host_steps
