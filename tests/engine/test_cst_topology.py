@@ -58,3 +58,19 @@ def test_splitting_the_bond_edge_conserves_mass_and_frees_the_blocks():
     gap = m.x[list(new_ids.values())] - m.x[list(new_ids.keys())]
     # The gap opens at 2 m/s; round-off of 200 updates of 0.5 m coordinates.
     np.testing.assert_allclose(gap, 2.0 * m.time, rtol=0, atol=1e-13)
+
+
+
+def test_a_corner_cannot_be_re_pointed_to_another_place():
+    """A triangle's reference shape (Dm^-1, area, its stable-step limit) is
+    the constructor's: a corner re-pointed to a node elsewhere in the
+    reference configuration would leave them stale, so it is refused with
+    what is wrong; a node at the corner's own place (a split) is taken."""
+    m, nodes, tri, body = bonded_pair()
+    core = m._m
+    p = 0.5 * (nodes[tri[0, 0]] + nodes[tri[0]].mean(axis=0))
+    elsewhere = core.add_node(p[0], p[1], p[0], p[1], 0.0, 0.0)
+    with pytest.raises(ValueError, match=r"corner 0 of triangle 0 .* own reference place"):
+        core.set_triangle_node(0, 0, elsewhere)
+    x, y = nodes[tri[0, 0]]
+    core.set_triangle_node(0, 0, core.add_node(x, y, x, y, 0.0, 0.0))

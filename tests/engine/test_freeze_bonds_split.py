@@ -189,6 +189,43 @@ def test_a_split_under_mass_scaling_keeps_momentum_and_closes_the_energy_books()
     assert abs(e["residual"]) < 1e-8 * e["scale"]
 
 
+def test_the_step_and_masses_kept_through_splits_are_those_of_the_split_mesh_taken_anew():
+    """A split does not take the contact stiffness of the whole mesh again
+    (Model::reference_contact_stiffness renames the split node's entry of its
+    body, contact.hpp rename_contact_shares) nor the elements' limits
+    (compute_element_limits): the stable step and the scaled masses must be
+    those of a model made from the split mesh itself, bit for bit, after some
+    of the points split and after all of them. Blocks flung apart as above,
+    contact masses scaled to a 2 us step, a finite contact reach (its local
+    walk of the boundaries)."""
+    params = dict(gravity=False, penalty=1e11, contact_reach=0.01, mass_scaling_dt=2e-6)
+    m, bp, nodes = two_block_bar(sigma_cr=SIGMA, tau_cr=TAU, G=0.2)
+    m.set(**params)
+    m.stable_time_step()   # taken before the splits: those after follow them
+    tri, body = np.asarray(m.triangles), np.asarray(m.body)
+    v = np.zeros((m.n_nodes, 2))
+    v[np.unique(tri[body == 0])], v[np.unique(tri[body == 1])] = (-0.05, 0.02), (0.05, -0.01)
+    m.set_velocities(v)
+    m.set(dt=0.9 * m.stable_time_step()["dt"])
+    keys = ("dt", "dt_element", "element", "dt_contact", "contact_node", "contact_mass", "added_mass",
+            "scaled_nodes")
+    seen = set()
+    for _ in range(300):
+        m.step(5)
+        split = m.bonds.counts["split"]
+        if split in seen or split == 0:
+            continue
+        seen.add(split)
+        kept = m.stable_time_step()
+        anew = engine.Model(m.reference_positions, np.asarray(m.triangles), np.asarray(m.body), dict(ICE))
+        anew.set(**params)
+        anew._m.set_mass_floor(np.asarray(m._m.mass_floor()))
+        made = anew.stable_time_step()
+        assert {k: kept[k] for k in keys} == {k: made[k] for k in keys}
+        assert np.array_equal(m.mass, anew.mass)
+    assert len(seen) >= 2 and max(seen) == len(bp)   # some of the points, then all
+
+
 def test_a_crack_closed_again_is_met_by_contact_at_once():
     """The contact module reuses its candidate pairs while no node has moved
     farther than its skin (millimetres here), but a split changes which

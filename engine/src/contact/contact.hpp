@@ -134,11 +134,21 @@ ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput
 // event (for the masses, then for the step with them): the stiffness is
 // computed once for both. The result is that of contact_critical_dt, bit for bit.
 struct ContactStiffness {
-  std::vector<int32_t> node;     // per (node, body) with a share of the node: ascending node, then body
+  std::vector<int32_t> node, body;  // per (node, body) with a share of the node: ascending node, then body
   std::vector<double> k, area;   // its stiffness [N/m per m] and area around the node [m²]
   std::vector<double> node_area; // per node: area of all its triangles [m²] (n_nodes entries)
 };
 ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& in, double reach = INFINITY);
+// A bond split gives node `node`'s triangles of body `body` a new node `id`
+// at the same place: the stiffness of the split mesh is s with those entries
+// renamed, bit for bit (contact_stiffness takes every figure in triangle
+// order), and its node areas taken again from `in`, the split mesh. Renames
+// apply in order (a node split off may split again). Throws std::logic_error
+// where s has no such entry (s is not of the mesh before the splits).
+struct ShareRename {
+  int32_t node, body, id;
+};
+void rename_contact_shares(ContactStiffness& s, const std::vector<ShareRename>& renames, const ContactInput& in);
 ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,
                                       std::vector<double>* node_stiffness = nullptr);
 

@@ -2,8 +2,11 @@
 // contact.hpp (ContactStableStep).
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "common/bucket_sort.hpp"
 #include "contact/contact.hpp"
 
 namespace engine {
@@ -184,6 +187,22 @@ std::vector<double> target_terms(const std::vector<double>& len, const std::vect
   return out;
 }
 
+double triangle_area(const ContactInput& in, const int32_t* v) {
+  return 0.5 * std::fabs((in.x[v[1]] - in.x[v[0]]) * (in.y[v[2]] - in.y[v[0]]) -
+                         (in.x[v[2]] - in.x[v[0]]) * (in.y[v[1]] - in.y[v[0]]));
+}
+
+// Per node, the area of all its triangles, summed in triangle order.
+std::vector<double> node_areas(const ContactInput& in) {
+  std::vector<double> a(size_t(in.n_nodes), 0.0);
+  for (int32_t t = 0; t < in.n_tri; ++t) {
+    const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
+    const double A = triangle_area(in, v);
+    for (int k = 0; k < 3; ++k) a[v[k]] += A;
+  }
+  return a;
+}
+
 }  // namespace
 
 ContactStableStep contact_critical_dt(const ContactParams& p, const ContactInput& in,
@@ -199,8 +218,13 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
   // body's share of its mass. That is the state after the bond points split,
   // so a step chosen before the run stays stable through every split. Without
   // shared nodes this is the plain per-node estimate.
+  // Every figure of an edge is taken in its triangle's corner order (p, q),
+  // and every sum in triangle order, never in node-id order: a bond split
+  // renames a node of one body and nothing else, so the result of the split
+  // mesh is the one before with that (node, body) renamed, bit for bit
+  // (rename_contact_shares; the model keeps the stiffness through splits).
   struct Edge {
-    int32_t a, b, body, tri, opp;  // end nodes (a < b), body, triangle, opposite node
+    int32_t a, b, body, tri, k;  // end nodes (a < b), body, triangle, the side's corner opposite
   };
   std::vector<Edge> edges;
   edges.reserve(3 * static_cast<size_t>(in.n_tri));
@@ -208,21 +232,23 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
     const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
     for (int k = 0; k < 3; ++k) {
       const int32_t a = v[(k + 1) % 3], b = v[(k + 2) % 3];
-      edges.push_back({std::min(a, b), std::max(a, b), in.body[t], t, v[k]});
+      edges.push_back({std::min(a, b), std::max(a, b), in.body[t], t, k});
     }
   }
-  std::sort(edges.begin(), edges.end(), [](const Edge& e, const Edge& f) {
-    if (e.a != f.a) return e.a < f.a;
+  // ascending (a, b, body, tri): a total order, so the lists below are the same whatever sorts them
+  bucket_sort(edges, in.n_nodes, [](const Edge& e) { return e.a; }, [](const Edge& e, const Edge& f) {
     if (e.b != f.b) return e.b < f.b;
     return e.body != f.body ? e.body < f.body : e.tri < f.tri;
   });
   struct Share {
     int32_t node, body;
+    int64_t side;  // 3 tri + corner: the order of the group's sum
     double k, area;
   };
   std::vector<Share> shares;  // (node, body) contributions, merged below
   std::vector<double> len, alt;
   std::vector<int32_t> ea, eb, ebody;
+  std::vector<int64_t> eside;
   for (size_t i = 0; i < edges.size();) {
     size_t j = i + 1;
     while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b &&
@@ -230,15 +256,18 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
       ++j;
     if (j == i + 1) {
       const Edge& e = edges[i];
-      const double ex = in.x[e.b] - in.x[e.a], ey = in.y[e.b] - in.y[e.a];
+      const int32_t* v = in.tri + 3 * static_cast<int64_t>(e.tri);
+      const int32_t p = v[(e.k + 1) % 3], q = v[(e.k + 2) % 3], o = v[e.k];
+      const double ex = in.x[q] - in.x[p], ey = in.y[q] - in.y[p];
       const double l = std::hypot(ex, ey);
-      const double area2 = std::fabs(ex * (in.y[e.opp] - in.y[e.a]) - ey * (in.x[e.opp] - in.x[e.a]));
+      const double area2 = std::fabs(ex * (in.y[o] - in.y[p]) - ey * (in.x[o] - in.x[p]));
       if (l > 0.0 && area2 > 0.0) {
         len.push_back(l);
         alt.push_back(area2 / l);
-        ea.push_back(e.a);
-        eb.push_back(e.b);
+        ea.push_back(p);
+        eb.push_back(q);
         ebody.push_back(e.body);
+        eside.push_back(3 * int64_t(e.tri) + e.k);
       }
     }
     i = j;
@@ -250,25 +279,22 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
   const std::vector<double> target = target_terms(len, alt, ea, eb, ebody, in.x, in.y, reach);
   for (size_t e = 0; e < len.size(); ++e) {
     const double ke = 1.5 * p.penalty * (len[e] / alt[e] + target[e]);
-    shares.push_back({ea[e], ebody[e], ke, 0.0});
-    shares.push_back({eb[e], ebody[e], ke, 0.0});
+    shares.push_back({ea[e], ebody[e], eside[e], ke, 0.0});
+    shares.push_back({eb[e], ebody[e], eside[e], ke, 0.0});
   }
   // Mass share of each body at a node: its triangles' share of the area around
   // the node (lumped masses are 1/3 of each triangle's mass; equal densities
   // of the bodies meeting at a node are assumed, as for ice on ice).
-  std::vector<double>& node_area = out.node_area;
-  node_area.assign(in.n_nodes, 0.0);
+  out.node_area = node_areas(in);
   for (int32_t t = 0; t < in.n_tri; ++t) {
     const int32_t* v = in.tri + 3 * static_cast<int64_t>(t);
-    const double A = 0.5 * std::fabs((in.x[v[1]] - in.x[v[0]]) * (in.y[v[2]] - in.y[v[0]]) -
-                                     (in.x[v[2]] - in.x[v[0]]) * (in.y[v[1]] - in.y[v[0]]));
-    for (int k = 0; k < 3; ++k) {
-      node_area[v[k]] += A;
-      shares.push_back({v[k], in.body[t], 0.0, A});
-    }
+    const double A = triangle_area(in, v);
+    for (int k = 0; k < 3; ++k) shares.push_back({v[k], in.body[t], 3 * int64_t(t) + k, 0.0, A});
   }
-  std::sort(shares.begin(), shares.end(), [](const Share& a, const Share& b) {
-    return a.node != b.node ? a.node < b.node : a.body < b.body;
+  // by (node, body), a group's shares by side: an edge's stiffness and a
+  // triangle's area are zero in each other's sums, so each sum is in triangle order
+  bucket_sort(shares, in.n_nodes, [](const Share& s) { return s.node; }, [](const Share& a, const Share& b) {
+    return a.body != b.body ? a.body < b.body : a.side < b.side;
   });
   for (size_t i = 0; i < shares.size();) {
     size_t j = i;
@@ -279,11 +305,47 @@ ContactStiffness contact_stiffness(const ContactParams& p, const ContactInput& i
       ++j;
     }
     out.node.push_back(shares[i].node);
+    out.body.push_back(shares[i].body);
     out.k.push_back(k);
     out.area.push_back(area);
     i = j;
   }
   return out;
+}
+
+void rename_contact_shares(ContactStiffness& s, const std::vector<ShareRename>& renames, const ContactInput& in) {
+  // the entries are in ascending (node, body) order: a rename's entry is found
+  // by bisection among the keys as they were, or among those renamed before it
+  const std::vector<int32_t> was = s.node;
+  std::vector<size_t> renamed;
+  for (const ShareRename& r : renames) {
+    size_t e = size_t(std::lower_bound(was.begin(), was.end(), r.node) - was.begin());
+    while (e < was.size() && was[e] == r.node && !(s.node[e] == r.node && s.body[e] == r.body)) ++e;
+    if (e >= was.size() || was[e] != r.node) {
+      e = s.node.size();
+      for (size_t k : renamed)
+        if (s.node[k] == r.node && s.body[k] == r.body) e = k;
+    }
+    if (e == s.node.size())
+      throw std::logic_error("contact stiffness: no share of body " + std::to_string(r.body) + " at node " +
+                             std::to_string(r.node) + " to rename");
+    s.node[e] = r.id;
+    renamed.push_back(e);
+  }
+  std::vector<size_t> order(s.node.size());
+  for (size_t e = 0; e < order.size(); ++e) order[e] = e;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return s.node[a] != s.node[b] ? s.node[a] < s.node[b] : s.body[a] < s.body[b];
+  });
+  ContactStiffness out;
+  for (size_t e : order) {
+    out.node.push_back(s.node[e]);
+    out.body.push_back(s.body[e]);
+    out.k.push_back(s.k[e]);
+    out.area.push_back(s.area[e]);
+  }
+  out.node_area = node_areas(in);
+  s = std::move(out);
 }
 
 ContactStableStep contact_critical_dt(const ContactStiffness& s, const double* mass,

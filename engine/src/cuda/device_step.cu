@@ -47,7 +47,9 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "common/host_device.hpp"
 #include "common/stopwatch.hpp"
@@ -82,13 +84,17 @@ __global__ void assemble_kernel(const int32_t* halt, AssembleArrays a, int32_t n
   if (i < n) assemble_node(a, i);
 }
 
-// v_bc: the component's prescribed velocity at the step's midpoint (GPU
-// memory: a batch's step reads its own).
-__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent a, const int32_t* nodes, int32_t n,
-                                const double* v_bc, double inv_dt) {
+// Every condition's prescribed components in one launch: entry k is node
+// nodes[k], component code[k] & 1 (x, y) at the velocity v_bc[code[k] >> 1],
+// the step's row of prescribed values at its midpoint (GPU memory: a batch's
+// step reads its own). A (node, component) is listed once, the last
+// condition's, as the CPU's loop over the conditions leaves it.
+__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent cx, BoundaryComponent cy,
+                                const int32_t* nodes, const int32_t* code, int32_t n, const double* v_bc,
+                                double inv_dt) {
   if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < n) prescribe_component(a, nodes[k], *v_bc, inv_dt);
+  if (k < n) prescribe_component(code[k] & 1 ? cy : cx, nodes[k], v_bc[code[k] >> 1], inv_dt);
 }
 
 // Whether a node of a surface triangle has moved past the skin since the
@@ -219,7 +225,8 @@ struct DeviceStep::Impl {
   double bond_work = 0.0, bond_stored = 0.0, bond_dissipation = 0.0;
   int64_t bond_checks = 0;
   std::vector<BoundaryCondition> bcs;
-  std::vector<std::unique_ptr<DeviceArray<int32_t>>> bc_nodes;
+  // the conditions' (node, component) entries for boundary_kernel
+  DeviceArray<int32_t> bc_node, bc_code;
   DeviceArray<int32_t> list_nodes, moved;  // the candidate list's test (moved_kernel)
   DeviceArray<double> list_x, list_y;
   // the contact reach guard (finite contact_reach): where each node's move
@@ -339,11 +346,7 @@ struct DeviceStep::Impl {
     release_stages();
     // the boundary conditions: a node split off a held or driven node is held or driven too
     bcs = cm.boundary_conditions();
-    bc_nodes.clear();
-    for (const BoundaryCondition& bc : bcs) {
-      bc_nodes.emplace_back(new DeviceArray<int32_t>());
-      bc_nodes.back()->upload(bc.nodes);
-    }
+    list_boundary_entries();
     forces.reset(new DeviceBodyForces(cm));
     size_batch_buffers();  // after a stage, which says so when no GPU is visible
     update.reset(new DeviceNodeUpdate(cm));
@@ -397,6 +400,37 @@ struct DeviceStep::Impl {
     share_arrays();
     give_halt();
     settle_uploads();
+  }
+
+  // boundary_kernel's entries: per condition, its x then y component of each
+  // node, value column j as run_batch writes them; a (node, component) set
+  // again by a later condition (or twice in one) keeps its last entry only.
+  void list_boundary_entries() {
+    std::map<std::pair<int32_t, int>, size_t> last;  // (node, component) -> entry
+    std::vector<int32_t> node, code;
+    int j = 0;
+    for (const BoundaryCondition& bc : bcs)
+      for (int c = 0; c < 2; ++c) {
+        if (!(c ? bc.y : bc.x)) continue;
+        for (const int32_t i : bc.nodes) {
+          auto at = last.find({i, c});
+          if (at != last.end()) {
+            code[at->second] = -1;  // superseded
+          }
+          last[{i, c}] = node.size();
+          node.push_back(i);
+          code.push_back(j << 1 | c);
+        }
+        ++j;
+      }
+    std::vector<int32_t> kept_node, kept_code;
+    for (size_t k = 0; k < node.size(); ++k)
+      if (code[k] >= 0) {
+        kept_node.push_back(node[k]);
+        kept_code.push_back(code[k]);
+      }
+    bc_node.upload(kept_node);
+    bc_code.upload(kept_code);
   }
 
   // Every stage's kernels return once the batch's halt word is set.
@@ -643,16 +677,10 @@ struct DeviceStep::Impl {
     const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
     const BoundaryComponent cx{U.mass.data(), U.vx.data(), U.f_x.data(), U.v_bc_x.data(), U.r_x.data()};
     const BoundaryComponent cy{U.mass.data(), U.vy.data(), U.f_y.data(), U.v_bc_y.data(), U.r_y.data()};
-    int j = 0;  // the row's boundary values, in the order run_batch wrote them
-    for (size_t k = 0; k < bcs.size(); ++k) {
-      const BoundaryCondition& bc = bcs[k];
-      const int32_t m = int32_t(bc.nodes.size());
-      // the CPU sets x, then y, per node; the components are apart, so the order is moot
-      if (bc.x) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, bc_nodes[k]->data(), m,
-                              boundary_at(row, j++), inv_dt);
-      if (bc.y) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cy, bc_nodes[k]->data(), m,
-                              boundary_at(row, j++), inv_dt);
-    }
+    // the CPU sets x, then y, per node; the components are apart, so the order is moot
+    const int32_t m = int32_t(bc_node.size());
+    if (m) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, cy, bc_node.data(), bc_code.data(), m,
+                         boundary_at(row, 0), inv_dt);
     U.launch();  // (7) the central difference and the ledger's sums
     StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr,
                    nullptr,       nullptr};

@@ -40,7 +40,7 @@ StableStep Model::stable_step() {
         contact_possible_ ? contact_critical_dt(reference_contact_stiffness(), nodes_.mass.data())
                           : ContactStableStep{};
     extend_reach_origin();
-    stable_ = stable_time_step(nodes_, tris_, elem_mat_, contact_possible_, contact, params_.external, body_area0_);
+    stable_ = stable_time_step(nodes_, tris_, elem_mat_, element_dt0_, contact_possible_, contact, params_.external, body_area0_);
     report_added_mass();
     stable_current_ = true;
   }

@@ -22,6 +22,23 @@ inline double contact_mass_for(double k, double need) { return 0.5 * k * need * 
 
 }  // namespace
 
+// Each triangle's undamped limit, from its reference corners and its body's
+// material alone: a corner is only ever re-pointed to a node at its own
+// reference place (a bond split; set_triangle_node refuses any other), so the
+// limits are kept through splits (a split step took them for the whole mesh,
+// the paper mesh's 86,000 triangles, twice) and taken again when a material changes.
+void Model::compute_element_limits() {
+  auto same = [](const ElementMaterial& a, const ElementMaterial& b) {
+    return a.lambda == b.lambda && a.shear_modulus == b.shear_modulus && a.rho == b.rho;
+  };
+  bool current = element_dt0_.size() == size_t(tris_.size()) && element_dt0_mat_.size() == elem_mat_.size();
+  for (size_t b = 0; current && b < elem_mat_.size(); ++b) current = same(element_dt0_mat_[b], elem_mat_[b]);
+  if (current) return;
+  element_dt0_.resize(size_t(tris_.size()));
+  for (int32_t t = 0; t < tris_.size(); ++t) element_dt0_[t] = element_undamped_dt(nodes_, tris_, elem_mat_, t);
+  element_dt0_mat_ = elem_mat_;
+}
+
 void Model::compute_masses() {
   for (int32_t b = 0; b < n_bodies(); ++b)
     if (!materials_[b].set) {
@@ -35,6 +52,7 @@ void Model::compute_masses() {
     elem_mat_[b] = ElementMaterial::from(materials_[b]);
     any_damping_ = any_damping_ || materials_[b].damping > 0.0 || materials_[b].viscosity > 0.0;
   }
+  compute_element_limits();
   body_area0_.assign(materials_.size(), 0.0);
   std::fill(nodes_.mass.begin(), nodes_.mass.end(), 0.0);
   for (int32_t t = 0; t < tris_.size(); ++t) body_area0_[tris_.body[t]] += tris_.area0[t];
@@ -75,10 +93,9 @@ void Model::scale_masses() {
   std::vector<double>& M = nodes_.mass;
   const std::vector<double>& Mp = nodes_.mass_phys;
   for (int32_t t = 0; t < tris_.size(); ++t) {
-    const double dt_e = element_damped_dt(nodes_, tris_, elem_mat_, t);
-    if (dt_e >= need) continue;
-    const double r = mass_ratio_for(element_undamped_dt(nodes_, tris_, elem_mat_, t),
-                                    elem_mat_[tris_.body[t]].tau_eff(), need) * kMassMargin;
+    const double tau = elem_mat_[tris_.body[t]].tau_eff();
+    if (damped_dt(element_dt0_[t], tau) >= need) continue;
+    const double r = mass_ratio_for(element_dt0_[t], tau, need) * kMassMargin;
     for (int c = 0; c < 3; ++c) {
       const int32_t i = tris_.node[3 * t + c];
       M[i] = std::max(M[i], Mp[i] * r);

@@ -1,11 +1,11 @@
 // The mesh the model is built on and its edits: reference geometry, the
 // node -> corner gather list, body surfaces, and node splitting.
+#include "common/bucket_sort.hpp"
 #include "common/input_errors.hpp"
 #include "model/model.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
 namespace engine {
 
@@ -86,19 +86,25 @@ void Model::rebuild_topology() {
   for (int32_t i = 0; i < n; ++i) node_body_[i] = tris_.body[gather_.slot[gather_.start[i]] / 3];
   // Boundary edges of each body: used by one triangle of that body only. The
   // mesh may be continuous across bodies (freeze bonds), so count per body.
-  std::vector<std::tuple<int32_t, int32_t, int32_t>> edges;
+  struct Edge {
+    int32_t a, b, body;  // a < b
+  };
+  std::vector<Edge> edges;
   edges.reserve(size_t(3) * m);
   for (int32_t t = 0; t < m; ++t)
     for (int c = 0; c < 3; ++c) {
       const int32_t a = tris_.node[3 * t + c], b = tris_.node[3 * t + (c + 1) % 3];
-      edges.emplace_back(tris_.body[t], std::min(a, b), std::max(a, b));
+      edges.push_back({std::min(a, b), std::max(a, b), tris_.body[t]});
     }
-  std::sort(edges.begin(), edges.end());
+  // grouped by node: a split rebuilds this over the whole mesh (common/bucket_sort.hpp)
+  bucket_sort(edges, n, [](const Edge& e) { return e.a; },
+              [](const Edge& e, const Edge& f) { return e.b != f.b ? e.b < f.b : e.body < f.body; });
+  auto same = [](const Edge& e, const Edge& f) { return e.a == f.a && e.b == f.b && e.body == f.body; };
   on_surface_.assign(n, 0);
   for (size_t i = 0; i < edges.size();) {
     size_t j = i + 1;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) on_surface_[std::get<1>(edges[i])] = on_surface_[std::get<2>(edges[i])] = 1;
+    while (j < edges.size() && same(edges[j], edges[i])) ++j;
+    if (j - i == 1) on_surface_[edges[i].a] = on_surface_[edges[i].b] = 1;
     i = j;
   }
   surface_tris_.clear();
@@ -132,6 +138,14 @@ void Model::set_triangle_node(int32_t tri, int corner, int32_t node) {
   if (tri < 0 || tri >= tris_.size()) bad("tri must be in [0, " + std::to_string(tris_.size() - 1) + "]");
   if (corner < 0 || corner > 2) bad("corner must be 0, 1 or 2");
   if (node < 0 || node >= nodes_.size()) bad("node must be in [0, " + std::to_string(nodes_.size() - 1) + "]");
+  const int32_t was = tris_.node[3 * tri + corner];
+  // the triangle's reference shape (Dm^-1, area, its limit) is the constructor's
+  if (nodes_.x0[node] != nodes_.x0[was] || nodes_.y0[node] != nodes_.y0[was])
+    bad("set_triangle_node: node " + std::to_string(node) + " is at (" + num(nodes_.x0[node]) + ", " +
+        num(nodes_.y0[node]) + ") m in the reference configuration, corner " + std::to_string(corner) +
+        " of triangle " + std::to_string(tri) + " at (" + num(nodes_.x0[was]) + ", " + num(nodes_.y0[was]) +
+        ") m: a corner can only be re-pointed to a node at its own reference place (a split)");
+  ref_stiffness_stale_ = true;  // the contact stiffness too (not a split: a rename would not do)
   tris_.node[3 * tri + corner] = node;
   prepared_ = false;
   awake_current_ = false;
@@ -148,6 +162,7 @@ int32_t Model::split_off(int32_t node, int32_t body) {
     body_wake_[tris_.body[s / 3]] = 1;
     if (tris_.body[s / 3] == body) tris_.node[s] = id;
   }
+  ref_stiffness_renames_.push_back({node, body, id});  // the contact stiffness follows (forces.cpp)
   for (BoundaryCondition& bc : bcs_)
     if (std::find(bc.nodes.begin(), bc.nodes.end(), node) != bc.nodes.end()) bc.nodes.push_back(id);
   nodes_.mass_floor[id] = nodes_.mass_floor[node];  // each side keeps what the node needed

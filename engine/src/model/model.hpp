@@ -294,6 +294,7 @@ class Model final : public BondHost {
 
   bool use_threads() const;
   void prepare();           // everything below + stable step + thread buffers
+  void compute_element_limits();  // element_dt0_, kept through bond splits
   void compute_masses();
   void scale_masses();  // the mass scaling part of compute_masses
   void build_constraints();
@@ -313,6 +314,9 @@ class Model final : public BondHost {
   GatherPlan gather_plan_;          // gathers in the element pass (gather_plan.hpp)
   std::vector<Material> materials_;
   std::vector<ElementMaterial> elem_mat_;
+  // each triangle's undamped limit and the materials it was taken with (compute_element_limits)
+  std::vector<double> element_dt0_;
+  std::vector<ElementMaterial> element_dt0_mat_;
   std::vector<double> body_area0_;
   std::vector<double> body_drag_;  // each body's drag constant this step [N s/m per m]
   std::vector<uint8_t> on_surface_;  // node lies on its body's boundary
@@ -335,6 +339,10 @@ class Model final : public BondHost {
   std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
   ContactStiffness ref_stiffness_;
   uint64_t ref_stiffness_topology_ = ~uint64_t(0);
+  // the bond splits since ref_stiffness_ was taken (split_off), applied to it
+  // instead of taking it again; any other edit of the corners makes it stale
+  std::vector<ShareRename> ref_stiffness_renames_;
+  bool ref_stiffness_stale_ = true;
   double ref_stiffness_reach_ = 0.0, ref_stiffness_penalty_ = 0.0;
   std::vector<int32_t> awake_tris_;  // computed triangles while sleeping is on
   std::vector<int32_t> node_body_;   // the body of each node's first corner (its sleeping unit)

@@ -78,11 +78,6 @@ double mass_ratio_for(double dt0, double tau, double need) {
   return need * (need + 2.0 * tau) / (dt0 * dt0);
 }
 
-double element_damped_dt(const Nodes& nodes, const Triangles& tris,
-                         const std::vector<ElementMaterial>& mat, int32_t t) {
-  return damped_dt(element_undamped_dt(nodes, tris, mat, t), mat[tris.body[t]].tau_eff());
-}
-
 std::string StableStep::governing() const {
   if (dt_element <= dt_contact && dt_element <= dt_drag) return "element";
   return dt_contact <= dt_drag ? "contact" : "drag";
@@ -113,7 +108,7 @@ std::string StableStep::describe(const std::vector<int32_t>& tri_body) const {
 }
 
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
-                            const std::vector<ElementMaterial>& mat,
+                            const std::vector<ElementMaterial>& mat, const std::vector<double>& element_dt0,
                             bool contact_possible, const ContactStableStep& contact,
                             const ExternalParams& ext,
                             const std::vector<double>& body_area0) {
@@ -121,7 +116,7 @@ StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
   s.dt_element = s.dt_contact = s.dt_drag = kInf;
   for (int32_t t = 0; t < tris.size(); ++t) {
     const int32_t a = tris.node[3 * t], b = tris.node[3 * t + 1], c = tris.node[3 * t + 2];
-    const double dt0 = element_undamped_dt(nodes, tris, mat, t);
+    const double dt0 = element_dt0[t];
     const double tau = mat[tris.body[t]].tau_eff();
     // Without mass scaling mass == mass_phys and the ratio is exactly 1.
     const double ratio = std::fmin(nodes.mass[a] / nodes.mass_phys[a],

@@ -68,15 +68,11 @@ double mass_ratio_for(double dt0, double tau, double need);
 double element_undamped_dt(const Nodes& nodes, const Triangles& tris,
                            const std::vector<ElementMaterial>& mat, int32_t t);
 
-// Critical step of triangle t with its physical lumped masses, strain-rate
-// damping included (the element limit before any mass scaling).
-double element_damped_dt(const Nodes& nodes, const Triangles& tris,
-                         const std::vector<ElementMaterial>& mat, int32_t t);
-
-// Element limits use the inertial masses: damped_dt with r the smallest
-// corner ratio mass/mass_phys of each triangle.
+// Element limits use the inertial masses: damped_dt of each triangle's
+// undamped limit dt0[t] (element_undamped_dt) with r the smallest corner
+// ratio mass/mass_phys.
 StableStep stable_time_step(const Nodes& nodes, const Triangles& tris,
-                            const std::vector<ElementMaterial>& mat,
+                            const std::vector<ElementMaterial>& mat, const std::vector<double>& dt0,
                             bool contact_possible, const ContactStableStep& contact,
                             const ExternalParams& ext,
                             const std::vector<double>& body_area0);
