@@ -142,13 +142,12 @@ def demo_run(scenes_dir, travel, device, out_dir):
     """The demo's run on device (cpu or cuda) in out_dir (its pile and mesh
     copied from scenes_dir/scenes): the result's path, or None where no demo
     scene is there."""
-    import glob
     import shutil
 
+    from icerubble.run.scene_cache import scene_paths
     from icerubble.study.line import run_one
-    files = sorted(glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_pile.h5"))
-                   + glob.glob(os.path.join(scenes_dir, "scenes", "demo_ridge1_*_mesh.h5")))
-    if len(files) < 2:
+    files = scene_paths("demo", 1, root=scenes_dir)   # only where made: the check makes no pile
+    if not all(os.path.exists(f) for f in files):
         return None
     os.makedirs(os.path.join(out_dir, "scenes"), exist_ok=True)
     for f in files:

@@ -12,9 +12,7 @@ cd "$(dirname "$0")/.."
 # the bench scripts import icerubble from this checkout (a lent machine has no install)
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
 start=$(date +%s)
-cmake -S . -B "$BUILD" -DPython3_EXECUTABLE="$(command -v "$PY")" \
-      -Dpybind11_DIR="$("$PY" -m pybind11 --cmakedir)" -DCMAKE_BUILD_TYPE=Release | grep icerubble
-cmake --build "$BUILD" -j"$(nproc)" >"$BUILD.log" 2>&1 || { tail -40 "$BUILD.log"; exit 1; }
+PY="$PY" tools/gpu_build.sh "$BUILD" "$BUILD.log"
 echo "built in $(( $(date +%s) - start )) s"
 triad=""   # a lent machine's compiler may lack OpenMP: the bandwidth is then left out
 ${CXX:-g++} -O3 -fopenmp bench/stream_triad.cpp -o "$BUILD/stream_triad" && triad="--triad $BUILD/stream_triad" || true

@@ -25,10 +25,7 @@ export PYTHONUNBUFFERED=1 PATH="$PATH:/usr/local/cuda/bin" PYTHONPATH="$PWD${PYT
 echo "== machine"; nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm --format=csv
 nproc; command -v nvcc && nvcc --version | tail -2
 echo "== build ($(left) s left)"
-cmake -S . -B "$BUILD" -DPython3_EXECUTABLE="$(command -v "$PY")" \
-      -Dpybind11_DIR="$("$PY" -m pybind11 --cmakedir)" -DCMAKE_BUILD_TYPE=Release >"$OUT/build.log" 2>&1
-grep icerubble "$OUT/build.log"
-timeout "$(cap 300)" cmake --build "$BUILD" -j"$(nproc)" >>"$OUT/build.log" 2>&1 || { tail -60 "$OUT/build.log"; exit 1; }
+PY="$PY" tools/gpu_build.sh "$BUILD" "$OUT/build.log" "$(cap 300)" || exit 1
 echo "built in $(( $(date +%s) - t0 )) s"
 "$PY" -c "from icerubble.engine import gpu; print('gpu available:', gpu.available(), gpu.why_unavailable() if not gpu.available() else gpu.device_name())"
 triad=()

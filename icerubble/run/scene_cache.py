@@ -81,6 +81,18 @@ def _yade_make_pile(cols, threads):
           flush=True)
 
 
+def scene_paths(name, ridge, root="runs"):
+    """Where scene_files keeps the pile and mesh of scene `name`, ridge
+    `ridge`: (pile_path, mesh_path), nothing made or checked (e.g. to use a
+    scene only where it is already made)."""
+    ridge = P.require_whole("ridge", ridge, 0)   # it seeds the pile
+    # absolute: phase 1 runs YADE in another folder
+    d = os.path.join(os.path.abspath(root), "scenes")
+    mu = pile_friction(name)
+    return (os.path.join(d, shipped_ridges.file_stem(pile_scene(name), ridge, mu)) + "_pile.h5",
+            os.path.join(d, shipped_ridges.file_stem(name, ridge, mu)) + "_mesh.h5")
+
+
 def scene_files(name, ridge, root="runs", threads=1):
     """(pile_path, mesh_path) of scene `name`, ridge number `ridge` (its seed).
 
@@ -88,14 +100,12 @@ def scene_files(name, ridge, root="runs", threads=1):
     shares that scene's pile file and has a mesh of its own."""
     sc = scene(name)
     ridge = P.require_whole("ridge", ridge, 0)   # it seeds the pile
-    # absolute: phase 1 runs YADE in another folder
-    d = os.path.join(os.path.abspath(root), "scenes")
-    os.makedirs(d, exist_ok=True)
+    pile_path, mesh_path = scene_paths(name, ridge, root)
+    os.makedirs(os.path.dirname(pile_path), exist_ok=True)
     source = pile_scene(name)
     mu = pile_friction(name)
-    pile_base = os.path.join(d, shipped_ridges.file_stem(source, ridge, mu))
-    base = os.path.join(d, shipped_ridges.file_stem(name, ridge, mu))
-    pile_path, mesh_path = pile_base + "_pile.h5", base + "_mesh.h5"
+    pile_base = pile_path[:-len("_pile.h5")]
+    base = mesh_path[:-len("_mesh.h5")]
     ship = shipped_ridges.shipped(source, ridge, mu)
     if os.path.exists(pile_path) and os.path.exists(mesh_path) and _mesh_current(mesh_path):
         _check_friction(pile_path, source, mu)
