@@ -406,31 +406,21 @@ struct DeviceStep::Impl {
   // node, value column j as run_batch writes them; a (node, component) set
   // again by a later condition (or twice in one) keeps its last entry only.
   void list_boundary_entries() {
-    std::map<std::pair<int32_t, int>, size_t> last;  // (node, component) -> entry
-    std::vector<int32_t> node, code;
+    std::map<std::pair<int32_t, int>, int32_t> code_of;  // (node, component) -> its code, the last written
     int j = 0;
     for (const BoundaryCondition& bc : bcs)
       for (int c = 0; c < 2; ++c) {
         if (!(c ? bc.y : bc.x)) continue;
-        for (const int32_t i : bc.nodes) {
-          auto at = last.find({i, c});
-          if (at != last.end()) {
-            code[at->second] = -1;  // superseded
-          }
-          last[{i, c}] = node.size();
-          node.push_back(i);
-          code.push_back(j << 1 | c);
-        }
+        for (const int32_t i : bc.nodes) code_of[{i, c}] = j << 1 | c;
         ++j;
       }
-    std::vector<int32_t> kept_node, kept_code;
-    for (size_t k = 0; k < node.size(); ++k)
-      if (code[k] >= 0) {
-        kept_node.push_back(node[k]);
-        kept_code.push_back(code[k]);
-      }
-    bc_node.upload(kept_node);
-    bc_code.upload(kept_code);
+    std::vector<int32_t> node, code;
+    for (const auto& e : code_of) {
+      node.push_back(e.first.first);
+      code.push_back(e.second);
+    }
+    bc_node.upload(node);
+    bc_code.upload(code);
   }
 
   // Every stage's kernels return once the batch's halt word is set.

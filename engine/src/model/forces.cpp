@@ -152,21 +152,16 @@ ContactInput Model::reference_contact_input() const {
 // (rename_contact_shares), where taking it again walked the whole mesh's
 // boundaries (most of a split step's cost on the paper mesh).
 const ContactStiffness& Model::reference_contact_stiffness() {
-  if (ref_stiffness_topology_ == topology_version_ && ref_stiffness_renames_.empty()) {
-    if (ref_stiffness_reach_ == params_.contact_reach && ref_stiffness_penalty_ == params_.contact.penalty)
-      return ref_stiffness_;
-  }
-  const bool same = !ref_stiffness_stale_ && ref_stiffness_reach_ == params_.contact_reach &&
-                    ref_stiffness_penalty_ == params_.contact.penalty;
-  if (same)
-    rename_contact_shares(ref_stiffness_, ref_stiffness_renames_, reference_contact_input());
-  else
+  if (ref_stiffness_stale_ || ref_stiffness_reach_ != params_.contact_reach ||
+      ref_stiffness_penalty_ != params_.contact.penalty) {
     ref_stiffness_ = contact_stiffness(params_.contact, reference_contact_input(), params_.contact_reach);
+    ref_stiffness_stale_ = false;
+    ref_stiffness_reach_ = params_.contact_reach;
+    ref_stiffness_penalty_ = params_.contact.penalty;
+  } else if (!ref_stiffness_renames_.empty()) {
+    rename_contact_shares(ref_stiffness_, ref_stiffness_renames_, reference_contact_input());
+  }
   ref_stiffness_renames_.clear();
-  ref_stiffness_stale_ = false;
-  ref_stiffness_topology_ = topology_version_;
-  ref_stiffness_reach_ = params_.contact_reach;
-  ref_stiffness_penalty_ = params_.contact.penalty;
   return ref_stiffness_;
 }
 

@@ -338,9 +338,9 @@ class Model final : public BondHost {
   int32_t raised_nodes_ = 0;      // node mass raises by the reach guard so far (this process)
   std::vector<double> reach_x_, reach_y_;  // node positions of the last contact step bound
   ContactStiffness ref_stiffness_;
-  uint64_t ref_stiffness_topology_ = ~uint64_t(0);
   // the bond splits since ref_stiffness_ was taken (split_off), applied to it
   // instead of taking it again; any other edit of the corners makes it stale
+  // (a model starts stale: nothing taken yet)
   std::vector<ShareRename> ref_stiffness_renames_;
   bool ref_stiffness_stale_ = true;
   double ref_stiffness_reach_ = 0.0, ref_stiffness_penalty_ = 0.0;
