@@ -6,7 +6,7 @@ Pandolfi 1999: 'work_conjugate'). Which of them the study keeps is the one
 whose trends with tau_cr match the paper's Tables 2-3 and Figs. 10-13: the
 first peak (tau^(1)), alpha, and how the bond points fail, n_t/n_s (Table 3:
 0.38, 1.44, 2.54 at tau_cr 5, 50, 100 kPa, counted at full failure over
-300 mm). This measures finished runs of data/study_deep.table and
+300 mm). This measures finished runs (to 20 or 300 mm) of data/study_deep.table and
 data/study_deep_direction.table (or any table of the deep scene):
 
     /usr/bin/python3 bench/force_direction.py --measure runs/deep/deep_ridge4_mu0.3_tau5k.h5 ...
@@ -55,8 +55,13 @@ def measure(path):
                 nt_ns_init=float(ratio0), y_I_end_mm=float(r.force_y[-1]) * 1e3, **measures(path))
 
 
+def travel_mm(row):
+    """The travel a run was made for (20 or 300 mm: Figs. 8-15 or Table 3)."""
+    return float(round(row["y_I_end_mm"]))
+
+
 def key(row):
-    return row["ridge"], row["mu"], row["tau_cr_kPa"], DIRECTIONS.index(row["force_direction"])
+    return row["ridge"], row["mu"], row["tau_cr_kPa"], travel_mm(row), DIRECTIONS.index(row["force_direction"])
 
 
 def main(argv=None):
@@ -70,7 +75,8 @@ def main(argv=None):
     for path in a.measure:
         row = measure(path)
         rows[key(row)] = row
-        print(f"ridge {row['ridge']} mu {row['mu']:g} tau_cr {row['tau_cr_kPa']:g} kPa {row['force_direction']:14s} "
+        print(f"ridge {row['ridge']} mu {row['mu']:g} tau_cr {row['tau_cr_kPa']:g} kPa to {travel_mm(row):g} mm "
+              f"{row['force_direction']:14s} "
               f"first peak {row['first_peak_kN_per_m']:.1f} kN/m at {row['y_I_first_peak_mm']:.2f} mm, "
               f"alpha {row['alpha_mean_1_20mm_deg']:.1f} +- {row['alpha_sd_1_20mm_deg']:.1f} deg, "
               f"n_t/n_s {row['n_t']}/{row['n_s']} at full failure, {row['n_t_init']}/{row['n_s_init']} at "

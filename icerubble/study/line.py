@@ -15,6 +15,8 @@ from ..run.presets import DEFAULT_NUMERICS, SCENES, numerics, scene
 
 
 def run_name(scene_name, ridge, params):
+    # '_wc' names the work-conjugate direction whichever form is the default, so a
+    # name made before the default changed (docs/model.md §3.3) still names its physics
     return (f"{scene_name}_ridge{int(ridge)}_mu{params['mu']:g}_tau{params['tau_cr'] / 1e3:g}k"
             + ("" if params["force_direction"] == "paper" else "_wc"))
 

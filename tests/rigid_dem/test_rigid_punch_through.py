@@ -6,6 +6,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from icerubble import parameters as P
 from icerubble.files import results
 from icerubble.study.table_check import check_table
 from postproc import loads, model_comparison
@@ -57,9 +58,10 @@ def test_the_figures_read_a_rigid_run(rigid_result, tmp_path):
     r = subprocess.run(["/usr/bin/python3", "-m", "postproc.make_figures", str(rigid_result.parent), "-o", str(out)],
                        cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-2000:]
-    # a folder of both models: one set of figures per model
-    assert (out / "rigid-dem_paper" / "fig08_peak_vs_mu.png").exists()
-    assert (out / "fem-dem_paper" / "fig08_peak_vs_mu.png").exists()
+    # a folder of both models: one set of figures per model (and force direction, the default here)
+    direction = P.REGISTRY["force_direction"].default
+    assert (out / f"rigid-dem_{direction}" / "fig08_peak_vs_mu.png").exists()
+    assert (out / f"fem-dem_{direction}" / "fig08_peak_vs_mu.png").exists()
 
 
 def test_a_table_with_an_unknown_model_is_refused_with_the_valid_ones(tmp_path):

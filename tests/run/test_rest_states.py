@@ -8,6 +8,7 @@ import h5py
 import numpy as np
 import pytest
 
+from icerubble import parameters as P
 from icerubble.files.h5io import open_complete
 from icerubble.run import rest_states as RS
 from icerubble.run import run_identity as RI
@@ -19,7 +20,7 @@ OPTS = dict(threads=1, progress_every_s=1e9, vtu=False)
 # Every parameter the settle is said not to read, changed. The strengths are
 # so low that a settle that checked them would split bond points under the
 # blocks' own weight.
-OTHER = dict(tau_cr=1.0, sigma_cr=1.0, G=0.01, strength_bottom_fraction=0.5, force_direction="work_conjugate",
+OTHER = dict(tau_cr=1.0, sigma_cr=1.0, G=0.01, strength_bottom_fraction=0.5, force_direction=P.OTHER_FORCE_DIRECTION,
              v_final=0.05, ramp_time=0.1, target_travel=0.006)
 
 

@@ -94,7 +94,7 @@ def test_a_checked_settle_reads_the_bond_strengths(mesh_path):
     key = lambda params: RI.run_id(RS.settle_identity(dict(run.params, **params), run.mesh,  # noqa: E731
                                                       RunOptions(**OPTS), 1))
     assert key(CHECKED) != key(PARAMS)
-    for k, v in (("tau_cr", 1.0), ("G", 0.01), ("force_direction", "work_conjugate")):
+    for k, v in (("tau_cr", 1.0), ("G", 0.01), ("force_direction", P.OTHER_FORCE_DIRECTION)):
         assert key(dict(CHECKED, **{k: v})) != key(CHECKED), k
         assert key(dict(PARAMS, **{k: v})) == key(PARAMS), k
     assert key(dict(CHECKED, v_final=0.05)) == key(CHECKED)

@@ -48,7 +48,7 @@ EXTREMES = {
     "v_final": [0.01, 2.0],                # 0.1 m/s
     "ramp_time": [0.0, 0.2],               # 2 s
     "rho_i": [300.0, 1005.0],              # 920 kg/m³ (water 1010)
-    "force_direction": ["work_conjugate"],
+    "force_direction": [P.OTHER_FORCE_DIRECTION],
 }
 DT_FRACTIONS = [0.2, 1.0]
 # extremes that shrink the stable step (or lengthen the run) by 5-20x: one at a time only

@@ -23,9 +23,11 @@ def test_bad_overrides_are_refused_before_the_pile_is_made(tmp_path):
 
 def test_run_names_tell_the_study_apart():
     from icerubble import parameters as P
-    a = run_name("paper", 2, P.validate(dict(mu=0.05, tau_cr=12.5e3)))
+    a = run_name("paper", 2, P.validate(dict(mu=0.05, tau_cr=12.5e3, force_direction="paper")))
     b = run_name("paper", 2, P.validate(dict(mu=0.05, tau_cr=12.5e3, force_direction="work_conjugate")))
     assert a == "paper_ridge2_mu0.05_tau12.5k" and b == a + "_wc"
+    # the name says the direction, whichever is the default (it changed: docs/model.md §3.3)
+    assert run_name("paper", 2, P.validate(dict(mu=0.05, tau_cr=12.5e3))) == b
 
 
 def test_every_scene_has_valid_parameters():
