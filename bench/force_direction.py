@@ -17,7 +17,8 @@ one). Per run: the first peak (the largest F before 1 mm) and the 5 mm
 rule's F^m, alpha and A_p over y_I = 1-20 mm through the split points,
 F(20 mm), the points split and fully failed while loading, n_t/n_s at full
 failure (Table 3's count, within the run's travel) and at initiation (the
-side of eq 6 on which each point split).
+side of eq 6 on which each point split); a run to 300 mm also its count within
+20 and 100 mm, its mean F over 20-100 and 100-300 mm and its record maximum.
 """
 import argparse
 import json
@@ -39,6 +40,27 @@ DIRECTIONS = ("paper", "work_conjugate")
 # Table 3 of the paper: n_t/n_s at full failure over 300 mm (mean, sd over
 # ridges 1-4 and both mu), by tau_cr [kPa]
 TABLE_3 = {5.0: (0.38, 0.14), 50.0: (1.44, 0.61), 100.0: (2.54, 0.91)}
+# travels [m] within which a long run's failures are counted again (how the count
+# moves from the 20 mm runs' window to Table 3's 300 mm) and the windows of its mean F
+COUNT_WITHIN = (0.02, 0.1)
+MEAN_F_WINDOWS = ((0.02, 0.1), (0.1, 0.3))
+
+
+def long_run(r, mode, y_fail):
+    """A run beyond 20 mm: n_t/n_s at full failure within each COUNT_WITHIN travel,
+    the mean F over each MEAN_F_WINDOWS window it reached, the record's maximum."""
+    y, F = np.asarray(r.force_y, float), np.asarray(r.force_F, float)
+    out = {}
+    for w in COUNT_WITHIN:
+        n_t, n_s, ratio = shear_strength.failure_mode_ratio(mode, np.where(y_fail <= w, y_fail, np.nan))
+        out[f"n_t_within_{w * 1e3:.0f}mm"], out[f"n_s_within_{w * 1e3:.0f}mm"] = int(n_t), int(n_s)
+    for a, b in MEAN_F_WINDOWS:
+        m = (y >= a) & (y <= b)
+        if y[-1] >= b and m.any():
+            out[f"F_mean_{a * 1e3:.0f}_{b * 1e3:.0f}mm_kN_per_m"] = float(F[m].mean()) / 1e3
+    i = int(np.argmax(F))
+    out.update(F_record_max_kN_per_m=float(F[i]) / 1e3, y_I_record_max_mm=float(y[i]) * 1e3)
+    return out
 
 
 def measure(path):
@@ -47,12 +69,14 @@ def measure(path):
     n_t, n_s, ratio = shear_strength.failure_mode_ratio(b["mode"], b["y_I_fail"])
     n_t0, n_s0, ratio0 = shear_strength.initiation_side_ratio(b["y_I_split"], b.get("split_tn"))
     p = r.parameters
+    y_fail = np.asarray(b["y_I_fail"], dtype=float)
+    extra = long_run(r, np.asarray(b["mode"]), y_fail) if r.force_y[-1] > 1.5 * COUNT_WITHIN[0] else {}
     return dict(file=os.path.basename(path), ridge=int(r.attrs["seed"]), mu=float(r.mu),
                 tau_cr_kPa=float(r.tau_cr) / 1e3, force_direction=str(p.get("force_direction", "paper")),
                 n_split=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_split"], dtype=float)))),
                 n_failed=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_fail"], dtype=float)))),
                 n_t=int(n_t), n_s=int(n_s), nt_ns=float(ratio), n_t_init=int(n_t0), n_s_init=int(n_s0),
-                nt_ns_init=float(ratio0), y_I_end_mm=float(r.force_y[-1]) * 1e3, **measures(path))
+                nt_ns_init=float(ratio0), y_I_end_mm=float(r.force_y[-1]) * 1e3, **measures(path), **extra)
 
 
 def travel_mm(row):
@@ -81,6 +105,12 @@ def main(argv=None):
               f"alpha {row['alpha_mean_1_20mm_deg']:.1f} +- {row['alpha_sd_1_20mm_deg']:.1f} deg, "
               f"n_t/n_s {row['n_t']}/{row['n_s']} at full failure, {row['n_t_init']}/{row['n_s_init']} at "
               f"initiation", flush=True)
+        if "F_record_max_kN_per_m" in row:
+            print("  " + ", ".join(f"{row[f'n_t_within_{w * 1e3:.0f}mm']}/{row[f'n_s_within_{w * 1e3:.0f}mm']} "
+                                   f"within {w * 1e3:.0f} mm" for w in COUNT_WITHIN)
+                  + "; mean F " + ", ".join(f"{row[k]:.1f}" for k in row if k.startswith("F_mean_"))
+                  + f" kN/m; record max {row['F_record_max_kN_per_m']:.1f} kN/m at {row['y_I_record_max_mm']:.1f} mm",
+                  flush=True)
     os.makedirs(os.path.dirname(OUT_JSON), exist_ok=True)
     with open(OUT_JSON + ".part", "w") as f:
         json.dump(dict(machine=machine.processor(), table_3=TABLE_3, runs=[rows[k] for k in sorted(rows)]),
