@@ -78,10 +78,26 @@ PEAK_KEYS = ("F_m_kN_per_m", "F_record_max_kN_per_m", "tau1_record_max_kPa")
 MODE_KEYS = ("nt_ns", "nt_ns_init", "failed_fraction")
 
 
+def one_run_per_case(rows):
+    """One row per (ridge, mu, tau_cr): the run with the longest travel. A study
+    runs some cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one
+    rest state, so both have the same first peak; counted twice, a case would weigh
+    double in a mean over ridges, and the 20 mm run's failure count would be mixed
+    into the 300 mm one's. Order of first appearance."""
+    kept = {}
+    for r in rows:
+        key = (r["ridge"], float(r["mu"]), float(r["tau_cr_kPa"]))
+        if key not in kept or r.get("y_I_end_mm", 0.0) > kept[key].get("y_I_end_mm", 0.0):
+            kept[key] = r
+    return list(kept.values())
+
+
 def table2(rows, tau_cr_values=None):
     """Table 2 from per-run summary rows (postproc.summary): for each tau_cr [kPa],
-    mean and sd of tau^(1..3) over all runs (both mu), and the ratios of the means
-    tau1/tau3 and tau2/tau3. Returns a list of dicts, one per tau_cr."""
+    mean and sd of tau^(1..3) over all runs (both mu; one per case,
+    one_run_per_case), and the ratios of the means tau1/tau3 and tau2/tau3.
+    Returns a list of dicts, one per tau_cr."""
+    rows = one_run_per_case(rows)
     if tau_cr_values is None:
         tau_cr_values = sorted({r["tau_cr_kPa"] for r in rows})
     out = []
@@ -101,8 +117,10 @@ def table3(rows, mu_low=0.05, mu_high=0.3, tau_cr_values=None):
     """Table 3 from per-run summary rows: for each tau_cr [kPa], the ratio
     tau(mu_high)/tau(mu_low) of runs on the same ridge (mean and sd over ridges) for
     each tau measure; n_t/n_s at full failure and at initiation and the failed
-    fraction (mean and sd over all runs of that tau_cr), and the counts summed
-    over those runs (a ratio with n_s = 0 is NaN, the sums still show it)."""
+    fraction (mean and sd over all runs of that tau_cr, one per case and the
+    longest: one_run_per_case), the counts summed over those runs (a ratio with
+    n_s = 0 is NaN, the sums still show it) and the travels they were counted over."""
+    rows = one_run_per_case(rows)
     if tau_cr_values is None:
         tau_cr_values = sorted({r["tau_cr_kPa"] for r in rows})
     out = []
@@ -121,5 +139,7 @@ def table3(rows, mu_low=0.05, mu_high=0.3, tau_cr_values=None):
         for k in ("n_t", "n_s", "n_t_init", "n_s_init"):
             entry[k + "_sum"] = float(np.sum([r[k] for r in sel]))
         entry["n_runs"] = len(sel)
+        entry["y_I_end_mm"] = sorted({round(float(r.get("y_I_end_mm", np.nan))) for r in sel
+                                      if np.isfinite(r.get("y_I_end_mm", np.nan))})
         out.append(entry)
     return out

@@ -89,10 +89,13 @@ def table3(cat):
     body.append(["n_t/n_s [-] at initiation, t_n >= 0 : t_n < 0 at the split"] + [_pm(e["nt_ns_init"]) for e in t3])
     body.append(["n_t : n_s at initiation summed over runs"] + [_sums(e, "n_t_init", "n_s_init") for e in t3])
     body.append(["fully failed / split bond points [-]"] + [_pm(e["failed_fraction"]) for e in t3])
+    body.append(["travel of the runs counted [mm]"] + [", ".join(f"{y:g}" for y in e["y_I_end_mm"]) or "–"
+                                                        for e in t3])
     body.append(["ridge pairs / runs"] + [f"{e['n_pairs']} / {e['n_runs']}" for e in t3])
     return _write(cat.out_dir, "table3_ratios", header, body,
                   "Table 3: tau ratio between mu values (same ridge); tensile/shear ratio n_t/n_s by mode at full "
-                  "failure (delta_n >= |delta_t| at delta_e = delta_f) of the points fully failed within the run, "
+                  "failure (delta_n >= |delta_t| at delta_e = delta_f) of the points fully failed within the run "
+                  "(of a case run to 20 and to 300 mm, the 300 mm run), "
                   "beside it the ratio by the side of eq 6 at the split and the share of split points that fully "
                   "failed; mean ± sd over runs.")
 

@@ -188,3 +188,21 @@ def test_tables_from_rows_by_hand():
     assert abs(t3["nt_ns_init"][0] - 3.0) < 1e-12 and abs(t3["failed_fraction"][0] - 0.375) < 1e-12
     # summed counts show 40 : 0 where every per-run ratio is 10/0 = NaN
     assert (t3["n_t_sum"], t3["n_s_sum"], t3["n_t_init_sum"], t3["n_s_init_sum"]) == (12, 4, 40, 0)
+
+
+def test_a_case_run_to_20_and_to_300_mm_counts_once_by_its_long_run():
+    """Ridge 1 at mu 0.05 run to 20 mm (n_t/n_s 3) and from the same rest state to
+    300 mm (1/3): Table 3 counts the 300 mm run only, and Table 2 the case once."""
+    def row(ridge, travel, nt_ns, n_t, n_s, tau1):
+        return {"ridge": ridge, "mu": 0.05, "tau_cr_kPa": 50.0, "y_I_end_mm": travel, "tau1_kPa": tau1,
+                "tau2_kPa": 1.0, "tau3_kPa": 1.0, "F_m_kN_per_m": 8.0 * tau1, "F_record_max_kN_per_m": 8.0 * tau1,
+                "tau1_record_max_kPa": tau1, "nt_ns": nt_ns, "nt_ns_init": 1.0, "failed_fraction": 0.5,
+                "n_t": n_t, "n_s": n_s, "n_t_init": 1, "n_s_init": 1}
+    rows = [row("1", 20.0, 3.0, 3, 1, 5.0), row("1", 300.0, 1 / 3, 1, 3, 5.0), row("2", 20.0, 2.0, 2, 1, 7.0)]
+    t3 = shear_strength.table3(rows)[0]
+    assert t3["n_runs"] == 2 and (t3["n_t_sum"], t3["n_s_sum"]) == (3, 4)
+    assert abs(t3["nt_ns"][0] - (1 / 3 + 2.0) / 2) < 1e-12 and t3["y_I_end_mm"] == [20, 300]
+    t2 = shear_strength.table2(rows)[0]
+    assert t2["n_runs"] == 2 and abs(t2["tau1_kPa"][0] - 6.0) < 1e-12
+    # the order of the rows does not choose
+    assert shear_strength.table3(rows[::-1])[0]["n_t_sum"] == 3
