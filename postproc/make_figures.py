@@ -48,15 +48,26 @@ def _variant(run):
     return run.model, str(run.parameters.get("force_direction", "paper"))
 
 
+def _travel(run):
+    return float(run.force_y[-1]) if len(run.force_y) else 0.0
+
+
 def _dedupe(runs, report):
+    """One run per case (ridge, mu, tau_cr): the one with the longest travel, of
+    equal ones the first. A study runs some cases to 20 mm and, from the same rest
+    state, to 300 mm: the long run has the short one's first 20 mm and the failure
+    count Table 3 takes (shear_strength.one_run_per_case)."""
     seen = {}
     for r in runs:
         key = (r.ridge, round(r.mu, 9), round(r.tau_cr, 6))
-        if key in seen:
-            report.append(f"- duplicate run (ridge {r.ridge}, mu {r.mu:g}, tau_cr {r.tau_cr / 1e3:g} kPa): "
-                          f"using {seen[key].name}, ignoring {r.name}")
-        else:
+        if key not in seen:
             seen[key] = r
+            continue
+        keep, drop = (r, seen[key]) if _travel(r) > _travel(seen[key]) else (seen[key], r)
+        report.append(f"- duplicate run (ridge {r.ridge}, mu {r.mu:g}, tau_cr {r.tau_cr / 1e3:g} kPa): "
+                      f"using {keep.name}, ignoring {drop.name}"
+                      + (f" (the longer travel, {_travel(keep) * 1e3:g} mm)" if _travel(keep) > _travel(drop) else ""))
+        seen[key] = keep
     return list(seen.values())
 
 

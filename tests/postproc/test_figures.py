@@ -84,6 +84,22 @@ def test_models_kept_apart_and_duplicates_listed(tmp_path):
     assert "duplicate run (ridge 1, mu 0.05, tau_cr 50 kPa): using a.h5, ignoring a_again.h5" in text
 
 
+def test_of_a_case_run_twice_the_longer_run_is_used(tmp_path):
+    """A case run to 20 mm and to 300 mm from one rest state: the figures and tables
+    read the 300 mm run, whichever file comes first."""
+    d = tmp_path / "runs"
+    d.mkdir()
+    synthetic.write_run(str(d / "a_long.h5"), "1", 0.05, 50e3, travel_end=0.06)
+    synthetic.write_run(str(d / "a.h5"), "1", 0.05, 50e3, travel_end=0.03)
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out)]) == 0
+    with open(out / "summary.csv") as fh:      # one variant: its folder is out itself
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 1 and rows[0]["file"].endswith("a_long.h5")
+    text = (out / "MISSING.md").read_text()
+    assert "using a_long.h5, ignoring a.h5 (the longer travel, 60 mm)" in text
+
+
 def test_bond_points_option(tmp_path, capsys):
     d = tmp_path / "runs"
     d.mkdir()
