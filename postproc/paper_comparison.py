@@ -28,7 +28,7 @@ from icerubble.files import results
 from icerubble.files.output_path import check_output_file, whole_file
 
 from . import displaced_area as dA
-from . import failure_plane, loads, plug, summary
+from . import failure_plane, loads, plug, shear_strength, summary
 from .failure_plane import mean_sd
 
 # The paper's numbers (section 3, Tables 2 and 3)
@@ -75,7 +75,10 @@ def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS):
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
         runs.append(run)
         rows.append(r)
-    return rows, runs
+    # a case run to 20 and to 300 mm counts once, by its longer run (docs/postproc.md)
+    kept = {id(r) for r in shear_strength.one_run_per_case(rows)}
+    pairs = [(r, run) for r, run in zip(rows, runs) if id(r) in kept]
+    return [r for r, _ in pairs], [run for _, run in pairs]
 
 
 def _sel(rows, tau=None, mu=None):

@@ -79,14 +79,15 @@ MODE_KEYS = ("nt_ns", "nt_ns_init", "failed_fraction")
 
 
 def one_run_per_case(rows):
-    """One row per (ridge, mu, tau_cr): the run with the longest travel. A study
+    """One row per (model, force direction, ridge, mu, tau_cr): the run with the
+    longest travel, of equal ones the first. A study
     runs some cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one
     rest state, so both have the same first peak; counted twice, a case would weigh
     double in a mean over ridges, and the 20 mm run's failure count would be mixed
     into the 300 mm one's. Order of first appearance."""
     kept = {}
     for r in rows:
-        key = (r["ridge"], float(r["mu"]), float(r["tau_cr_kPa"]))
+        key = (r.get("model"), r.get("force_direction"), r["ridge"], float(r["mu"]), float(r["tau_cr_kPa"]))
         if key not in kept or r.get("y_I_end_mm", 0.0) > kept[key].get("y_I_end_mm", 0.0):
             kept[key] = r
     return list(kept.values())
