@@ -8,9 +8,12 @@ Two processes of the same rigid run are not always alike on one machine: on
 the tiny ridge, about a third of the processes started by this test settled to
 another rest state (F at rest -45.60 against -51.07 N/m) or parted from the
 others while loading, whatever was resumed (YADE's polyhedra; the cause is not
-found, docs/reproducibility.md). So the resumed run is compared with the
-uninterrupted one only where that run's record reached the stop in the
-stopped run's bits; the restored state is compared with the stopped one always.
+found, docs/reproducibility.md). So the restored state is compared with the
+stopped one always, and the resumed record with the uninterrupted run's where
+that run reached the stop in the stopped run's bits; where the resumed record
+parts from it, the checkpoint is taken up once more: two resumed runs that agree
+with each other and not with the run never stopped fail the test (a resume that
+loses a state), a second one that agrees passes it.
 """
 import os
 import shutil
@@ -67,11 +70,30 @@ def test_a_rigid_run_stopped_by_sigterm_resumes_bit_for_bit(tiny_runs, tmp_path)
     if not same_state(tmp_path / "r.npz", tmp_path / "a.npz"):
         pytest.skip("the uninterrupted run's process parted from the stopped run's before the stop "
                     "(module docstring): the resumed record has nothing to be compared with")
-    with h5py.File(reference) as a, h5py.File(out) as b:
-        for k in COMPARED:
-            assert np.array_equal(a[k][()], b[k][()], equal_nan=True), k
-        for s in a["snapshots"]:
-            assert np.array_equal(a["snapshots"][s]["u_node"][()], b["snapshots"][s]["u_node"][()]), s
+    if same_record(reference, out):
+        return
+    # Parted after the stop: the resume, or one of the two processes (module
+    # docstring)? A state lost at the resume parts every resumed run the same way;
+    # a process that parts does so at random. So the checkpoint is taken up again.
+    again = tmp_path / "again.h5"
+    shutil.copy(kept, tmp_path / "again.checkpoint.h5")
+    code, log = run_scene(dict(env, OUT=str(again)), tmp_path)
+    assert code == 0 and "resumed from" in log, log[-2000:]
+    if same_record(reference, again):
+        return
+    assert not same_record(out, again), (
+        "two runs resumed from one checkpoint agree with each other and not with the run never stopped: "
+        "the resume loses or changes a state")
+    pytest.skip("the resumed runs parted from each other as well as from the run never stopped: processes "
+                "that differ (module docstring), nothing to tell about the resume")
+
+
+def same_record(a, b):
+    """The records and the snapshots' displacements, bit for bit."""
+    with h5py.File(a) as x, h5py.File(b) as y:
+        return (all(np.array_equal(x[k][()], y[k][()], equal_nan=True) for k in COMPARED)
+                and all(np.array_equal(x["snapshots"][s]["u_node"][()], y["snapshots"][s]["u_node"][()])
+                        for s in x["snapshots"]))
 
 
 def same_state(a, b):
