@@ -31,8 +31,15 @@ EARLIER_PAPER_RIDGE = (
     "90,950 triangles). The paper scene's ridges have since been remade as the paper's "
     "(410-413 blocks, porosity 0.26; docs/pile_and_mesh.md, \"The paper scene's piles\"): "
     "these figures are not yet measured on them.")
-NOTES = {"paper_cost.json": EARLIER_PAPER_RIDGE, "paper_peak.json": EARLIER_PAPER_RIDGE,
-         "rigid_cost.json": EARLIER_PAPER_RIDGE}
+# runs with bonds measured before the default force direction changed (docs/model.md §3.3)
+PRINTED_EQ_11 = ("Its runs took eq 11 as printed, the default force direction until 2026-11-29; the default "
+                 "is now the work-conjugate form (docs/model.md §3.3), so a run of the script today makes "
+                 "other figures.")
+NOTES = {"paper_cost.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
+         "paper_peak.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
+         "rigid_cost.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
+         "runtime_vs_error.json": PRINTED_EQ_11, "time_vs_error.json": PRINTED_EQ_11,
+         "sleeping_wide.json": PRINTED_EQ_11}
 # the benchmark that writes each result, where its name is not the result's
 SCRIPT = {"sleeping_wide.json": "sleeping.py", "paper_peak_cuda.json": "paper_peak.py"}
 
