@@ -24,7 +24,7 @@ from icerubble import cli
 from icerubble.files import results
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import failure_plane, figures_deformation, figures_failure, figures_force, summary, tables
+from . import failure_plane, figures_deformation, figures_failure, figures_force, shear_strength, summary, tables
 from .catalog import Catalog, Missing
 
 FIGURES = {**figures_force.FIGURES, **figures_failure.FIGURES, **figures_deformation.FIGURES}
@@ -53,22 +53,16 @@ def _travel(run):
 
 
 def _dedupe(runs, report):
-    """One run per case (ridge, mu, tau_cr): the one with the longest travel, of
-    equal ones the first. A study runs some cases to 20 mm and, from the same rest
-    state, to 300 mm: the long run has the short one's first 20 mm and the failure
-    count Table 3 takes (shear_strength.one_run_per_case)."""
-    seen = {}
-    for r in runs:
-        key = (r.ridge, round(r.mu, 9), round(r.tau_cr, 6))
-        if key not in seen:
-            seen[key] = r
-            continue
-        keep, drop = (r, seen[key]) if _travel(r) > _travel(seen[key]) else (seen[key], r)
-        report.append(f"- duplicate run (ridge {r.ridge}, mu {r.mu:g}, tau_cr {r.tau_cr / 1e3:g} kPa): "
+    """One run per case (ridge, mu, tau_cr) of a variant: the one with the longest
+    travel, of equal ones the first (shear_strength.longest_per_case: a case run to
+    20 mm and, from the same rest state, to 300 mm is read from its 300 mm run)."""
+    kept, dropped = shear_strength.longest_per_case(runs, lambda r: (r.ridge, round(r.mu, 9), round(r.tau_cr, 6)),
+                                                    _travel)
+    for drop, keep in dropped:
+        report.append(f"- duplicate run (ridge {drop.ridge}, mu {drop.mu:g}, tau_cr {drop.tau_cr / 1e3:g} kPa): "
                       f"using {keep.name}, ignoring {drop.name}"
                       + (f" (the longer travel, {_travel(keep) * 1e3:g} mm)" if _travel(keep) > _travel(drop) else ""))
-        seen[key] = keep
-    return list(seen.values())
+    return kept
 
 
 def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS):

@@ -76,8 +76,8 @@ def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS):
         runs.append(run)
         rows.append(r)
     # a case run to 20 and to 300 mm counts once, by its longer run (docs/postproc.md)
-    kept = {id(r) for r in shear_strength.one_run_per_case(rows)}
-    pairs = [(r, run) for r, run in zip(rows, runs) if id(r) in kept]
+    pairs, _ = shear_strength.longest_per_case(list(zip(rows, runs)), lambda p: shear_strength.row_case(p[0]),
+                                               lambda p: shear_strength.row_travel(p[0]))
     return [r for r, _ in pairs], [run for _, run in pairs]
 
 

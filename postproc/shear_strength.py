@@ -78,19 +78,39 @@ PEAK_KEYS = ("F_m_kN_per_m", "F_record_max_kN_per_m", "tau1_record_max_kPa")
 MODE_KEYS = ("nt_ns", "nt_ns_init", "failed_fraction")
 
 
+def longest_per_case(items, case, travel):
+    """(kept, dropped): of the items of one case(item), the one of the longest
+    travel(item), of equal ones the first, in order of each case's first
+    appearance; dropped: (item set aside, item kept then) pairs. A study runs some
+    cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one rest
+    state, so both have the same first peak; counted twice, a case would weigh
+    double in a mean over ridges, and the 20 mm run's failure count would be
+    mixed into the 300 mm one's."""
+    kept, dropped = {}, []
+    for item in items:
+        k = case(item)
+        if k not in kept:
+            kept[k] = item
+        elif travel(item) > travel(kept[k]):
+            dropped.append((kept[k], item))
+            kept[k] = item
+        else:
+            dropped.append((item, kept[k]))
+    return list(kept.values()), dropped
+
+
+def row_case(r):
+    """A summary row's case: (model, force direction, ridge, mu, tau_cr)."""
+    return r.get("model"), r.get("force_direction"), r["ridge"], float(r["mu"]), float(r["tau_cr_kPa"])
+
+
+def row_travel(r):
+    return r.get("y_I_end_mm", 0.0)
+
+
 def one_run_per_case(rows):
-    """One row per (model, force direction, ridge, mu, tau_cr): the run with the
-    longest travel, of equal ones the first. A study
-    runs some cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one
-    rest state, so both have the same first peak; counted twice, a case would weigh
-    double in a mean over ridges, and the 20 mm run's failure count would be mixed
-    into the 300 mm one's. Order of first appearance."""
-    kept = {}
-    for r in rows:
-        key = (r.get("model"), r.get("force_direction"), r["ridge"], float(r["mu"]), float(r["tau_cr_kPa"]))
-        if key not in kept or r.get("y_I_end_mm", 0.0) > kept[key].get("y_I_end_mm", 0.0):
-            kept[key] = r
-    return list(kept.values())
+    """One summary row per case (row_case), the longest run's (longest_per_case)."""
+    return longest_per_case(rows, row_case, row_travel)[0]
 
 
 def table2(rows, tau_cr_values=None):
