@@ -18,7 +18,8 @@ rule's F^m, alpha and A_p over y_I = 1-20 mm through the split points,
 F(20 mm), the points split and fully failed while loading, n_t/n_s at full
 failure (Table 3's count, within the run's travel) and at initiation (the
 side of eq 6 on which each point split); a run to 300 mm also its count within
-20 and 100 mm, its mean F over 20-100 and 100-300 mm and its record maximum.
+20 and 100 mm, its mean F over 20-150 and 150-300 mm (the paper's intervals,
+postproc/summary.py) and its record maximum.
 """
 import argparse
 import json
@@ -33,7 +34,7 @@ sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from deep_vs_paper import measures  # noqa: E402
 from icerubble import machine  # noqa: E402
 from icerubble.files import results  # noqa: E402
-from postproc import shear_strength  # noqa: E402
+from postproc import loads, shear_strength, summary  # noqa: E402
 
 OUT_JSON = os.path.join(ROOT, "bench", "results", "force_direction.json")
 DIRECTIONS = ("paper", "work_conjugate")
@@ -41,25 +42,24 @@ DIRECTIONS = ("paper", "work_conjugate")
 # ridges 1-4 and both mu), by tau_cr [kPa]
 TABLE_3 = {5.0: (0.38, 0.14), 50.0: (1.44, 0.61), 100.0: (2.54, 0.91)}
 # travels [m] within which a long run's failures are counted again (how the count
-# moves from the 20 mm runs' window to Table 3's 300 mm) and the windows of its mean F
+# moves from the 20 mm runs' window to Table 3's 300 mm)
 COUNT_WITHIN = (0.02, 0.1)
-MEAN_F_WINDOWS = ((0.02, 0.1), (0.1, 0.3))
 
 
 def long_run(r, mode, y_fail):
     """A run beyond 20 mm: n_t/n_s at full failure within each COUNT_WITHIN travel,
-    the mean F over each MEAN_F_WINDOWS window it reached, the record's maximum."""
-    y, F = np.asarray(r.force_y, float), np.asarray(r.force_F, float)
+    the mean F over each of the paper's post-peak intervals the record covers and
+    the record's maximum, as postproc/summary.py takes them."""
     out = {}
     for w in COUNT_WITHIN:
-        n_t, n_s, ratio = shear_strength.failure_mode_ratio(mode, np.where(y_fail <= w, y_fail, np.nan))
+        n_t, n_s, _ = shear_strength.failure_mode_ratio(mode, np.where(y_fail <= w, y_fail, np.nan))
         out[f"n_t_within_{w * 1e3:.0f}mm"], out[f"n_s_within_{w * 1e3:.0f}mm"] = int(n_t), int(n_s)
-    for a, b in MEAN_F_WINDOWS:
-        m = (y >= a) & (y <= b)
-        if y[-1] >= b and m.any():
-            out[f"F_mean_{a * 1e3:.0f}_{b * 1e3:.0f}mm_kN_per_m"] = float(F[m].mean()) / 1e3
-    i = int(np.argmax(F))
-    out.update(F_record_max_kN_per_m=float(F[i]) / 1e3, y_I_record_max_mm=float(y[i]) * 1e3)
+    y, F = r.force_y, r.force_F
+    for a, b in summary.POST_PEAK_INTERVALS:
+        if y[-1] >= b:
+            out[f"F_mean_{a * 1e3:.0f}_{b * 1e3:.0f}mm_kN_per_m"] = loads.mean_load(y, F, a, b) / 1e3
+    F_max, y_max = loads.record_maximum(y, F)
+    out.update(F_record_max_kN_per_m=F_max / 1e3, y_I_record_max_mm=y_max * 1e3)
     return out
 
 
@@ -74,7 +74,7 @@ def measure(path):
     return dict(file=os.path.basename(path), ridge=int(r.attrs["seed"]), mu=float(r.mu),
                 tau_cr_kPa=float(r.tau_cr) / 1e3, force_direction=str(p.get("force_direction", "paper")),
                 n_split=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_split"], dtype=float)))),
-                n_failed=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_fail"], dtype=float)))),
+                n_failed=int(np.count_nonzero(np.isfinite(y_fail))),
                 n_t=int(n_t), n_s=int(n_s), nt_ns=float(ratio), n_t_init=int(n_t0), n_s_init=int(n_s0),
                 nt_ns_init=float(ratio0), y_I_end_mm=float(r.force_y[-1]) * 1e3, **measures(path), **extra)
 
