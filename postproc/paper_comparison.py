@@ -6,8 +6,12 @@ of F^m between ridges, the effect of μ, the failure-plane angle α, the shear
 strengths of Table 2, the failure-mode ratio of Table 3, the buoyant share
 F_b(A_p)/F^m and the correlation of post-peak F with F_d(K = 0.45).
 
-    /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [-o comparison.md]
-        [--bond-points split|failed]
+    /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [RESULTS_DIR ...]
+        [--label NAME ...] [-o comparison.md] [--bond-points split|failed]
+
+Two or more folders, or one that holds eq 11's two forms (or both models), give
+one table with a column each beside the paper's (e.g. the paper-depth study, the
+reduced study, the paper); a statistic a column cannot give is shown as —.
 
 F^m is the cohesive peak (maximum over the first 5 mm), the record maximum beside
 it; α and A_p come from the split bond points unless --bond-points failed; n_t/n_s
@@ -119,58 +123,67 @@ def single_sample_load(run, y_I):
     return loads.load_at(run.force_y, run.force_F, y_I)
 
 
-def table(rows, runs):
+def describe(rows):
+    """One line naming the runs a column reads and the definitions it uses."""
     taus = sorted({r["tau_cr_kPa"] for r in rows})
     ridges = sorted({r["ridge"] for r in rows})
     mus = sorted({r["mu"] for r in rows})
     window = loads.COHESIVE_PEAK_TRAVEL * 1e3
-    L = [f"Runs: {len(rows)} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
-         f"τ_cr {', '.join(f'{t:g}' for t in taus)} kPa); travel up to "
-         f"{max(r['y_I_end_mm'] for r in rows):.0f} mm; keel depth "
-         f"{_pm([r['keel_depth_m'] for r in rows])} m, indenter width "
-         f"{rows[0]['indenter_width_m']:g} m, porosity {_pm([r['porosity'] for r in rows])}. "
-         f"F^m: the cohesive peak (maximum over 0-{window:g} mm); α, A_p: "
-         f"{failure_plane.BOND_POINTS[rows[0]['bond_points']][1]}.", "",
-         "| statistic | this study | paper |", "|---|---|---|"]
-    L.append(f"| y_I at F^m [mm], all runs | {_pm([r['y_I_peak_mm'] for r in rows])} | {PAPER['y_peak']} |")
+    return (f"Runs: {len(rows)} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
+            f"τ_cr {', '.join(f'{t:g}' for t in taus)} kPa); travel up to "
+            f"{max(r['y_I_end_mm'] for r in rows):.0f} mm; keel depth "
+            f"{_pm([r['keel_depth_m'] for r in rows])} m, indenter width "
+            f"{rows[0]['indenter_width_m']:g} m, porosity {_pm([r['porosity'] for r in rows])}. "
+            f"F^m: the cohesive peak (maximum over 0-{window:g} mm); α, A_p: "
+            f"{failure_plane.BOND_POINTS[rows[0]['bond_points']][1]}.")
+
+
+def statistics(rows, runs):
+    """[(statistic, this study, paper), ...] in a fixed order; a statistic the
+    runs cannot give (no run at its τ_cr or μ, one ridge for a spread, no
+    snapshot from 20 mm on for R) is left out."""
+    mus = sorted({r["mu"] for r in rows})
+    window = loads.COHESIVE_PEAK_TRAVEL * 1e3
+    S = []
+    S.append(("y_I at F^m [mm], all runs", _pm([r['y_I_peak_mm'] for r in rows]), PAPER['y_peak']))
     if _sel(rows, 50.0):
-        L.append(f"| y_I at F^m [mm], τ_cr 50 kPa | {_pm([r['y_I_peak_mm'] for r in _sel(rows, 50.0)])} | "
-                 f"{PAPER['y_peak']} |")
+        S.append(("y_I at F^m [mm], τ_cr 50 kPa", _pm([r['y_I_peak_mm'] for r in _sel(rows, 50.0)]),
+                  PAPER['y_peak']))
     late = sum(r["y_I_record_max_mm"] > window for r in rows)
-    L.append(f"| runs whose record maximum lies beyond {window:g} mm | {late} of {len(rows)} | "
-             "none (F^m is the cohesive peak and the maximum) |")
-    L.append(f"| F^m [kN/m]; record maximum [kN/m] at y_I [mm] | {_pm([r['F_m_kN_per_m'] for r in rows], 1)}; "
-             f"{_pm([r['F_record_max_kN_per_m'] for r in rows], 1)} at "
-             f"{_pm([r['y_I_record_max_mm'] for r in rows])} | one and the same, at ~1 mm |")
+    S.append((f"runs whose record maximum lies beyond {window:g} mm", f"{late} of {len(rows)}",
+              "none (F^m is the cohesive peak and the maximum)"))
+    S.append(("F^m [kN/m]; record maximum [kN/m] at y_I [mm]",
+              f"{_pm([r['F_m_kN_per_m'] for r in rows], 1)}; {_pm([r['F_record_max_kN_per_m'] for r in rows], 1)} at "
+              f"{_pm([r['y_I_record_max_mm'] for r in rows])}", "one and the same, at ~1 mm"))
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
-    L.append(f"| F(20 mm)/F^m, all runs | {_pm(drop)} | {PAPER['drop']} |")
+    S.append(("F(20 mm)/F^m, all runs", _pm(drop), PAPER['drop']))
     for key, what in (("F_m_kN_per_m", "F^m"), ("F_record_max_kN_per_m", "record maximum")):
         for mu in mus:
-            if _sel(rows, 50.0, mu):
-                L.append(f"| {what} spread between ridges, τ_cr 50 kPa, μ {mu:g} [%] | "
-                         f"{spread(rows, 50.0, mu, key):.0f} | {PAPER['spread']} |")
+            if len(_sel(rows, 50.0, mu)) >= 2:
+                S.append((f"{what} spread between ridges, τ_cr 50 kPa, μ {mu:g} [%]",
+                          f"{spread(rows, 50.0, mu, key):.0f}", PAPER['spread']))
     for tau, paper_key in ((50.0, "mu_50"), (5.0, "mu_5"), (100.0, None)):
         eff = mu_effect(rows, tau)
         if eff:
-            L.append(f"| F^m(μ 0.3)/F^m(μ 0.05) - 1, τ_cr {tau:g} kPa [%] | {_pm(eff, 1)}; range "
-                     f"{min(eff):.1f} to {max(eff):.1f} | {PAPER[paper_key] if paper_key else '~2.5 % (Fig. 11)'} |")
+            S.append((f"F^m(μ 0.3)/F^m(μ 0.05) - 1, τ_cr {tau:g} kPa [%]",
+                      f"{_pm(eff, 1)}; range {min(eff):.1f} to {max(eff):.1f}",
+                      PAPER[paper_key] if paper_key else "~2.5 % (Fig. 11)"))
     for mu in mus:
         sel = _sel(rows, 50.0, mu)
         if sel:
-            a = [r["alpha_mean_1_20mm_deg"] for r in sel]
-            L.append(f"| α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means) | {_pm(a, 0)} | "
-                     f"{PAPER['alpha_50'].get(mu, '—')} |")
+            S.append((f"α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means)",
+                      _pm([r["alpha_mean_1_20mm_deg"] for r in sel], 0), PAPER['alpha_50'].get(mu, '—')))
     for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
         for tau in (5.0, 50.0, 100.0):
             sel = _sel(rows, tau)
             if sel:
-                L.append(f"| Table 2 {label} [kPa], τ_cr {tau:g} kPa | {_pm([r[key + '_kPa'] for r in sel])} | "
-                         f"{PAPER[key][int(tau)]} |")
+                S.append((f"Table 2 {label} [kPa], τ_cr {tau:g} kPa", _pm([r[key + '_kPa'] for r in sel]),
+                          PAPER[key][int(tau)]))
     for tau in (5.0, 50.0, 100.0):
         sel = _sel(rows, tau)
         if sel:
-            L.append(f"| τ^(1) from the record maximum [kPa], τ_cr {tau:g} kPa | "
-                     f"{_pm([r['tau1_record_max_kPa'] for r in sel])} | {PAPER['tau1'][int(tau)]} (F^m) |")
+            S.append((f"τ^(1) from the record maximum [kPa], τ_cr {tau:g} kPa",
+                      _pm([r['tau1_record_max_kPa'] for r in sel]), f"{PAPER['tau1'][int(tau)]} (F^m)"))
     for tau in (5.0, 50.0, 100.0):
         sel = _sel(rows, tau)
         if not sel:
@@ -178,23 +191,54 @@ def table(rows, runs):
         sums = {k: np.sum([r[k] for r in sel]) for k in ("n_t", "n_s", "n_t_init", "n_s_init")}
         # NaN initiation counts (a file without /bonds/split_tn) make the sum NaN: shown as —
         init = f"{sums['n_t_init']:.0f}:{sums['n_s_init']:.0f}" if np.isfinite(sums["n_t_init"]) else "—"
-        L.append(f"| Table 3 n_t/n_s (mode at full failure), τ_cr {tau:g} kPa | {_pm([r['nt_ns'] for r in sel])}; "
-                 f"summed {sums['n_t']:.0f}:{sums['n_s']:.0f} | {PAPER['ntns'][int(tau)]} |")
-        L.append(f"| n_t/n_s at initiation (t_n ≥ 0 : t_n < 0 at the split), τ_cr {tau:g} kPa | "
-                 f"{_pm([r['nt_ns_init'] for r in sel])}; summed {init} | — |")
-        L.append(f"| fully failed / split bond points, τ_cr {tau:g} kPa | "
-                 f"{_pm([r['failed_fraction'] for r in sel])} | — |")
+        S.append((f"Table 3 n_t/n_s (mode at full failure), τ_cr {tau:g} kPa",
+                  f"{_pm([r['nt_ns'] for r in sel])}; summed {sums['n_t']:.0f}:{sums['n_s']:.0f}",
+                  PAPER['ntns'][int(tau)]))
+        S.append((f"n_t/n_s at initiation (t_n ≥ 0 : t_n < 0 at the split), τ_cr {tau:g} kPa",
+                  f"{_pm([r['nt_ns_init'] for r in sel])}; summed {init}", "—"))
+        S.append((f"fully failed / split bond points, τ_cr {tau:g} kPa", _pm([r['failed_fraction'] for r in sel]), "—"))
     sel = _sel(rows, 50.0)
     if sel:
         share = [r["F_b_Ap_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in sel]
-        L.append(f"| F_b(A_p, η)/F^m, τ_cr 50 kPa | {_pm(share)} | {PAPER['Fb_share']} |")
+        S.append(("F_b(A_p, η)/F^m, τ_cr 50 kPa", _pm(share), PAPER['Fb_share']))
     half = dA.LOAD_WINDOW_HALF_WIDTH * 1e3
     for tau in (50.0, None):
         what = "τ_cr 50 kPa" if tau else "all runs"
         R, n, ratio = r_fd(runs, tau)
+        if n == 0:   # no snapshot from 20 mm on
+            continue
         R1 = r_fd(runs, tau, load=single_sample_load)[0]
-        L.append(f"| R(F̄, F_d(K 0.45)), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what} | {R:.2f} ({n} points; "
-                 f"from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} (median) | {PAPER['R045']} |")
+        S.append((f"R(F̄, F_d(K 0.45)), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what}",
+                  f"{R:.2f} ({n} points; from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} (median)",
+                  PAPER['R045']))
+    return S
+
+
+def table(rows, runs):
+    L = [describe(rows), "", "| statistic | this study | paper |", "|---|---|---|"]
+    L += [f"| {what} | {ours} | {paper} |" for what, ours, paper in statistics(rows, runs)]
+    return "\n".join(L)
+
+
+def side_by_side(columns):
+    """One table, a column per (name, rows, runs) and the paper's last: the rows
+    are the statistics in statistics()' order, — where a column cannot give one
+    (e.g. no run at that τ_cr). Each column's runs are described below the
+    table."""
+    stats = [(name, statistics(rows, runs)) for name, rows, runs in columns]
+    paper = {what: p for _, S in stats for what, _, p in S}
+    # statistics()' order: every condition for a row holds on the pooled runs
+    # when it holds on one column's, so their list names every row in order
+    pooled = statistics([r for _, rows, _ in columns for r in rows], [run for _, _, runs in columns for run in runs])
+    order = [what for what, _, _ in pooled if what in paper]
+    assert len(order) == len(paper), "a column's statistic the pooled runs do not give"
+    L = ["| statistic | " + " | ".join(name for name, _ in stats) + " | paper |",
+         "|---|" + "---|" * (len(stats) + 1)]
+    for what in order:
+        cells = [dict((w, v) for w, v, _ in S).get(what, "—") for _, S in stats]
+        L.append(f"| {what} | " + " | ".join(cells) + f" | {paper[what]} |")
+    L.append("")
+    L += [f"- **{name}**: {describe(rows)}" for name, rows, _ in columns]
     return "\n".join(L)
 
 
@@ -203,34 +247,54 @@ def variant(row):
     return row["model"], row["force_direction"]
 
 
-def tables_by_variant(rows, runs):
-    """One table per (model, force direction), as make_figures keeps them apart;
-    a heading names each when there is more than one (issue 26: eq 11's two
-    forms side by side against Tables 2-3)."""
-    keys = sorted({variant(r) for r in rows})
-    if len(keys) == 1:
-        return table(rows, runs)
-    parts = []
-    for key in keys:
-        sel = [i for i, r in enumerate(rows) if variant(r) == key]
-        parts.append(f"### {key[0]}, force_direction = {key[1]}\n\n"
-                     + table([rows[i] for i in sel], [runs[i] for i in sel]))
-    return "\n\n".join(parts)
+def variant_name(key):
+    model, direction = key
+    return f"{model}, force_direction = {direction}"
+
+
+def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS):
+    """(name, rows, runs) per folder and variant, in the folders' order: a
+    folder's name is its label (its path if none), followed by the variant when
+    the folder holds more than one, so eq 11's two forms are two columns."""
+    out = []
+    for k, folder in enumerate(folders):
+        rows, runs = rows_and_runs(folder, bond_points)
+        if not rows:
+            raise ValueError(f"no complete run results under {folder}")
+        name = labels[k] if labels else folder
+        keys = sorted({variant(r) for r in rows})
+        for key in keys:
+            sel = [i for i, r in enumerate(rows) if variant(r) == key]
+            out.append((name if len(keys) == 1 else f"{name} ({variant_name(key)})",
+                        [rows[i] for i in sel], [runs[i] for i in sel]))
+    return out
+
+
+def comparison(cols):
+    """The table of one column, or the columns side by side."""
+    if len(cols) == 1:
+        return table(cols[0][1], cols[0][2])
+    return side_by_side(cols)
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="icerubble compare", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("results_dir")
+    ap.add_argument("results_dir", nargs="+",
+                    help="folders of runs; two or more are put side by side (e.g. the paper-depth and the reduced study)")
+    ap.add_argument("--label", action="append",
+                    help="a column's name, once per folder in the same order (default: the folder's path)")
     ap.add_argument("-o", "--out", help="also write the Markdown table here")
     summary.add_bond_points_option(ap)
     a = ap.parse_args(argv)
+    if a.label and len(a.label) != len(a.results_dir):
+        ap.error(f"--label given {len(a.label)} times for {len(a.results_dir)} folders: give one per folder or none")
+    for folder in a.results_dir:
+        if not os.path.isdir(folder):
+            raise ValueError(f"{folder}: no such folder of results")
     if a.out:
         check_output_file(a.out, "--out")
-    rows, runs = rows_and_runs(a.results_dir, a.bond_points)
-    if not rows:
-        raise ValueError(f"no complete run results under {a.results_dir}")
-    text = tables_by_variant(rows, runs)
+    text = comparison(columns(a.results_dir, a.label, a.bond_points))
     print(text)
     if a.out:
         with whole_file(a.out) as f:

@@ -1,26 +1,72 @@
-"""The side-by-side table keeps what must not be mixed apart: one table per
-model and force direction (eq 11's two forms are compared, never pooled)."""
+"""The side-by-side table keeps what must not be mixed apart: a column per
+folder, model and force direction (eq 11's two forms are compared, never
+pooled), each column's values those of its runs alone."""
+import pytest
+
 from postproc import paper_comparison
 from tests.postproc import synthetic
 
 
-def test_each_force_direction_gets_its_own_table(tmp_path):
+def _cells(text, statistic):
+    """The cells of the table row whose statistic is `statistic`."""
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if cells[0] == statistic:
+            return cells[1:]
+    raise AssertionError(f"no row {statistic!r} in\n{text}")
+
+
+def test_each_force_direction_gets_its_own_column(tmp_path):
     for direction in ("paper", "work_conjugate"):
         for ridge in (1, 2):
             for mu in (0.05, 0.3):
                 synthetic.write_run(str(tmp_path / f"r{ridge}_mu{mu}_{direction}.h5"), ridge, mu, 50e3,
                                     travel_end=0.04, force_direction=direction)
-    rows, runs = paper_comparison.rows_and_runs(str(tmp_path))
-    assert len(rows) == 8
-    text = paper_comparison.tables_by_variant(rows, runs)
-    heads = [ln for ln in text.splitlines() if ln.startswith("### ")]
-    assert heads == ["### fem-dem, force_direction = paper", "### fem-dem, force_direction = work_conjugate"]
-    # each table counts its own four runs, not all eight
+    cols = paper_comparison.columns([str(tmp_path)], ["deep"])
+    names = [name for name, _, _ in cols]
+    assert names == ["deep (fem-dem, force_direction = paper)", "deep (fem-dem, force_direction = work_conjugate)"]
+    text = paper_comparison.comparison(cols)
+    assert text.splitlines()[0] == "| statistic | " + " | ".join(names) + " | paper |"
+    # each column counts its own four runs, not all eight
     assert text.count("Runs: 4 (2 ridges") == 2
-    # a folder of one variant: its table alone, no heading
-    paper = [i for i, r in enumerate(rows) if r["force_direction"] == "paper"]
-    one = paper_comparison.tables_by_variant([rows[i] for i in paper], [runs[i] for i in paper])
-    assert one.startswith("Runs: 4 (2 ridges") and "###" not in one
+    # a column's cell is what its runs alone give: the table of that variant
+    paper_rows, paper_runs = cols[0][1], cols[0][2]
+    alone = paper_comparison.table(paper_rows, paper_runs)
+    assert alone.startswith("Runs: 4 (2 ridges") and "###" not in alone
+    for what, ours, _ in paper_comparison.statistics(paper_rows, paper_runs):
+        assert _cells(text, what)[0] == ours == _cells(alone, what)[0]
+
+
+def test_folders_side_by_side_with_a_dash_where_a_column_has_no_runs(tmp_path):
+    """A deep study at tau_cr 50 and 100 kPa beside a reduced one at 5 and 50 kPa:
+    the deep column has no tau_cr 5 kPa row to give, the reduced none at 100,
+    and the rows keep the paper's order of tau_cr."""
+    deep, reduced = tmp_path / "deep", tmp_path / "reduced"
+    deep.mkdir(), reduced.mkdir()
+    for ridge in (1, 2):
+        for tau in (50e3, 100e3):
+            synthetic.write_run(str(deep / f"d{ridge}_{tau:g}.h5"), ridge, 0.05, tau, travel_end=0.04)
+        for tau in (5e3, 50e3):
+            synthetic.write_run(str(reduced / f"r{ridge}_{tau:g}.h5"), ridge, 0.05, tau, travel_end=0.04)
+    text = paper_comparison.comparison(paper_comparison.columns([str(deep), str(reduced)], ["deep", "reduced"]))
+    assert text.splitlines()[0] == "| statistic | deep | reduced | paper |"
+    five = _cells(text, "Table 3 n_t/n_s (mode at full failure), τ_cr 5 kPa")
+    assert five[0] == "—" and five[1] != "—" and five[2] == "0.38 ± 0.14"
+    fifty = _cells(text, "Table 3 n_t/n_s (mode at full failure), τ_cr 50 kPa")
+    assert "—" not in fifty[:2]
+    hundred = _cells(text, "Table 3 n_t/n_s (mode at full failure), τ_cr 100 kPa")
+    assert hundred[0] != "—" and hundred[1] == "—"
+    table3 = [ln.split("|")[1].strip() for ln in text.splitlines() if ln.startswith("| Table 3")]
+    assert table3 == [f"Table 3 n_t/n_s (mode at full failure), τ_cr {t} kPa" for t in (5, 50, 100)]
+    assert "- **deep**: Runs: 4 (2 ridges" in text and "- **reduced**: Runs: 4 (2 ridges" in text
+
+
+def test_labels_must_match_the_folders(tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        paper_comparison.main([str(tmp_path), str(tmp_path), "--label", "one"])
+    assert "--label given 1 times for 2 folders" in capsys.readouterr().err
+    with pytest.raises(ValueError, match="no such folder"):
+        paper_comparison.main([str(tmp_path / "absent")])
 
 
 def test_a_case_run_to_two_travels_counts_once_by_the_longer(tmp_path):
