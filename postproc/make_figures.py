@@ -5,9 +5,9 @@ from a folder of run results.
 
 Reads every complete ``*.h5`` under RESULTS_DIR (recursively; ``*.h5.part`` and
 files with complete != 1 are skipped and reported). Runs are grouped by ridge (root
-attr ``ridge``), mu and tau_cr (/parameters). Runs of different ``model`` or
-``force_direction`` are never mixed: with more than one such variant, each gets its
-own sub-folder of OUT_DIR. Writes PNG + PDF per figure, CSV + Markdown per table,
+attr ``ridge``), mu and tau_cr (/parameters). Runs of a different scene, ``model``
+or ``force_direction`` are never mixed (postproc/variants.py): with more than one
+such variant, each gets its own sub-folder of OUT_DIR. Writes PNG + PDF per figure, CSV + Markdown per table,
 summary.csv (one row per run) and MISSING.md (what could not be made and why).
 --bond-points picks the points behind alpha and A_p (Figs. 12-15, Table 2's
 tau^(3)): 'split' (the failure criterion reached, the paper's; default) or
@@ -26,6 +26,7 @@ from icerubble.files.output_path import check_output_folder, whole_file
 
 from . import failure_plane, figures_deformation, figures_failure, figures_force, shear_strength, summary, tables
 from .catalog import Catalog, Missing
+from .variants import folder as variant_folder, variant
 
 FIGURES = {**figures_force.FIGURES, **figures_failure.FIGURES, **figures_deformation.FIGURES}
 FIGURE_STEMS = {
@@ -42,10 +43,6 @@ def promised_files(out_dir):
     out = [os.path.join(out_dir, f"{s}.{e}") for s in FIGURE_STEMS.values() for e in ("png", "pdf")]
     out += [os.path.join(out_dir, f"{s}.{e}") for s in TABLE_STEMS.values() for e in ("csv", "md")]
     return out + [os.path.join(out_dir, "summary.csv")]
-
-
-def _variant(run):
-    return run.model, str(run.parameters.get("force_direction", "paper"))
 
 
 def _travel(run):
@@ -119,13 +116,13 @@ def main(argv=None):
     errors = 0
     variants = {}
     for r in runs:
-        variants.setdefault(_variant(r), []).append(r)
-    for (model, fdir), vruns in sorted(variants.items()):
-        sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, f"{model}_{fdir}")
+        variants.setdefault(variant(r), []).append(r)
+    for (scene, model, fdir), vruns in sorted(variants.items()):
+        sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, variant_folder((scene, model, fdir), variants))
         report = []
         vruns = _dedupe(vruns, report)
         errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report, args.bond_points)
-        lines += [f"## model `{model}`, force_direction `{fdir}` -> `{sub}` ({len(vruns)} runs)", ""]
+        lines += [f"## scene `{scene}`, model `{model}`, force_direction `{fdir}` -> `{sub}` ({len(vruns)} runs)", ""]
         lines += report or ["- nothing missing"]
         lines.append("")
     if not runs:

@@ -34,6 +34,7 @@ from icerubble.files.output_path import check_output_file, whole_file
 from . import displaced_area as dA
 from . import failure_plane, loads, plug, shear_strength, summary
 from .failure_plane import mean_sd
+from .variants import label as variant_label, row_variant
 
 # The paper's numbers (section 3, Tables 2 and 3)
 PAPER = {
@@ -242,30 +243,21 @@ def side_by_side(columns):
     return "\n".join(L)
 
 
-def variant(row):
-    """What must not be mixed in one statistic: the model and eq 11's form."""
-    return row["model"], row["force_direction"]
-
-
-def variant_name(key):
-    model, direction = key
-    return f"{model}, force_direction = {direction}"
-
-
 def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS):
-    """(name, rows, runs) per folder and variant, in the folders' order: a
-    folder's name is its label (its path if none), followed by the variant when
-    the folder holds more than one, so eq 11's two forms are two columns."""
+    """(name, rows, runs) per folder and variant (postproc/variants.py), in the
+    folders' order: a folder's name is its label (its path if none), followed
+    by the variant when the folder holds more than one, so eq 11's two forms,
+    or two scenes found in one folder, are two columns."""
     out = []
     for k, folder in enumerate(folders):
         rows, runs = rows_and_runs(folder, bond_points)
         if not rows:
             raise ValueError(f"no complete run results under {folder}")
         name = labels[k] if labels else folder
-        keys = sorted({variant(r) for r in rows})
+        keys = sorted({row_variant(r) for r in rows})
         for key in keys:
-            sel = [i for i, r in enumerate(rows) if variant(r) == key]
-            out.append((name if len(keys) == 1 else f"{name} ({variant_name(key)})",
+            sel = [i for i, r in enumerate(rows) if row_variant(r) == key]
+            out.append((name if len(keys) == 1 else f"{name} ({variant_label(key, keys)})",
                         [rows[i] for i in sel], [runs[i] for i in sel]))
     return out
 

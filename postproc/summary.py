@@ -19,7 +19,7 @@ F20_TRAVEL = 20e-3  # m: the paper's "after the steep decrease" instant (Figs. 1
 POST_PEAK_INTERVALS = ((20e-3, 150e-3), (150e-3, 300e-3))  # m (section 3.1.1, Figs. 18, 20)
 
 COLUMNS = [
-    "file", "ridge", "model", "force_direction", "seed", "mu", "tau_cr_kPa", "sigma_cr_kPa",
+    "file", "scene", "ridge", "model", "force_direction", "seed", "mu", "tau_cr_kPa", "sigma_cr_kPa",
     "porosity", "keel_depth_m", "indenter_width_m", "y_I_end_mm",
     "bond_points", "F_m_kN_per_m", "y_I_peak_mm", "F_record_max_kN_per_m", "y_I_record_max_mm",
     "F_20mm_kN_per_m",
@@ -68,7 +68,7 @@ def summarize(run, plug_force=shear_strength.CYLINDRICAL_PLUG_FORCE,
     n_failed = int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_fail"], dtype=float))))
     p = run.parameters
     return {
-        "file": run.path, "ridge": run.ridge, "model": run.model,
+        "file": run.path, "scene": run.scene, "ridge": run.ridge, "model": run.model,
         "force_direction": str(p.get("force_direction", "paper")),
         "seed": run.attrs.get("seed", ""), "mu": run.mu, "tau_cr_kPa": run.tau_cr / 1e3,
         "sigma_cr_kPa": float(p.get("sigma_cr", np.nan)) / 1e3,

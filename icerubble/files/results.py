@@ -100,6 +100,14 @@ class RunResult:
         return str(self.attrs.get("model", "?"))
 
     @property
+    def scene(self):
+        """The scene the run was made on: its attribute, else the ridge's prefix
+        ('deep-1': deep), else '?'."""
+        if "scene" in self.attrs:
+            return str(self.attrs["scene"])
+        return self.ridge.split("-")[0] if "-" in self.ridge else "?"
+
+    @property
     def mu(self):
         return float(self.parameters["mu"])
 

@@ -176,7 +176,7 @@ def _split_tractions(rng, y_split, sigma_cr, tau_cr, mu, tau_cr_top):
 
 def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None,
               snapshots=True, energy=True, complete=True, leave_part=False,
-              model="fem-dem", force_direction="paper", sigma_cr=10e3):
+              model="fem-dem", force_direction="paper", sigma_cr=10e3, scene=None):
     """Write one synthetic run to ``path`` (``*.h5``); returns the final path.
     ``complete=False`` writes complete=0; ``leave_part=True`` leaves ``path + '.part'``."""
     if seed is None:
@@ -223,6 +223,8 @@ def write_run(path, ridge, mu, tau_cr, *, jitter=0.12, travel_end=0.3, seed=None
         f.attrs.update(format="icerubble-run", format_version=1, code_version="synthetic",
                        created=datetime.datetime.now(datetime.timezone.utc).isoformat(),
                        complete=0, ridge=str(ridge), seed=int(seed), model=model)
+        if scene is not None:
+            f.attrs["scene"] = scene
         f.create_group("parameters").attrs.update(
             mu=mu, tau_cr=tau_cr, sigma_cr=sigma_cr, G=15.0, E=2e9, nu=0.3, rho_i=RHO_I, rho_w=RHO_W,
             c_w=2.5e4, penalty=2e11, dt=1e-6, v_final=0.1, ramp_time=2.0, indenter_width=W_I,

@@ -84,6 +84,26 @@ def test_models_kept_apart_and_duplicates_listed(tmp_path):
     assert "duplicate run (ridge 1, mu 0.05, tau_cr 50 kPa): using a.h5, ignoring a_again.h5" in text
 
 
+def test_scenes_kept_apart(tmp_path):
+    """runs/ (the reduced study's small scene) holding runs/deep/ (the paper-depth
+    scene), found recursively: each scene gets its folder with its own runs, not
+    one study of twice the ridges."""
+    d = tmp_path / "runs"
+    (d / "deep").mkdir(parents=True)
+    for ridge in ("1", "2"):
+        synthetic.write_run(str(d / f"small_{ridge}.h5"), f"small-{ridge}", 0.05, 50e3, travel_end=0.03,
+                            scene="small")
+        synthetic.write_run(str(d / "deep" / f"deep_{ridge}.h5"), f"deep-{ridge}", 0.05, 50e3, travel_end=0.03,
+                            scene="deep")
+    out = tmp_path / "out"
+    assert make_figures.main([str(d), "-o", str(out)]) == 0
+    for scene in ("small", "deep"):
+        with open(out / f"{scene}_fem-dem_paper" / "summary.csv") as fh:
+            rows = list(csv.DictReader(fh))
+        assert sorted(r["ridge"] for r in rows) == [f"{scene}-1", f"{scene}-2"]
+        assert {r["scene"] for r in rows} == {scene}
+
+
 def test_of_a_case_run_twice_the_longer_run_is_used(tmp_path):
     """A case run to 20 mm and to 300 mm from one rest state: the figures and tables
     read the 300 mm run, whichever file comes first."""

@@ -61,6 +61,23 @@ def test_folders_side_by_side_with_a_dash_where_a_column_has_no_runs(tmp_path):
     assert "- **deep**: Runs: 4 (2 ridges" in text and "- **reduced**: Runs: 4 (2 ridges" in text
 
 
+def test_scenes_found_in_one_folder_are_two_columns(tmp_path):
+    """A folder holding the reduced study and, below it, the paper-depth one: a
+    column per scene, each describing its own two ridges."""
+    (tmp_path / "deep").mkdir()
+    for ridge in (1, 2):
+        synthetic.write_run(str(tmp_path / f"s{ridge}.h5"), f"small-{ridge}", 0.05, 50e3, travel_end=0.04,
+                            scene="small")
+        synthetic.write_run(str(tmp_path / "deep" / f"d{ridge}.h5"), f"deep-{ridge}", 0.05, 50e3, travel_end=0.04,
+                            scene="deep")
+    cols = paper_comparison.columns([str(tmp_path)], ["runs"])
+    assert [name for name, _, _ in cols] == ["runs (deep, fem-dem, force_direction = paper)",
+                                             "runs (small, fem-dem, force_direction = paper)"]
+    for (_, rows, _), scene in zip(cols, ("deep", "small")):
+        assert sorted(r["ridge"] for r in rows) == [f"{scene}-1", f"{scene}-2"]
+    assert paper_comparison.comparison(cols).count("Runs: 2 (2 ridges") == 2
+
+
 def test_labels_must_match_the_folders(tmp_path, capsys):
     with pytest.raises(SystemExit):
         paper_comparison.main([str(tmp_path), str(tmp_path), "--label", "one"])
