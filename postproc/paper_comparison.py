@@ -1,10 +1,12 @@
 """A study's statistics side by side with the paper's (docs/model.md §5).
 
 Our random ridges are not the paper's four, so the comparison is between
-statistics over ridges: where the peak sits, how far F drops by 20 mm, the spread
-of F^m between ridges, the effect of μ, the failure-plane angle α, the shear
-strengths of Table 2, the failure-mode ratio of Table 3, the buoyant share
-F_b(A_p)/F^m and the correlation of post-peak F with F_d(K = 0.45).
+statistics over ridges, each of docs/model.md §5: where the peak sits, how far F
+drops by 20 mm and F^m over the mean load of 150-300 mm, the spread of F^m between
+ridges, the effect of μ, the failure-plane angle α and the plug area A_p by τ_cr,
+the shear strengths of Table 2 and their μ ratios and the failure-mode ratio of
+Table 3, the buoyant share F_b(A_p)/F^m and the correlation of post-peak F with
+F_d(K) at K = 0.45 and 0.9.
 
     /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [RESULTS_DIR ...]
         [--label NAME ...] [-o comparison.md] [--bond-points split|failed]
@@ -39,7 +41,10 @@ from .variants import label as variant_label, row_variant
 # The paper's numbers (section 3, Tables 2 and 3)
 PAPER = {
     "y_peak": "~1 mm (Fig. 7)",
-    "drop": "steep drop until ~20 mm; F^m 2.0-3.2x the mean load over 150-300 mm (μ 0.05)",
+    "drop": "steep drop until ~20 mm (Fig. 7)",
+    "load_ratio": {0.05: "2.0-3.2", 0.3: "1.9-2.6"},
+    "alpha_tau": "grows with τ_cr up to 50 kPa, then levels off (Fig. 13)",
+    "Ap_tau": "grows with τ_cr up to 50 kPa, then levels off (Fig. 14); a cylindrical plug: 16 m²",
     "spread": "up to ~50 % between ridges (Fig. 8)",
     "mu_50": "2-7 % (Fig. 8, 11)",
     "mu_5": "up to 28 % (Fig. 11)",
@@ -49,7 +54,10 @@ PAPER = {
     "tau3": {5: "2.0 ± 0.6", 50: "3.0 ± 0.6", 100: "4.2 ± 1.0"},
     "ntns": {5: "0.38 ± 0.14", 50: "1.44 ± 0.61", 100: "2.54 ± 0.91"},
     "Fb_share": "~50 % (Fig. 15)",
-    "R045": "0.88 at τ_cr 50 kPa, 0.82 over all runs (Fig. 20, y_I 20-150 mm)",
+    "tau_ratio": {"tau1": {5: "1.17 ± 0.09", 50: "1.06 ± 0.03", 100: "1.02 ± 0.01"},
+                  "tau2": {5: "1.29 ± 0.12", 50: "1.07 ± 0.04", 100: "1.02 ± 0.01"},
+                  "tau3": {5: "1.09 ± 0.35", 50: "1.07 ± 0.10", 100: "0.98 ± 0.12"}},
+    "R": {0.45: {50.0: "0.88", None: "0.82"}, 0.9: {50.0: "0.13", None: "0.46"}},
 }
 
 
@@ -91,11 +99,16 @@ def _sel(rows, tau=None, mu=None):
             and (mu is None or np.isclose(r["mu"], mu))]
 
 
-def mu_effect(rows, tau, key="F_m_kN_per_m"):
-    """F(μ 0.3)/F(μ 0.05) - 1 per ridge, in %, of the peak in column key."""
+def mu_ratio(rows, tau, key="F_m_kN_per_m"):
+    """column key at μ 0.3 over the same ridge's at μ 0.05, per ridge with both."""
     low = {r["ridge"]: r for r in _sel(rows, tau, 0.05)}
     high = {r["ridge"]: r for r in _sel(rows, tau, 0.3)}
-    return [100.0 * (high[k][key] / low[k][key] - 1.0) for k in sorted(set(low) & set(high))]
+    return [high[k][key] / low[k][key] for k in sorted(set(low) & set(high))]
+
+
+def mu_effect(rows, tau, key="F_m_kN_per_m"):
+    """F(μ 0.3)/F(μ 0.05) - 1 per ridge, in %, of the peak in column key."""
+    return [100.0 * (q - 1.0) for q in mu_ratio(rows, tau, key)]
 
 
 def spread(rows, tau, mu, key="F_m_kN_per_m"):
@@ -158,6 +171,12 @@ def statistics(rows, runs):
               f"{_pm([r['y_I_record_max_mm'] for r in rows])}", "one and the same, at ~1 mm"))
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
     S.append(("F(20 mm)/F^m, all runs", _pm(drop), PAPER['drop']))
+    for mu in mus:   # runs that reach 300 mm
+        late = [r["F_m_kN_per_m"] / r["F_mean_150_300mm_kN_per_m"] for r in _sel(rows, mu=mu)
+                if np.isfinite(r["F_mean_150_300mm_kN_per_m"])]
+        if late:
+            S.append((f"F^m / mean F over y_I 150-300 mm, μ {mu:g}", f"{_pm(late)}; range {min(late):.2f} to "
+                      f"{max(late):.2f}", PAPER["load_ratio"].get(mu, "—")))
     for key, what in (("F_m_kN_per_m", "F^m"), ("F_record_max_kN_per_m", "record maximum")):
         for mu in mus:
             if len(_sel(rows, 50.0, mu)) >= 2:
@@ -174,12 +193,28 @@ def statistics(rows, runs):
         if sel:
             S.append((f"α over y_I 1-20 mm, τ_cr 50 kPa, μ {mu:g} [°] (run means)",
                       _pm([r["alpha_mean_1_20mm_deg"] for r in sel], 0), PAPER['alpha_50'].get(mu, '—')))
+    for tau in (5.0, 50.0, 100.0):   # the trend with τ_cr, both μ
+        sel = _sel(rows, tau)
+        if sel:
+            S.append((f"α over y_I 1-20 mm, τ_cr {tau:g} kPa [°] (run means)",
+                      _pm([r["alpha_mean_1_20mm_deg"] for r in sel], 0), PAPER["alpha_tau"]))
+    for tau in (5.0, 50.0, 100.0):
+        sel = _sel(rows, tau)
+        if sel:
+            S.append((f"A_p over y_I 1-20 mm, τ_cr {tau:g} kPa [m²] (run means)",
+                      _pm([r["A_p_mean_1_20mm_m2"] for r in sel], 0), PAPER["Ap_tau"]))
     for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
         for tau in (5.0, 50.0, 100.0):
             sel = _sel(rows, tau)
             if sel:
                 S.append((f"Table 2 {label} [kPa], τ_cr {tau:g} kPa", _pm([r[key + '_kPa'] for r in sel]),
                           PAPER[key][int(tau)]))
+    for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
+        for tau in (5.0, 50.0, 100.0):
+            q = mu_ratio(rows, tau, key + "_kPa")
+            if q:
+                S.append((f"Table 3 {label}(μ 0.3)/{label}(μ 0.05), τ_cr {tau:g} kPa (per ridge)", _pm(q),
+                          PAPER["tau_ratio"][key][int(tau)]))
     for tau in (5.0, 50.0, 100.0):
         sel = _sel(rows, tau)
         if sel:
@@ -203,15 +238,16 @@ def statistics(rows, runs):
         share = [r["F_b_Ap_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in sel]
         S.append(("F_b(A_p, η)/F^m, τ_cr 50 kPa", _pm(share), PAPER['Fb_share']))
     half = dA.LOAD_WINDOW_HALF_WIDTH * 1e3
-    for tau in (50.0, None):
-        what = "τ_cr 50 kPa" if tau else "all runs"
-        R, n, ratio = r_fd(runs, tau)
-        if n == 0:   # no snapshot from 20 mm on
-            continue
-        R1 = r_fd(runs, tau, load=single_sample_load)[0]
-        S.append((f"R(F̄, F_d(K 0.45)), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what}",
-                  f"{R:.2f} ({n} points; from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} (median)",
-                  PAPER['R045']))
+    for K in (0.45, 0.9):
+        for tau in (50.0, None):
+            what = "τ_cr 50 kPa" if tau else "all runs"
+            R, n, ratio = r_fd(runs, tau, K=K)
+            if n == 0:   # no snapshot from 20 mm on
+                continue
+            R1 = r_fd(runs, tau, K=K, load=single_sample_load)[0]
+            S.append((f"R(F̄, F_d(K {K:g})), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what}",
+                      f"{R:.2f} ({n} points; from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} "
+                      "(median)", f"{PAPER['R'][K][tau]} (Fig. 20, y_I 20-150 mm)"))
     return S
 
 

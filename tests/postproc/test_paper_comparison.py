@@ -96,3 +96,30 @@ def test_a_case_run_to_two_travels_counts_once_by_the_longer(tmp_path):
     assert len(rows) == len(runs) == 2
     paper = next(r for r in rows if r["force_direction"] == "paper")
     assert paper["file"].endswith("a_long.h5") and abs(paper["y_I_end_mm"] - 60.0) < 1.0
+
+
+def test_every_statistic_of_model_md_section_5_is_given(tmp_path):
+    """Table 3's tau ratios per ridge, F^m over the mean load of 150-300 mm (runs that
+    reach 300 mm only), alpha and A_p by tau_cr and R at K 0.9, each the value its
+    rows give by hand."""
+    for ridge in (1, 2):
+        for mu in (0.05, 0.3):
+            synthetic.write_run(str(tmp_path / f"r{ridge}_mu{mu}.h5"), ridge, mu, 50e3, travel_end=0.3)
+    synthetic.write_run(str(tmp_path / "short.h5"), 3, 0.3, 5e3, travel_end=0.04)
+    rows, runs = paper_comparison.rows_and_runs(str(tmp_path))
+    S = {what: ours for what, ours, _ in paper_comparison.statistics(rows, runs)}
+    by = {(r["ridge"], r["mu"], r["tau_cr_kPa"]): r for r in rows}
+    for key, label in (("tau1", "τ^(1)"), ("tau2", "τ^(2)"), ("tau3", "τ^(3)")):
+        q = [by[(k, 0.3, 50.0)][key + "_kPa"] / by[(k, 0.05, 50.0)][key + "_kPa"] for k in ("1", "2")]
+        assert S[f"Table 3 {label}(μ 0.3)/{label}(μ 0.05), τ_cr 50 kPa (per ridge)"] == paper_comparison._pm(q)
+    # the 40 mm run has no 150-300 mm mean: only the four 300 mm runs count
+    late = [by[(k, 0.05, 50.0)]["F_m_kN_per_m"] / by[(k, 0.05, 50.0)]["F_mean_150_300mm_kN_per_m"] for k in ("1", "2")]
+    assert S["F^m / mean F over y_I 150-300 mm, μ 0.05"].startswith(paper_comparison._pm(late))
+    late = [by[(k, 0.3, 50.0)]["F_m_kN_per_m"] / by[(k, 0.3, 50.0)]["F_mean_150_300mm_kN_per_m"] for k in ("1", "2")]
+    assert S["F^m / mean F over y_I 150-300 mm, μ 0.3"].startswith(paper_comparison._pm(late) + ";")
+    a5 = [by[("3", 0.3, 5.0)]["alpha_mean_1_20mm_deg"]]
+    assert S["α over y_I 1-20 mm, τ_cr 5 kPa [°] (run means)"] == paper_comparison._pm(a5, 0)
+    assert S["A_p over y_I 1-20 mm, τ_cr 50 kPa [m²] (run means)"] == paper_comparison._pm(
+        [r["A_p_mean_1_20mm_m2"] for r in rows if r["tau_cr_kPa"] == 50.0], 0)
+    assert any(w.startswith("R(F̄, F_d(K 0.9))") for w in S)
+    assert not any("(μ 0.3)/" in w and "τ_cr 5 kPa" in w for w in S)   # ridge 3 has no μ 0.05 run
