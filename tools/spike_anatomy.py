@@ -13,7 +13,8 @@
         failures around the record maximum.
 
     OMP_NUM_THREADS=1 /usr/bin/python3 tools/spike_anatomy.py run --ridge 1 --mu 0.05 --tau 1e5 \\
-            --out DIR [--scene small] [--penalty P] [--every-mm 1] [--settle-bonds checked] [--numerics fast]
+            --out DIR [--scene small] [--penalty P] [--every-mm 1] [--keep-from-mm 0] [--settle-bonds checked]
+            [--numerics fast] [--force-direction paper|work_conjugate] [--settle-max-time S]
         one run as `icerubble study run` makes it (run_one: same scene,
         numerics, shared rest state), which also keeps a copy of the
         checkpoint every --every-mm of travel (DIR/<name>_ckpts/y<mm>.h5) and
@@ -238,8 +239,10 @@ class Probe:
         np.savez_compressed(path, **arrays)
 
 
-def make_run(scene_name, ridge, overrides, out_dir, description=None, numerics_name=None):
-    """A PunchThrough set up as run_one sets it up (same identity, shared rest state)."""
+def make_run(scene_name, ridge, overrides, out_dir, description=None, numerics_name=None, settle_max_time=None):
+    """A PunchThrough set up as run_one sets it up (same identity, shared rest state).
+    settle_max_time: as `icerubble study run --settle-max-time` (a settle option,
+    so in the shared rest state's key: a line run with it is continued with it)."""
     sc = scene(scene_name)
     settings = numerics(scene_name, numerics_name)
     params = P.validate(dict(sc["params"], **overrides))
@@ -248,7 +251,8 @@ def make_run(scene_name, ridge, overrides, out_dir, description=None, numerics_n
     _, mesh_path = scene_files(scene_name, ridge, root=out_dir)
     if "dt" in overrides:
         settings["dt_fraction"] = None
-    options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, threads=1)
+    extra = {} if settle_max_time is None else dict(settle_max_time=settle_max_time)
+    options = RunOptions.from_numerics(settings, name=numerics_name or DEFAULT_NUMERICS, threads=1, **extra)
     ident = RI.identity(params, read_mesh(mesh_path), options)
     run = PunchThrough(mesh_path, out, params=params, options=options,
                        meta=dict(ridge=f"{scene_name}-{int(ridge)}", seed=int(ridge), model="fem-dem",
@@ -263,11 +267,14 @@ def cmd_run(a):
         overrides["settle_bonds"] = a.settle_bonds
     if a.penalty:
         overrides["penalty"] = a.penalty
-    run, out = make_run(a.scene, a.ridge, overrides, a.out, a.description, numerics_name=a.numerics)
+    if a.force_direction:
+        overrides["force_direction"] = a.force_direction
+    run, out = make_run(a.scene, a.ridge, overrides, a.out, a.description, numerics_name=a.numerics,
+                        settle_max_time=a.settle_max_time)
     probe = Probe(run)
     kept = out[:-3] + "_ckpts"
     os.makedirs(kept, exist_ok=True)
-    state = dict(next_mm=a.every_mm)
+    state = dict(next_mm=max(a.every_mm, a.keep_from_mm))
     force0 = run.recorder.force
 
     def force(t, y_I, F, F_instant=None):
@@ -361,6 +368,11 @@ def main(argv=None):
                    help="default: the scene's (the deep study's tables check them)")
     r.add_argument("--travel-mm", type=float, default=40.0)
     r.add_argument("--every-mm", type=float, default=1.0)
+    r.add_argument("--keep-from-mm", type=float, default=0.0, help="keep checkpoints from this travel on")
+    r.add_argument("--force-direction", choices=("paper", "work_conjugate"), default=None,
+                   help="eq 11's form (default: the parameter's default)")
+    r.add_argument("--settle-max-time", type=float, default=None,
+                   help="as `icerubble study run --settle-max-time`: needed to load a line's shared rest state")
     r.add_argument("--contacts", action="store_true", help="the indenter's contacts per sample (slower)")
     r.add_argument("--description", default=None)
     r.add_argument("--out", required=True)
