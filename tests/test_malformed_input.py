@@ -156,9 +156,20 @@ def cli_figures_of_a_missing_folder(d, g):
     return ["figures", os.path.join(d, "no_such_runs"), "-o", os.path.join(d, "fig")]
 
 
-@case("cli", "no complete run results under")
+@case("cli", "no_such_runs: no such folder of results")
 def cli_compare_of_a_missing_folder(d, g):
     return ["compare", os.path.join(d, "no_such_runs")]
+
+
+@case("cli", "no complete run results under")
+def cli_compare_of_a_folder_without_runs(d, g):
+    os.makedirs(os.path.join(d, "empty_runs"))
+    return ["compare", os.path.join(d, "empty_runs")]
+
+
+@case("cli", "--label given 1 times for 2 folders")
+def cli_compare_with_labels_not_one_per_folder(d, g):
+    return ["compare", d, d, "--label", "one"]
 
 
 def _measured(d, text, *extra):
