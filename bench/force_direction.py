@@ -32,12 +32,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 
 from deep_vs_paper import measures  # noqa: E402
-from icerubble import machine  # noqa: E402
+from icerubble import machine, parameters as P  # noqa: E402
 from icerubble.files import results  # noqa: E402
 from postproc import loads, shear_strength, summary  # noqa: E402
 
 OUT_JSON = os.path.join(ROOT, "bench", "results", "force_direction.json")
-DIRECTIONS = ("paper", "work_conjugate")
+DIRECTIONS = P.FORCE_DIRECTIONS   # their order: the rows' order
 # Table 3 of the paper: n_t/n_s at full failure over 300 mm (mean, sd over
 # ridges 1-4 and both mu), by tau_cr [kPa]
 TABLE_3 = {5.0: (0.38, 0.14), 50.0: (1.44, 0.61), 100.0: (2.54, 0.91)}
@@ -68,11 +68,10 @@ def measure(path):
     b = r.bonds
     n_t, n_s, ratio = shear_strength.failure_mode_ratio(b["mode"], b["y_I_fail"])
     n_t0, n_s0, ratio0 = shear_strength.initiation_side_ratio(b["y_I_split"], b.get("split_tn"))
-    p = r.parameters
     y_fail = np.asarray(b["y_I_fail"], dtype=float)
     extra = long_run(r, np.asarray(b["mode"]), y_fail) if r.force_y[-1] > 1.5 * COUNT_WITHIN[0] else {}
     return dict(file=os.path.basename(path), ridge=int(r.attrs["seed"]), mu=float(r.mu),
-                tau_cr_kPa=float(r.tau_cr) / 1e3, force_direction=str(p.get("force_direction", "paper")),
+                tau_cr_kPa=float(r.tau_cr) / 1e3, force_direction=r.force_direction,
                 n_split=int(np.count_nonzero(np.isfinite(np.asarray(b["y_I_split"], dtype=float)))),
                 n_failed=int(np.count_nonzero(np.isfinite(y_fail))),
                 n_t=int(n_t), n_s=int(n_s), nt_ns=float(ratio), n_t_init=int(n_t0), n_s_init=int(n_s0),

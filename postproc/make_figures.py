@@ -117,8 +117,9 @@ def main(argv=None):
     variants = {}
     for r in runs:
         variants.setdefault(variant(r), []).append(r)
-    for (scene, model, fdir), vruns in sorted(variants.items()):
-        sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, variant_folder((scene, model, fdir), variants))
+    for key, vruns in sorted(variants.items()):
+        scene, model, fdir = key
+        sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, variant_folder(key, variants))
         report = []
         vruns = _dedupe(vruns, report)
         errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report, args.bond_points)

@@ -172,11 +172,11 @@ def statistics(rows, runs):
     drop = [r["F_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in rows]
     S.append(("F(20 mm)/F^m, all runs", _pm(drop), PAPER['drop']))
     for mu in mus:   # runs that reach 300 mm
-        late = [r["F_m_kN_per_m"] / r["F_mean_150_300mm_kN_per_m"] for r in _sel(rows, mu=mu)
-                if np.isfinite(r["F_mean_150_300mm_kN_per_m"])]
-        if late:
-            S.append((f"F^m / mean F over y_I 150-300 mm, μ {mu:g}", f"{_pm(late)}; range {min(late):.2f} to "
-                      f"{max(late):.2f}", PAPER["load_ratio"].get(mu, "—")))
+        q = [r["F_m_kN_per_m"] / r["F_mean_150_300mm_kN_per_m"] for r in _sel(rows, mu=mu)
+             if np.isfinite(r["F_mean_150_300mm_kN_per_m"])]
+        if q:
+            S.append((f"F^m / mean F over y_I 150-300 mm, μ {mu:g}", f"{_pm(q)}; range {min(q):.2f} to "
+                      f"{max(q):.2f}", PAPER["load_ratio"].get(mu, "—")))
     for key, what in (("F_m_kN_per_m", "F^m"), ("F_record_max_kN_per_m", "record maximum")):
         for mu in mus:
             if len(_sel(rows, 50.0, mu)) >= 2:
@@ -271,9 +271,9 @@ def side_by_side(columns):
     assert len(order) == len(paper), "a column's statistic the pooled runs do not give"
     L = ["| statistic | " + " | ".join(name for name, _ in stats) + " | paper |",
          "|---|" + "---|" * (len(stats) + 1)]
+    values = [{w: v for w, v, _ in S} for _, S in stats]
     for what in order:
-        cells = [dict((w, v) for w, v, _ in S).get(what, "—") for _, S in stats]
-        L.append(f"| {what} | " + " | ".join(cells) + f" | {paper[what]} |")
+        L.append(f"| {what} | " + " | ".join(col.get(what, "—") for col in values) + f" | {paper[what]} |")
     L.append("")
     L += [f"- **{name}**: {describe(rows)}" for name, rows, _ in columns]
     return "\n".join(L)

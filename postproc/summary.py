@@ -69,7 +69,7 @@ def summarize(run, plug_force=shear_strength.CYLINDRICAL_PLUG_FORCE,
     p = run.parameters
     return {
         "file": run.path, "scene": run.scene, "ridge": run.ridge, "model": run.model,
-        "force_direction": str(p.get("force_direction", "paper")),
+        "force_direction": run.force_direction,
         "seed": run.attrs.get("seed", ""), "mu": run.mu, "tau_cr_kPa": run.tau_cr / 1e3,
         "sigma_cr_kPa": float(p.get("sigma_cr", np.nan)) / 1e3,
         "porosity": run.porosity, "keel_depth_m": h, "indenter_width_m": run.indenter_width,

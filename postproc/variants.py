@@ -12,7 +12,7 @@ folder each, paper_comparison a column each.
 
 def variant(run):
     """(scene, model, force direction) of a run (files.results.Run)."""
-    return run.scene, run.model, str(run.parameters.get("force_direction", "paper"))
+    return run.scene, run.model, run.force_direction
 
 
 def row_variant(row):
@@ -20,18 +20,19 @@ def row_variant(row):
     return row["scene"], row["model"], row["force_direction"]
 
 
+def _named(key, keys):
+    """The parts of `key` that name it among `keys`, all the variants of a
+    folder: the scene only where the folder holds more than one."""
+    return key if len({k[0] for k in keys}) > 1 else key[1:]
+
+
 def label(key, keys):
-    """The variant's name among `keys`, all the variants of a folder: the scene
-    is named only where the folder holds more than one."""
-    scene, model, direction = key
-    one_scene = len({k[0] for k in keys}) == 1
-    return (f"{model}, force_direction = {direction}" if one_scene
-            else f"{scene}, {model}, force_direction = {direction}")
+    """The variant's name among `keys` (deep, fem-dem, force_direction = paper)."""
+    *head, direction = _named(key, keys)
+    return ", ".join([*head, f"force_direction = {direction}"])
 
 
 def folder(key, keys):
-    """The variant's sub-folder name among `keys`, the scene first where the
-    folder holds more than one (fem-dem_paper, deep_fem-dem_work_conjugate)."""
-    scene, model, direction = key
-    one_scene = len({k[0] for k in keys}) == 1
-    return f"{model}_{direction}" if one_scene else f"{scene}_{model}_{direction}"
+    """The variant's sub-folder name among `keys` (fem-dem_paper,
+    deep_fem-dem_work_conjugate)."""
+    return "_".join(_named(key, keys))

@@ -369,7 +369,7 @@ def main(argv=None):
     r.add_argument("--travel-mm", type=float, default=40.0)
     r.add_argument("--every-mm", type=float, default=1.0)
     r.add_argument("--keep-from-mm", type=float, default=0.0, help="keep checkpoints from this travel on")
-    r.add_argument("--force-direction", choices=("paper", "work_conjugate"), default=None,
+    r.add_argument("--force-direction", choices=P.FORCE_DIRECTIONS, default=None,
                    help="eq 11's form (default: the parameter's default)")
     r.add_argument("--settle-max-time", type=float, default=None,
                    help="as `icerubble study run --settle-max-time`: needed to load a line's shared rest state")

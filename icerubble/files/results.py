@@ -100,6 +100,12 @@ class RunResult:
         return str(self.attrs.get("model", "?"))
 
     @property
+    def force_direction(self):
+        """Eq 11's form the run took: its parameter, else 'paper' (eq 11 as
+        printed), which every run made before the parameter existed took."""
+        return str(self.parameters.get("force_direction", "paper"))
+
+    @property
     def scene(self):
         """The scene the run was made on: its attribute, else the ridge's prefix
         ('deep-1': deep), else '?'."""
