@@ -164,8 +164,9 @@ def _run_locked(table, out, jobs, job_threads, progress_every, device=None, sett
         # its exit status says nothing about the lines
         study_progress.watch(cmd, env, log_dir, table_of(log_dir, study), jobs=jobs, every_s=progress_every)
         status = None
-    except KeyboardInterrupt:
-        print("[study] interrupted: the lines that did not finish say so below", flush=True)
+    except KeyboardInterrupt as stop:   # Ctrl-C, or SIGTERM / SIGHUP (study_progress.Stopped)
+        by = f" by {stop}" if isinstance(stop, study_progress.Stopped) else ""
+        print(f"[study] interrupted{by}: the lines that did not finish say so below", flush=True)
         status = exit_status.INTERRUPTED
     # yade-batch has returned: a log with no end is a line that was killed (queue {})
     outcomes = SO.line_outcomes(table_of(log_dir, study), log_dir, queue={})

@@ -12,13 +12,17 @@ before one has, while a line settles and its length is unknown).
 """
 import os
 import re
+import signal
 import subprocess
 import sys
+import threading
 import time
 
 from . import outcome as SO
 
 POLL_S = 2.0
+# how long a stopped study waits for its lines to write their checkpoints
+STOP_WAIT_S = 120.0
 # a run's progress line (run/progress.py): "[label] step N ... ETA <= 12 s ..." or "ETA ?"
 PROGRESS = re.compile(r"^\[[a-z -]+\] step +\d+ ")
 ETA = re.compile(r" ETA (<= )?(\d+) s")
@@ -55,10 +59,74 @@ def table_eta(done_s, running, n_waiting, jobs):
     return work / max(1, min(jobs, len(left) + n_waiting))
 
 
+class Stopped(KeyboardInterrupt):
+    """The study command was sent SIGTERM or SIGHUP (kill, a closed terminal):
+    handled as a Ctrl-C is, the lines stopped after their checkpoints."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _raise_stopped(signum, frame):
+    raise Stopped(signum)
+
+
+def group_alive(pgid):
+    """Whether a process of group `pgid` is still running (zombies, which only
+    wait to be reaped, do not count)."""
+    try:
+        pids = [d for d in os.listdir("/proc") if d.isdigit()]
+    except OSError:   # no /proc: ask the group itself
+        try:
+            os.killpg(pgid, 0)
+            return True
+        except ProcessLookupError:
+            return False
+    for pid in pids:
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue   # ended meanwhile
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            return True
+    return False
+
+
+def stop_lines(proc, signum, stream, wait_s=STOP_WAIT_S):
+    """Send `signum` to yade-batch and its lines (their own process group),
+    so that each line writes its checkpoint and stops (exit 75) and no
+    further line starts; then wait up to wait_s for them to end."""
+    try:
+        os.killpg(proc.pid, signum)
+    except ProcessLookupError:
+        return
+    proc.kill()   # yade-batch itself must not start the next lines meanwhile
+    proc.wait()
+    deadline = time.monotonic() + wait_s
+    while group_alive(proc.pid):
+        if time.monotonic() > deadline:
+            print(f"[study] lines still running {wait_s:.0f} s after {signal.Signals(signum).name}: "
+                  f"process group {proc.pid}", file=stream, flush=True)
+            return
+        time.sleep(0.2)
+
+
 def watch(cmd, env, log_dir, table, jobs=1, every_s=60.0, stream=None):
-    """Run `cmd` (yade-batch) and report its lines' progress until it ends."""
+    """Run `cmd` (yade-batch) and report its lines' progress until it ends.
+
+    yade-batch and its lines run in a process group of their own, to which
+    this command passes on a Ctrl-C (SIGINT), SIGTERM or SIGHUP: each line
+    then writes its checkpoint and stops. Without it a study command that was
+    killed left its lines running on, unseen, beside a new command resuming
+    them from the same checkpoints."""
     stream = stream or sys.stdout
-    proc = subprocess.Popen(cmd, env=env, cwd=log_dir)
+    proc = subprocess.Popen(cmd, env=env, cwd=log_dir, start_new_session=True)
+    handlers = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum in (signal.SIGTERM, signal.SIGHUP):
+            handlers[signum] = signal.signal(signum, _raise_stopped)
     started, ended = {}, {}
     last = time.monotonic()
     try:
@@ -82,12 +150,14 @@ def watch(cmd, env, log_dir, table, jobs=1, every_s=60.0, stream=None):
                 last = now
                 _report(outcomes, started, ended, log_dir, jobs, now, stream)
             time.sleep(POLL_S)
-    except KeyboardInterrupt:
-        # the lines got the same Ctrl-C and are writing their checkpoints (exit
-        # 75); yade-batch must not start the next lines meanwhile
-        proc.kill()
-        proc.wait()
+    except KeyboardInterrupt as stop:
+        # the lines write their checkpoints on SIGINT or SIGTERM (exit 75); a
+        # SIGHUP is passed on as the SIGTERM they know
+        stop_lines(proc, signal.SIGTERM if isinstance(stop, Stopped) else signal.SIGINT, stream)
         raise
+    finally:
+        for signum, handler in handlers.items():
+            signal.signal(signum, handler)
 
 
 def _report(outcomes, started, ended, log_dir, jobs, now, stream):

@@ -3,8 +3,14 @@ line when each table line starts and ends, and periodic lines with each
 running line's latest progress line and an ETA of the table. A stand-in for
 yade-batch writes the logs, so this takes seconds."""
 import io
+import os
+import signal
+import subprocess
 import sys
 import textwrap
+import time
+
+import pytest
 
 from icerubble.study import outcome as SO
 from icerubble.study.progress import latest_progress, table_eta, watch
@@ -52,3 +58,71 @@ def test_the_table_eta_adds_the_running_lines_and_the_waiting_ones_at_the_mean_l
     assert table_eta([], [(None, 10.0)], 0, jobs=1) is None
     assert table_eta([], [(30.0, 10.0)], 1, jobs=1) is None
     assert table_eta([], [(30.0, 10.0)], 0, jobs=1) == 30.0
+
+
+# A stand-in for yade-batch that starts one line as yade-batch does (through a
+# shell, a grandchild of the study command): the line writes its pid, and on
+# SIGTERM or SIGINT its "checkpoint", and stops with 75 as a run does.
+FAKE_LINE = textwrap.dedent("""
+    import os, signal, sys, time
+    def stop(signum, frame):
+        open("checkpoint", "w").write(signal.Signals(signum).name)
+        sys.exit(75)
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGINT, stop)
+    open("line.pid", "w").write(str(os.getpid()))
+    while True:
+        time.sleep(0.1)
+    """)
+STUDY = textwrap.dedent("""
+    import subprocess, sys
+    from icerubble.study.progress import watch
+    line = subprocess.list2cmdline([sys.executable, "-c", open("line.py").read()])
+    batch = [sys.executable, "-c", f"import subprocess; subprocess.call({line!r}, shell=True)"]
+    try:
+        watch(batch, None, ".", "t.table", every_s=60.0)
+    except KeyboardInterrupt as stop:
+        print("stopped by", stop, flush=True)
+        sys.exit(75)
+    """)
+
+
+def alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def run_and_stop(tmp_path, signum):
+    (tmp_path / "t.table").write_text("description mu\nonly 0.3\n")
+    (tmp_path / "line.py").write_text(FAKE_LINE)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    study = subprocess.Popen([sys.executable, "-c", STUDY], cwd=tmp_path, env=env,
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    deadline = time.monotonic() + 30
+    while not (tmp_path / "line.pid").exists() or not (tmp_path / "line.pid").read_text():
+        assert time.monotonic() < deadline and study.poll() is None, study.stdout.read()
+        time.sleep(0.05)
+    line_pid = int((tmp_path / "line.pid").read_text())
+    study.send_signal(signum)
+    out, _ = study.communicate(timeout=60)
+    return study.returncode, out, line_pid
+
+
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
+def test_a_killed_study_stops_its_lines_after_their_checkpoints(tmp_path, signum):
+    status, out, line_pid = run_and_stop(tmp_path, signum)
+    assert status == 75 and f"stopped by {signal.Signals(signum).name}" in out, out
+    assert (tmp_path / "checkpoint").read_text() == "SIGTERM"   # the line was told, and wrote it
+    assert not alive(line_pid)                                  # and is gone when the command returns
+
+
+def test_a_ctrl_c_of_the_study_reaches_its_lines_in_their_own_group(tmp_path):
+    # the lines run in a process group of their own: a terminal's Ctrl-C reaches
+    # the study command alone, which passes it on
+    status, out, line_pid = run_and_stop(tmp_path, signal.SIGINT)
+    assert status == 75, out
+    assert (tmp_path / "checkpoint").read_text() == "SIGINT"
+    assert not alive(line_pid)
