@@ -71,7 +71,7 @@ FAKE_LINE = textwrap.dedent("""
     signal.signal(signal.SIGTERM, stop)
     signal.signal(signal.SIGINT, stop)
     open("line.pid", "w").write(str(os.getpid()))
-    while True:
+    for _ in range(900):   # at most 90 s: a failing test leaves no line behind for long
         time.sleep(0.1)
     """)
 STUDY = textwrap.dedent("""
