@@ -212,6 +212,14 @@ REGISTRY = {
                             doc="the pile's ends where phase 1's walls stood (an uncropped scene's |x| = W/2): "
                                 "'free' (no walls in the punch-through phase) or 'held' (each block node within "
                                 "1 cm of a wall held in x, free in y, as a cropped scene's cut faces are)"),
+    # the indenter while settling (issue 26: at mu 0.05 and tau_cr 5 kPa the
+    # keel's buoyant part under a free indenter broke loose and lifted it 12 cm,
+    # and the settle never ended; held, it came to rest)
+    "settle_indenter": Parameter("free", "-", choices=("free", "held"), group="settle",
+                                 doc="the indenter while settling: 'free' (it finds its balance on the keel, "
+                                     "then is held where it came to rest: F at rest ~0) or 'held' (held where "
+                                     "it was meshed from the first step, as a displacement-driven indenter "
+                                     "that has not moved; the keel's push on it at rest is F at rest)"),
     "settle_max_time": Parameter(5.0, "s", **POS, group="settle", **NOT_TABLE,
                                  doc="the settle stops, saying so, if not at rest after this simulated time"),
     "settle_min_time": Parameter(0.05, "s", **NONNEG, group="settle", **NOT_TABLE,

@@ -1,8 +1,9 @@
 """The settle of a punch-through run (paper section 2.4: "before any indenter
 motion, it was ensured that the system was in balance"; docs/model.md §4).
 
-Damped motion to rest under gravity and buoyancy with the indenter free, the
-check that every free body is in balance, and the hold that measures the
+Damped motion to rest under gravity and buoyancy with the indenter free (or,
+settle_indenter='held', held where it was meshed), the check that every free
+body is in balance, and the hold that measures the
 force at rest; then the run's loading starts. ``Settle(run).run()`` does it
 for a PunchThrough ``run`` (run/punch_through_run.py), whose model, options,
 parameters and RunState it reads and moves on.
@@ -44,6 +45,8 @@ class Settle:
                                         weights=np.asarray(m.mass_phys)[own] * self.driver.params["g"])
         self.body_held = np.zeros(len(self.driver.scene.body_kind), bool)
         self.body_held[self.node_body[m.node_sets["layer_top"]]] = True
+        if self.indenter_held():   # its balance is the rig's: not checked
+            self.body_held[self.node_body[m.node_sets["indenter_top"]]] = True
 
     def momenta(self):
         """Each body's momentum and angular momentum about its centre of
@@ -136,7 +139,9 @@ class Settle:
         return f"fastest node on body {b} (moved {moved * 1e3:.1f} mm while settling)"
 
     def run(self):
-        """Damped motion to rest under gravity and buoyancy, indenter free.
+        """Damped motion to rest under gravity and buoyancy, the indenter free
+        (settle_indenter='free', then held where it came to rest) or held
+        where it was meshed ('held').
 
         Drag is off and local non-viscous damping (Cundall; each node's force
         reduced by SETTLE_LOCAL_DAMPING x its size when it pushes along the
@@ -151,6 +156,8 @@ class Settle:
             self.settle_step(True)
         dt = m.dt
         self.driver.apply_boundary_conditions()
+        if self.indenter_held():   # where it was meshed (the loading's hold below keeps it there)
+            self.hold_indenter()
         # settle_bonds: 'held' keeps every bond (the scene's default, check off);
         # 'checked' lets a point past eq 5 split now, so the loading starts
         # from a balance the bonds can carry
@@ -204,8 +211,8 @@ class Settle:
         # takes: ~0 if the system is in balance (paper 2.4). The first steps
         # of the hold carry the impulse of the residual speed, so average the
         # force over the second half of the hold.
-        m.prescribe_velocity("indenter_top", direction=(0.0, -1.0),
-                             table=(np.array([0.0, 1.0]), np.zeros(2)))
+        if not self.indenter_held():   # held since the first step otherwise
+            self.hold_indenter()
         n_hold = max(2, int(round(o.settle_hold_time / dt)))
         m.step(n_hold // 2)
         forces = []
@@ -226,6 +233,15 @@ class Settle:
               f"{self.driver.state.settle_max_speed:.2g} m/s, largest block move {self.driver.state.settle_max_block_move * 1e3:.1f} mm"
               + (f", {self.driver.state.settle_splits} bond points split" if checked else "")
               + f"); indenter force at rest {self.driver.state.F_at_rest:.1f} N/m", flush=True)
+
+    def indenter_held(self):
+        """settle_indenter='held': the indenter is held from the first step."""
+        return self.driver.params["settle_indenter"] == "held"
+
+    def hold_indenter(self):
+        """The indenter's top at zero velocity, where it is now."""
+        self.driver.model.prescribe_velocity("indenter_top", direction=(0.0, -1.0),
+                                             table=(np.array([0.0, 1.0]), np.zeros(2)))
 
     def settle_step(self, on):
         """The settle's larger step and back. On: the inertial masses of

@@ -535,3 +535,24 @@ def test_a_load_from_a_rest_state_interrupted_resumes_into_the_same_run(mesh_pat
         np.testing.assert_array_equal(b["force/F"][:], a["force/F"][:])
         np.testing.assert_array_equal(b["energy/residual"][:], a["energy/residual"][:])
         assert b.attrs["rest_state_from"] == a.attrs["rest_state_from"] == os.path.abspath(rest)
+
+
+def test_an_indenter_held_while_settling_never_moves_and_keys_its_own_rest_state(mesh_path, tmp_path, finished):
+    """settle_indenter='held': the indenter is held where it was meshed from
+    the first step (its top at zero velocity), so the loading starts from its
+    meshed place exactly and whatever the keel pushes on it at rest is
+    F_at_rest; the free settle of the same scene moved it. The settle reads
+    the choice, so the two never share a rest state."""
+    from icerubble.run import rest_states
+    run = PunchThrough(mesh_path, tmp_path / "held.h5", params=dict(PARAMS, target_travel=5e-4, settle_indenter="held"),
+                       options=RunOptions(threads=1, progress_every_s=1e9, vtu=False))
+    meshed = run.scene.indenter_top_y()
+    run.run()
+    assert run.state.y_top0 == meshed                        # held from the first step: not a bit moved
+    free, _ = finished
+    assert free.state.y_top0 != meshed                       # the free indenter found its own balance
+    assert np.isfinite(run.state.F_at_rest)
+    with open_complete(tmp_path / "held.h5", "icerubble-run") as f:
+        assert f["force/F"][0] == run.state.F_at_rest          # the record starts from the push at rest
+    keys = [rest_states.settle_identity(r.params, r.scene.mesh, r.options, 1) for r in (run, free)]
+    assert keys[0] != keys[1]
