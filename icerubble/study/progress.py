@@ -122,7 +122,9 @@ def watch(cmd, env, log_dir, table, jobs=1, every_s=60.0, stream=None):
     killed left its lines running on, unseen, beside a new command resuming
     them from the same checkpoints."""
     stream = stream or sys.stdout
-    proc = subprocess.Popen(cmd, env=env, cwd=log_dir, start_new_session=True)
+    # stdin from /dev/null: a process outside the terminal's foreground group that
+    # read it would be stopped (SIGTTIN); the lines read nothing from it
+    proc = subprocess.Popen(cmd, env=env, cwd=log_dir, start_new_session=True, stdin=subprocess.DEVNULL)
     handlers = {}
     if threading.current_thread() is threading.main_thread():
         for signum in (signal.SIGTERM, signal.SIGHUP):
