@@ -81,6 +81,7 @@ def measures(path):
                 n_split_settle=int(np.sum(r.bonds["t_split"] < 0)) if "t_split" in r.bonds else 0,
                 settle_bonds=str(r.parameters.get("settle_bonds", P.REGISTRY["settle_bonds"].default)),
                 side_walls=str(r.parameters.get("side_walls", P.REGISTRY["side_walls"].default)),
+                settle_indenter=str(r.parameters.get("settle_indenter", P.REGISTRY["settle_indenter"].default)),
                 F_20mm_kN_per_m=loads.load_at(y, F, TRAVEL) / 1e3,
                 alpha_mean_1_20mm_deg=alpha_mean, alpha_sd_1_20mm_deg=alpha_sd,
                 A_p_mean_1_20mm_m2=failure_plane.mean_sd(areas)[0],

@@ -328,7 +328,8 @@ def force_direction(d):
     for r in d["runs"]:
         t3 = d.get("table_3", {}).get(f"{r['tau_cr_kPa']:.1f}")
         t3 = f"{t3[0]:g} ± {t3[1]:g}" if t3 else ""
-        rows.append([r["ridge"], r["mu"], fmt(r["tau_cr_kPa"]), f"{r['y_I_end_mm']:.0f}", r["force_direction"],
+        direction = r["force_direction"] + (", indenter held while settling" if r.get("settle_indenter") == "held" else "")
+        rows.append([r["ridge"], r["mu"], fmt(r["tau_cr_kPa"]), f"{r['y_I_end_mm']:.0f}", direction,
                      f"{r['first_peak_kN_per_m']:.1f} at {r['y_I_first_peak_mm']:.2f}",
                      f"{r['F_m_kN_per_m']:.1f} at {r['y_I_peak_mm']:.2f}",
                      f"{r['alpha_mean_1_20mm_deg']:.1f} ± {r['alpha_sd_1_20mm_deg']:.1f}",
