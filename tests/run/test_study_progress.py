@@ -75,8 +75,11 @@ FAKE_LINE = textwrap.dedent("""
         time.sleep(0.1)
     """)
 STUDY = textwrap.dedent("""
-    import subprocess, sys
+    import signal, subprocess, sys
     from icerubble.study.progress import watch
+    # a shell without job control starts its background commands with SIGINT
+    # ignored, which Python then keeps: a terminal's command gets Ctrl-C
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     line = subprocess.list2cmdline([sys.executable, "-c", open("line.py").read()])
     batch = [sys.executable, "-c", f"import subprocess; subprocess.call({line!r}, shell=True)"]
     try:
