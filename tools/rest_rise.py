@@ -11,6 +11,7 @@ intact. The indenter is free while settling (docs/model.md §3.4); a keel whose
 buoyant part under it breaks loose lifts it (docs/study_paper_depth.md, Status),
 where a keel at rest moves it by under a millimetre.
 """
+import functools
 import glob
 import json
 import os
@@ -22,9 +23,10 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
-from icerubble.files.mesh_file import read_mesh  # noqa: E402
+from icerubble.files.mesh_file import KIND_BLOCK, KIND_INDENTER, read_mesh  # noqa: E402
 
-BLOCK, INDENTER = 0, 2  # body_kind of the mesh file (icerubble/files/mesh_file.py)
+# a folder's meshes are read once, whatever the number of checkpoints beside them
+mesh = functools.lru_cache(maxsize=None)(read_mesh)
 
 
 def mesh_of(checkpoint, folder):
@@ -37,12 +39,11 @@ def mesh_of(checkpoint, folder):
         n_tri = f["engine/body"].shape[0]
     found = [m for m in sorted(glob.glob(os.path.join(folder, "*_mesh.h5")) +
                                glob.glob(os.path.join(folder, "scenes", "*_mesh.h5")))
-             if len(read_mesh(m)["body"]) == n_tri]
+             if len(mesh(m)["body"]) == n_tri]
     return found[0] if len(found) == 1 else None
 
 
 def rise(checkpoint, mesh_path):
-    mesh = read_mesh(mesh_path)
     with h5py.File(checkpoint, "r") as f:
         e = f["engine"]
         p = e["positions"][()].reshape(-1, 2)
@@ -51,10 +52,10 @@ def rise(checkpoint, mesh_path):
         tri = e["triangles"][()].reshape(-1, 3)
         params = json.loads(f["driver"].attrs["params"])
         intact = e["bond_state/point_state"][()] == 0 if "bond_state/point_state" in e else None
-    kind = np.asarray(mesh["body_kind"])[body]
+    kind = np.asarray(mesh(mesh_path)["body_kind"])[body]
     half = 0.5 * params["indenter_width"]
-    indenter = np.unique(tri[kind == INDENTER])
-    blocks = np.unique(tri[kind == BLOCK])
+    indenter = np.unique(tri[kind == KIND_INDENTER])
+    blocks = np.unique(tri[kind == KIND_BLOCK])
     under = blocks[np.abs(p0[blocks, 0]) < half]
     far = blocks[np.abs(p0[blocks, 0]) > 2.0 * half]
     dy = p[:, 1] - p0[:, 1]
@@ -80,11 +81,11 @@ def main(argv):
             rest = "_rest_" in os.path.basename(ckpt)
             if not rest and phase != "settle":
                 continue  # a loading checkpoint: its positions hold the indenter's travel
-            mesh = mesh_of(ckpt, d)
-            if mesh is None:
+            mesh_path = mesh_of(ckpt, d)
+            if mesh_path is None:
                 print(f"| {os.path.basename(ckpt)} | no single mesh of its triangles in {d} or its scenes/ |||||||")
                 continue
-            params, mm, split = rise(ckpt, mesh)
+            params, mm, split = rise(ckpt, mesh_path)
             name = os.path.basename(ckpt) + ("" if rest else " (settling)")
             print(f"| {name} | {params['tau_cr'] / 1e3:g} | {params['mu']:g} "
                   f"| {params.get('settle_bonds', 'held')} | {' | '.join(mm)} | {split} |")

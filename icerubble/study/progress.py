@@ -65,7 +65,6 @@ class Stopped(KeyboardInterrupt):
 
     def __init__(self, signum):
         super().__init__(signal.Signals(signum).name)
-        self.signum = signum
 
 
 def _raise_stopped(signum, frame):

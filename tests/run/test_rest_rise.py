@@ -29,8 +29,8 @@ def write_rest_state(folder, lift_indenter, lift_under):
     tri = np.asarray(mesh["triangles"])
     kind = np.asarray(mesh["body_kind"])[np.asarray(mesh["body"])]
     p = p0.copy()
-    p[np.unique(tri[kind == rest_rise.INDENTER]), 1] += lift_indenter
-    p[np.unique(tri[kind == rest_rise.BLOCK]), 1] += lift_under
+    p[np.unique(tri[kind == mesh_file.KIND_INDENTER]), 1] += lift_indenter
+    p[np.unique(tri[kind == mesh_file.KIND_BLOCK]), 1] += lift_under
     # as a run's checkpoint records them: the table's and the geometry measured on the mesh
     params = dict(P.validate(dict(tau_cr=5000.0, mu=0.05, settle_bonds="checked")), indenter_width=4.0)
     with h5py.File(os.path.join(folder, "case_rest_0123.checkpoint.h5"), "w") as f:
