@@ -11,7 +11,7 @@ data/study_deep_direction.table (or any table of the deep scene):
 
     /usr/bin/python3 bench/force_direction.py --measure runs/deep/deep_ridge4_mu0.3_tau5k.h5 ...
 
-and keeps one row per (ridge, mu, tau_cr, force direction) in
+and keeps one row per (ridge, mu, tau_cr, travel, force direction, settle procedure) in
 bench/results/force_direction.json (a row measured again replaces the old
 one). Per run: the first peak (the largest F before 1 mm) and the 5 mm
 rule's F^m, alpha and A_p over y_I = 1-20 mm through the split points,
@@ -90,7 +90,10 @@ def travel_mm(row):
 
 
 def key(row):
-    return row["ridge"], row["mu"], row["tau_cr_kPa"], travel_mm(row), DIRECTIONS.index(row["force_direction"])
+    """One row per line: a run that settled another way (bonds, indenter, side walls) is another line,
+    not a remeasurement (deep_ridge1_mu0.3_tau5k_wc_ih once replaced deep_ridge1_mu0.3_tau5k_wc)."""
+    settle = tuple(str(row.get(k, "")) for k in ("settle_bonds", "settle_indenter", "side_walls"))
+    return (row["ridge"], row["mu"], row["tau_cr_kPa"], travel_mm(row), DIRECTIONS.index(row["force_direction"])) + settle
 
 
 def main(argv=None):
