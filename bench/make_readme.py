@@ -18,8 +18,10 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+sys.path[:0] = [HERE, os.path.dirname(HERE)]
 import stamps  # noqa: E402
+from postproc.failure_plane import mean_sd  # noqa: E402
+from postproc.paper_comparison import PAPER  # noqa: E402
 
 RESULTS = os.path.join(HERE, "results")
 OUT = os.path.join(HERE, "README.md")
@@ -347,7 +349,7 @@ def force_direction(d):
                      "F^m (kN/m at mm)", "α (°)", "A_p (m²)", "F(20 mm) (kN/m)", "mean F 15-20 mm (kN/m)",
                      "split / failed",
                      "n_t/n_s at full failure", "n_t/n_s at initiation", "Table 3 (300 mm)", "code"], rows)
-            + force_direction_long(d))
+            + force_direction_long(d) + force_direction_friction(d))
 
 
 def force_direction_long(d):
@@ -366,6 +368,42 @@ def force_direction_long(d):
             + table(["ridge", "μ", "τ_cr (kPa)", "travel (mm)", "force direction", "n_t/n_s within 20 mm",
                      "within 100 mm", "over the travel", "mean F 20-150 mm (kN/m)", "mean F 150-300 mm (kN/m)",
                      "record max (kN/m at mm)"], rows))
+
+
+def force_direction_friction(d):
+    """μ 0.3 against μ 0.05 on each ridge where both ran from one settle procedure (Fig. 8, Table 3's
+    τ ratio): runs that settled differently are not paired, since the procedure alone moved a first
+    peak by 14 % (docs/study_paper_depth.md). A case run to 20 and 300 mm from one rest state is
+    read from its shorter run (the same first peak and 15-20 mm window)."""
+    cases = {}
+    for r in sorted(d["runs"], key=lambda r: r["y_I_end_mm"]):
+        key = (r["force_direction"], r.get("settle_indenter") or "free", r["tau_cr_kPa"])
+        cases.setdefault(key, {}).setdefault(r["ridge"], {}).setdefault(r["mu"], r)
+    lines = []
+    for (direction, settle, tau), ridges in sorted(cases.items(), key=lambda kv: (kv[0][0], kv[0][2], kv[0][1])):
+        pairs = {k: v for k, v in sorted(ridges.items()) if 0.05 in v and 0.3 in v}
+        if not pairs:
+            continue
+        rows, peak_ratio, late_ratio = [], [], []
+        for ridge, by_mu in pairs.items():
+            lo, hi = by_mu[0.05], by_mu[0.3]
+            peak_ratio.append(hi["first_peak_kN_per_m"] / lo["first_peak_kN_per_m"])
+            late = [m.get("F_15_20mm_mean_kN_per_m", float("nan")) for m in (lo, hi)]
+            late_ratio.append(late[1] / late[0])
+            rows.append([ridge, f"{lo['first_peak_kN_per_m']:.1f} / {hi['first_peak_kN_per_m']:.1f}",
+                         f"{peak_ratio[-1]:.2f}", f"{late[0]:.1f} / {late[1]:.1f}", f"{late_ratio[-1]:.2f}"])
+        if len(pairs) > 1:
+            (pm, ps), (lm, ls) = mean_sd(peak_ratio), mean_sd(late_ratio)
+            rows.append(["mean ± sd", "", f"**{pm:.2f} ± {ps:.2f}**", "", f"{lm:.2f} ± {ls:.2f}"])
+        paper = PAPER["tau_ratio"]["tau1"].get(int(tau) if float(tau).is_integer() else tau)
+        if paper:
+            rows.append(["Table 3 (τ^(1))", "", paper, "", ""])
+        held = "held" if settle == "held" else "free"
+        lines += ["", f"μ 0.3 against μ 0.05 at τ_cr {fmt(tau)} kPa, {direction}, indenter {held} while "
+                      f"settling at both μ ({len(pairs)} ridge{'s' if len(pairs) > 1 else ''}):", ""]
+        lines += table(["ridge", "first peak μ 0.05 / μ 0.3 (kN/m)", "ratio", "mean F 15-20 mm μ 0.05 / μ 0.3 (kN/m)",
+                        "ratio"], rows)
+    return lines
 
 
 FORMATS = {"demo_reference.json": demo_reference, "paper_cost.json": paper_cost, "paper_peak.json": paper_peak,
