@@ -89,12 +89,20 @@ def travel_mm(row):
     return float(round(row["y_I_end_mm"]))
 
 
+SETTLE_PROCEDURE = ("settle_bonds", "settle_indenter", "side_walls")
+
+
+def settle_procedure(row):
+    """(settle_bonds, settle_indenter, side_walls) of a row; a row measured before a settle
+    parameter existed was made with its default, as measures() reads it."""
+    return tuple(str(row.get(k, P.REGISTRY[k].default)) for k in SETTLE_PROCEDURE)
+
+
 def key(row):
     """One row per line: a run that settled another way (bonds, indenter, side walls) is another line,
     not a remeasurement (deep_ridge1_mu0.3_tau5k_wc_ih once replaced deep_ridge1_mu0.3_tau5k_wc)."""
-    # a row measured before a settle parameter existed was made with its default, as measures() reads it
-    settle = tuple(str(row.get(k, P.REGISTRY[k].default)) for k in ("settle_bonds", "settle_indenter", "side_walls"))
-    return (row["ridge"], row["mu"], row["tau_cr_kPa"], travel_mm(row), DIRECTIONS.index(row["force_direction"])) + settle
+    return ((row["ridge"], row["mu"], row["tau_cr_kPa"], travel_mm(row), DIRECTIONS.index(row["force_direction"]))
+            + settle_procedure(row))
 
 
 def main(argv=None):

@@ -20,6 +20,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.dirname(HERE)]
 import stamps  # noqa: E402
+from force_direction import settle_procedure  # noqa: E402
 from postproc.failure_plane import mean_sd  # noqa: E402
 from postproc.paper_comparison import PAPER  # noqa: E402
 
@@ -377,10 +378,10 @@ def force_direction_friction(d):
     read from its shorter run (the same first peak and 15-20 mm window)."""
     cases = {}
     for r in sorted(d["runs"], key=lambda r: r["y_I_end_mm"]):
-        key = (r["force_direction"], r.get("settle_indenter") or "free", r["tau_cr_kPa"])
+        key = (r["force_direction"], r["tau_cr_kPa"], settle_procedure(r))
         cases.setdefault(key, {}).setdefault(r["ridge"], {}).setdefault(r["mu"], r)
     lines = []
-    for (direction, settle, tau), ridges in sorted(cases.items(), key=lambda kv: (kv[0][0], kv[0][2], kv[0][1])):
+    for (direction, tau, (bonds, indenter, walls)), ridges in sorted(cases.items()):
         pairs = {k: v for k, v in sorted(ridges.items()) if 0.05 in v and 0.3 in v}
         if not pairs:
             continue
@@ -395,12 +396,12 @@ def force_direction_friction(d):
         if len(pairs) > 1:
             (pm, ps), (lm, ls) = mean_sd(peak_ratio), mean_sd(late_ratio)
             rows.append(["mean ± sd", "", f"**{pm:.2f} ± {ps:.2f}**", "", f"{lm:.2f} ± {ls:.2f}"])
-        paper = PAPER["tau_ratio"]["tau1"].get(int(tau) if float(tau).is_integer() else tau)
+        paper = PAPER["tau_ratio"]["tau1"].get(tau)   # keyed 5, 50, 100: 5.0 finds 5
         if paper:
             rows.append(["Table 3 (τ^(1))", "", paper, "", ""])
-        held = "held" if settle == "held" else "free"
-        lines += ["", f"μ 0.3 against μ 0.05 at τ_cr {fmt(tau)} kPa, {direction}, indenter {held} while "
-                      f"settling at both μ ({len(pairs)} ridge{'s' if len(pairs) > 1 else ''}):", ""]
+        lines += ["", f"μ 0.3 against μ 0.05 at τ_cr {fmt(tau)} kPa, {direction}, indenter {indenter} while "
+                      f"settling at both μ (bonds {bonds}, side walls {walls}; "
+                      f"{len(pairs)} ridge{'s' if len(pairs) > 1 else ''}):", ""]
         lines += table(["ridge", "first peak μ 0.05 / μ 0.3 (kN/m)", "ratio", "mean F 15-20 mm μ 0.05 / μ 0.3 (kN/m)",
                         "ratio"], rows)
     return lines
