@@ -1,6 +1,12 @@
 """A set of runs of one model variant, grouped as the paper groups them: by ridge
 (root attr ``ridge``), friction coefficient mu and bond shear strength tau_cr
-(/parameters attrs), with each run's summary row computed once."""
+(/parameters attrs), with each run's summary row computed once.
+
+Besides the runs read from their files (``runs``), a catalog may hold runs known
+by their summary rows only (``stored``: postproc/stored_rows.py). Every row is in
+``rows`` (the tables read them all); select() and one() return the runs with
+records unless asked for the stored ones too (``stored=True``: the figures
+drawn from per-run values)."""
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,17 +29,25 @@ class Catalog:
     bond_points: str = failure_plane.DEFAULT_BOND_POINTS  # behind alpha and A_p (failure_plane)
     notes: list = field(default_factory=list)  # partial-figure remarks for MISSING.md
     rows: dict = field(default_factory=dict)
+    stored: list = field(default_factory=list)  # runs known by their summary rows only
 
     def __post_init__(self):
         for r in self.runs:
             self.rows[r.path] = summary.summarize(r, self.plug_force, self.bond_points)
+        for s in self.stored:
+            self.rows[s.path] = s.with_strengths(self.plug_force)
 
     def row(self, run):
         return self.rows[run.path]
 
-    def select(self, ridge=None, mu=None, tau_cr=None):
+    @property
+    def every_run(self):
+        """The runs with records, then those known by their rows only."""
+        return self.runs + self.stored
+
+    def select(self, ridge=None, mu=None, tau_cr=None, stored=False):
         out = []
-        for r in self.runs:
+        for r in (self.every_run if stored else self.runs):
             if ridge is not None and r.ridge != ridge:
                 continue
             if mu is not None and not np.isclose(r.mu, mu):
@@ -43,18 +57,18 @@ class Catalog:
             out.append(r)
         return out
 
-    def one(self, ridge, mu, tau_cr):
-        sel = self.select(ridge, mu, tau_cr)
+    def one(self, ridge, mu, tau_cr, stored=False):
+        sel = self.select(ridge, mu, tau_cr, stored)
         return sel[0] if sel else None
 
     def ridges(self, runs=None):
-        return sorted({r.ridge for r in (runs if runs is not None else self.runs)}, key=_ridge_key)
+        return sorted({r.ridge for r in (runs if runs is not None else self.every_run)}, key=_ridge_key)
 
     def mus(self):
-        return sorted({r.mu for r in self.runs})
+        return sorted({r.mu for r in self.every_run})
 
     def tau_crs(self):
-        return sorted({r.tau_cr for r in self.runs})
+        return sorted({r.tau_cr for r in self.every_run})
 
     def extreme_ridges(self, mu=None):
         """Ridges with the highest and lowest F^m at tau_ref and ``mu`` (default mu_low),

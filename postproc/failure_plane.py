@@ -123,3 +123,19 @@ def mean_sd(values):
     if v.size == 0:
         return np.nan, np.nan
     return float(v.mean()), float(v.std(ddof=1)) if v.size > 1 else np.nan
+
+
+def pooled_mean_sd(parts):
+    """mean_sd of the samples of several runs pooled, from each run's (n, mean, sd)
+    alone (a summary row's alpha_n, alpha_mean, alpha_sd): the same numbers as
+    mean_sd of the samples themselves, since the sum of squares about the pooled
+    mean splits into each part's own and its mean's offset."""
+    parts = [(int(n), float(m), float(s)) for n, m, s in parts if np.isfinite(n) and n > 0]
+    N = sum(n for n, _, _ in parts)
+    if N == 0:
+        return np.nan, np.nan
+    mean = sum(n * m for n, m, _ in parts) / N
+    if N == 1:
+        return mean, np.nan
+    ss = sum((n - 1) * (s * s if n > 1 else 0.0) + n * (m - mean) ** 2 for n, m, s in parts)
+    return mean, float(np.sqrt(ss / (N - 1)))

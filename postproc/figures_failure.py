@@ -48,26 +48,33 @@ def _yerr(sds):
 
 
 def _by_tau(cat, key):
-    """{mu: [(tau_cr, values)]} of a per-run quantity list (key(run) -> iterable)."""
+    """{mu: [(tau_cr, values)]} of a per-run value (key(run)), over every run of the
+    catalog, those known by their rows included."""
     out = {}
     for mu in cat.mus():
-        out[mu] = [(t, np.concatenate([np.atleast_1d(key(r)) for r in cat.select(mu=mu, tau_cr=t)]))
-                   for t in cat.tau_crs() if cat.select(mu=mu, tau_cr=t)]
+        out[mu] = [(t, np.array([key(r) for r in cat.select(mu=mu, tau_cr=t, stored=True)], dtype=float))
+                   for t in cat.tau_crs() if cat.select(mu=mu, tau_cr=t, stored=True)]
     return out
 
 
 def fig13(cat):
-    """Fig. 13: mean +- sd of alpha over y_I = 1...20 mm (all ridges, both sides) versus tau_cr, per mu."""
-    data = _by_tau(cat, lambda r: failure_plane.alpha_samples(r, bond_points=cat.bond_points))
-    if not any(v.size for rows in data.values() for _, v in rows):
+    """Fig. 13: mean +- sd of alpha over y_I = 1...20 mm (all ridges, both sides) versus tau_cr, per mu:
+    the samples of the runs pooled, from each run's count, mean and sd (its summary row)."""
+    parts = _by_tau(cat, lambda r: [cat.row(r)[k] for k in ("alpha_n_1_20mm", "alpha_mean_1_20mm_deg",
+                                                              "alpha_sd_1_20mm_deg")])
+    stats = {mu: [(t, failure_plane.pooled_mean_sd(v.reshape(-1, 3))) for t, v in rows] for mu, rows in parts.items()}
+    stats = {mu: [(t, ms) for t, ms in rows if np.isfinite(ms[0])] for mu, rows in stats.items()}
+    if not any(stats.values()):
         raise Missing(f"no run has {failure_plane.BOND_POINTS[cat.bond_points][1]} on a side "
                       "for y_I = 1...20 mm")
     fig, axes = plotting.new(width=4.8)
     ax = axes[0, 0]
-    for i, (mu, rows) in enumerate(data.items()):
+    for i, (mu, rows) in enumerate(stats.items()):
+        if not rows:
+            continue
         st = plotting.mu_style(mu)
-        t = np.array([tc for tc, v in rows if v.size]) / 1e3
-        ms = [failure_plane.mean_sd(v) for _, v in rows if v.size]
+        t = np.array([tc for tc, _ in rows]) / 1e3
+        ms = [m for _, m in rows]
         ax.errorbar(t * (1 + 0.02 * (i - 0.5)), [m for m, _ in ms], yerr=_yerr([s for _, s in ms]), ls="none",
                     capsize=3, label=f"μ = {mu:g}", **st)
     ax.set(xlabel="bond shear strength $τ_{cr}$ [kPa]", ylabel="failure-plane angle α [°]")
@@ -77,13 +84,13 @@ def fig13(cat):
 
 def fig14(cat):
     """Fig. 14: mean A_p over y_I = 1...20 mm versus tau_cr: (a) per ridge, (b) mean over ridges per mu."""
-    if not np.isfinite([cat.row(r)["A_p_mean_1_20mm_m2"] for r in cat.runs]).any():
+    if not np.isfinite([cat.row(r)["A_p_mean_1_20mm_m2"] for r in cat.every_run]).any():
         raise Missing("no run yields a plug polygon for y_I = 1...20 mm")
     fig, axes = plotting.new(ncols=2, width=9.0)
     a, b = axes[0]
     for ridge in cat.ridges():
         for mu in cat.mus():
-            rs = sorted(cat.select(ridge=ridge, mu=mu), key=lambda r: r.tau_cr)
+            rs = sorted(cat.select(ridge=ridge, mu=mu, stored=True), key=lambda r: r.tau_cr)
             if rs:
                 st = plotting.mu_style(mu)
                 a.plot([r.tau_cr / 1e3 for r in rs], [cat.row(r)["A_p_mean_1_20mm_m2"] for r in rs], "-",
@@ -92,7 +99,7 @@ def fig14(cat):
         ms = [(t / 1e3,) + failure_plane.mean_sd(v) for t, v in rows]
         b.errorbar([m[0] for m in ms], [m[1] for m in ms], yerr=_yerr([m[2] for m in ms]), capsize=3,
                    label=f"μ = {mu:g}", **plotting.mu_style(mu))
-    wh = cat.runs[0].indenter_width * cat.runs[0].keel_depth
+    wh = cat.every_run[0].indenter_width * cat.every_run[0].keel_depth
     for ax, tag in ((a, "(a) per ridge"), (b, "(b) mean over ridges")):
         ax.axhline(wh, color="k", ls=":", lw=0.8, label=f"{W_H_NOTE} = {wh:g} m²")
         ax.set(xlabel="bond shear strength $τ_{cr}$ [kPa]", ylabel="plug area $A_p$ [m²]", title=tag)
@@ -102,7 +109,7 @@ def fig14(cat):
 
 def fig15(cat):
     """Fig. 15: F^m, F(y_I = 20 mm) and F_b(A_p, eta) versus A_p at y_I = 20 mm, tau_cr = 50 kPa."""
-    sel = [r for r in cat.select(tau_cr=cat.tau_ref) if np.isfinite(cat.row(r)["A_p_20mm_m2"])]
+    sel = [r for r in cat.select(tau_cr=cat.tau_ref, stored=True) if np.isfinite(cat.row(r)["A_p_20mm_m2"])]
     if not sel:
         raise Missing(f"no run at tau_cr = {cat.tau_ref / 1e3:g} kPa with a plug polygon at y_I = 20 mm")
     fig, axes = plotting.new(width=5.0)

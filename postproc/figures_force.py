@@ -40,13 +40,13 @@ def fig07(cat):
 
 def fig08(cat):
     """Fig. 8: F^m versus mu for every ridge at tau_cr = 50 kPa."""
-    sel = cat.select(tau_cr=cat.tau_ref)
+    sel = cat.select(tau_cr=cat.tau_ref, stored=True)
     if not sel:
         raise Missing(f"no run with tau_cr = {cat.tau_ref / 1e3:g} kPa")
     fig, axes = plotting.new(width=4.5)
     ax = axes[0, 0]
     for ridge in cat.ridges(sel):
-        rs = sorted(cat.select(ridge=ridge, tau_cr=cat.tau_ref), key=lambda r: r.mu)
+        rs = sorted(cat.select(ridge=ridge, tau_cr=cat.tau_ref, stored=True), key=lambda r: r.mu)
         ax.plot([r.mu for r in rs], [cat.row(r)["F_m_kN_per_m"] for r in rs], "o-", label=f"ridge {ridge}")
     ax.set(xlabel="friction coefficient μ [–]", ylabel="peak load $F^m$ [kN/m]")
     ax.legend()
@@ -84,7 +84,7 @@ def fig10(cat):
     fig, axes = plotting.new(width=4.8)
     ax = axes[0, 0]
     for mu in cat.mus():
-        rs = cat.select(mu=mu)
+        rs = cat.select(mu=mu, stored=True)
         st = plotting.mu_style(mu)
         ax.plot([r.tau_cr / 1e3 for r in rs], [cat.row(r)["F_m_kN_per_m"] for r in rs], ls="none",
                 label=f"μ = {mu:g}", **st)
@@ -98,7 +98,7 @@ def peak_ratios(cat):
     out = []
     for ridge in cat.ridges():
         for t in cat.tau_crs():
-            lo, hi = cat.one(ridge, cat.mu_low, t), cat.one(ridge, cat.mu_high, t)
+            lo, hi = cat.one(ridge, cat.mu_low, t, stored=True), cat.one(ridge, cat.mu_high, t, stored=True)
             if lo is not None and hi is not None:
                 out.append((ridge, t, cat.row(hi)["F_m_kN_per_m"] / cat.row(lo)["F_m_kN_per_m"]))
     return out

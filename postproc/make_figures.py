@@ -2,6 +2,7 @@
 from a folder of run results.
 
     /usr/bin/python3 -m postproc.make_figures RESULTS_DIR [-o OUT_DIR] [--bond-points split|failed]
+                                              [--stored-rows SUMMARY_CSV ...]
 
 Reads every complete ``*.h5`` under RESULTS_DIR (recursively; ``*.h5.part`` and
 files with complete != 1 are skipped and reported). Runs are grouped by ridge (root
@@ -12,6 +13,9 @@ summary.csv (one row per run) and MISSING.md (what could not be made and why).
 --bond-points picks the points behind alpha and A_p (Figs. 12-15, Table 2's
 tau^(3)): 'split' (the failure criterion reached, the paper's; default) or
 'failed' (fully failed); docs/postproc.md, "Definitions and choices".
+--stored-rows adds runs known by a summary.csv's rows only, made where their files
+were (postproc/stored_rows.py): they join Tables 2-3 and Figs. 8, 10, 11, 13-15,
+and the summary.csv written here, so that the next call can take it again.
 Exit status: 0 when it ran (even if some items are missing), 1 if a figure failed
 with an unexpected error, 2 if no readable run was found.
 """
@@ -24,7 +28,8 @@ from icerubble import cli
 from icerubble.files import results
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import failure_plane, figures_deformation, figures_failure, figures_force, shear_strength, summary, tables
+from . import (failure_plane, figures_deformation, figures_failure, figures_force, shear_strength, stored_rows,
+               summary, tables)
 from .catalog import Catalog, Missing
 from .variants import folder as variant_folder, variant
 
@@ -45,14 +50,14 @@ def promised_files(out_dir):
     return out + [os.path.join(out_dir, "summary.csv")]
 
 
-def _travel(run):
-    return float(run.force_y[-1]) if len(run.force_y) else 0.0
+_travel = stored_rows.travel
 
 
 def _dedupe(runs, report):
     """One run per case (ridge, mu, tau_cr) of a variant: the one with the longest
     travel, of equal ones the first (shear_strength.longest_per_case: a case run to
-    20 mm and, from the same rest state, to 300 mm is read from its 300 mm run)."""
+    20 mm and, from the same rest state, to 300 mm is read from its 300 mm run;
+    runs with records come before stored rows, so of equal travels the file wins)."""
     kept, dropped = shear_strength.longest_per_case(runs, lambda r: (r.ridge, round(r.mu, 9), round(r.tau_cr, 6)),
                                                     _travel)
     for drop, keep in dropped:
@@ -62,12 +67,20 @@ def _dedupe(runs, report):
     return kept
 
 
-def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS):
-    """Figures, tables and summary for one variant; appends MISSING lines to ``report``.
-    Returns the number of unexpected errors."""
+def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS,
+                 stored=()):
+    """Figures, tables and summary for one variant (``stored``: its runs known by
+    their rows only); appends MISSING lines to ``report``. Returns the number of
+    unexpected errors."""
     os.makedirs(out_dir, exist_ok=True)
-    cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force, bond_points=bond_points)
-    summary.write_csv([cat.row(r) for r in runs], os.path.join(out_dir, "summary.csv"))
+    cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force, bond_points=bond_points,
+                  stored=list(stored))
+    summary.write_csv([cat.row(r) for r in cat.every_run], os.path.join(out_dir, "summary.csv"))
+    if stored:
+        report.append(f"- {len(stored)} run(s) known by their stored rows only ("
+                      + ", ".join(sorted({s.source for s in stored})) + "): in Tables 2-3 and Figs. 8, 10, 11, "
+                      "13-15, not in the figures drawn from records (6, 7, 9, 12, 16-20): "
+                      + ", ".join(s.name for s in stored))
     errors = 0
     items = [(f"Fig. {n}", fn) for n, fn in sorted(FIGURES.items())]
     items += [(f"Table {n}", fn) for n, fn in sorted(tables.TABLES.items())]
@@ -98,41 +111,49 @@ def main(argv=None):
     ap.add_argument("--plug-force", type=float, default=11e3,
                     help="F_b of tau^(2), the cylindrical plug [N/m] (paper: ~11e3)")
     summary.add_bond_points_option(ap)
+    stored_rows.add_option(ap)
     args = ap.parse_args(argv)
     if not os.path.isdir(args.results_dir):
         ap.error(f"RESULTS_DIR {args.results_dir!r} is not a folder")
     if args.tau_ref_kPa <= 0 or args.plug_force < 0:
         ap.error("--tau-ref-kPa must be > 0 and --plug-force >= 0")
     check_output_folder(args.out_dir, "--out-dir")
+    stored = stored_rows.read_all(args.stored_rows, args.bond_points)   # read before OUT_DIR is written
 
     runs, skipped = results.load_folder(args.results_dir)
     skipped = [f"- skipped: {why}" for why in skipped]
     os.makedirs(args.out_dir, exist_ok=True)
     lines = ["# Items not made, and why", "", f"Results folder: `{args.results_dir}`; "
-             f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped. Bond points behind alpha and A_p: "
+             f"{len(runs)} run(s) read, {len(skipped)} file(s) skipped"
+             + (f", {len(stored)} stored row(s) from " + ", ".join(f"`{p}`" for p in args.stored_rows)
+                if stored else "") + ". Bond points behind alpha and A_p: "
              f"{failure_plane.BOND_POINTS[args.bond_points][1]} (--bond-points {args.bond_points}).", ""]
     if skipped:
         lines += ["## Skipped files", ""] + skipped + [""]
     errors = 0
     variants = {}
-    for r in runs:
+    for r in runs + stored:   # files first: of a case's equal travels, the file is kept
         variants.setdefault(variant(r), []).append(r)
     for key, vruns in sorted(variants.items()):
         scene, model, fdir = key
         sub = args.out_dir if len(variants) == 1 else os.path.join(args.out_dir, variant_folder(key, variants))
         report = []
         vruns = _dedupe(vruns, report)
-        errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report, args.bond_points)
-        lines += [f"## scene `{scene}`, model `{model}`, force_direction `{fdir}` -> `{sub}` ({len(vruns)} runs)", ""]
+        vstored = [r for r in vruns if isinstance(r, stored_rows.StoredRun)]
+        vruns = [r for r in vruns if not isinstance(r, stored_rows.StoredRun)]
+        errors += make_variant(vruns, sub, args.tau_ref_kPa * 1e3, args.plug_force, report, args.bond_points,
+                               vstored)
+        lines += [f"## scene `{scene}`, model `{model}`, force_direction `{fdir}` -> `{sub}` "
+                  f"({len(vruns) + len(vstored)} runs)", ""]
         lines += report or ["- nothing missing"]
         lines.append("")
-    if not runs:
+    if not runs and not stored:
         lines.append("No readable run result: nothing could be made.")
     text = "\n".join(lines) + "\n"
     with whole_file(os.path.join(args.out_dir, "MISSING.md")) as fh:
         fh.write(text)
     print(text)
-    if not runs:
+    if not runs and not stored:
         return 2
     return 1 if errors else 0
 

@@ -10,6 +10,7 @@ F_d(K) at K = 0.45 and 0.9.
 
     /usr/bin/python3 -m postproc.paper_comparison RESULTS_DIR [RESULTS_DIR ...]
         [--label NAME ...] [-o comparison.md] [--bond-points split|failed]
+        [--stored-rows SUMMARY_CSV ...]
 
 Two or more folders, or one that holds eq 11's two forms (or both models), give
 one table with a column each beside the paper's (e.g. the paper-depth study, the
@@ -22,6 +23,10 @@ from F̄, the mean over y_I ± 5 mm (docs/postproc.md, "Definitions and choices"
 
 The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
 (1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
+
+--stored-rows (one folder only) adds runs known by a summary.csv's rows, made
+where their files were (postproc/stored_rows.py): every statistic reads them
+but R(F, F_d), which needs the records.
 """
 import argparse
 import os
@@ -34,7 +39,7 @@ from icerubble.files import results
 from icerubble.files.output_path import check_output_file, whole_file
 
 from . import displaced_area as dA
-from . import failure_plane, loads, plug, shear_strength, summary
+from . import failure_plane, loads, plug, shear_strength, stored_rows, summary
 from .failure_plane import mean_sd
 from .variants import label as variant_label, row_variant
 
@@ -74,7 +79,9 @@ def cylindrical_plug_force(run):
     return float(plug.run_buoyant_load(run, run.indenter_width * run.keel_depth))
 
 
-def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS):
+def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS, stored=()):
+    """Summary rows and runs, aligned, one per case (the longer run's); a run
+    known by its stored row only (``stored``) has None for its run."""
     runs, rows = [], []
     for path in results.find_results(folder)[0]:
         if os.sep + "scenes" + os.sep in path:   # cached piles and meshes, not runs
@@ -87,6 +94,11 @@ def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS):
         r = summary.summarize(run, plug_force=cylindrical_plug_force(run), bond_points=bond_points)
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
         runs.append(run)
+        rows.append(r)
+    for s in stored:   # after the files: of a case's equal travels, the file is kept
+        r = s.with_strengths(None)   # tau^(2) with the row's own cylindrical plug, as above
+        r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
+        runs.append(None)
         rows.append(r)
     # a case run to 20 and to 300 mm counts once, by its longer run (docs/postproc.md)
     pairs, _ = shear_strength.longest_per_case(list(zip(rows, runs)), lambda p: shear_strength.row_case(p[0]),
@@ -137,13 +149,17 @@ def single_sample_load(run, y_I):
     return loads.load_at(run.force_y, run.force_F, y_I)
 
 
-def describe(rows):
-    """One line naming the runs a column reads and the definitions it uses."""
+def describe(rows, n_files=None):
+    """One line naming the runs a column reads and the definitions it uses;
+    ``n_files``: how many of them were read from their files (the rest from
+    stored rows, not in R)."""
+    stored = "" if n_files is None or n_files == len(rows) else \
+        f"; {len(rows) - n_files} of them known by stored summary rows only (not in R)"
     taus = sorted({r["tau_cr_kPa"] for r in rows})
     ridges = sorted({r["ridge"] for r in rows})
     mus = sorted({r["mu"] for r in rows})
     window = loads.COHESIVE_PEAK_TRAVEL * 1e3
-    return (f"Runs: {len(rows)} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
+    return (f"Runs: {len(rows)}{stored} ({len(ridges)} ridges, μ {', '.join(f'{m:g}' for m in mus)}, "
             f"τ_cr {', '.join(f'{t:g}' for t in taus)} kPa); travel up to "
             f"{max(r['y_I_end_mm'] for r in rows):.0f} mm; keel depth "
             f"{_pm([r['keel_depth_m'] for r in rows])} m, indenter width "
@@ -252,7 +268,7 @@ def statistics(rows, runs):
 
 
 def table(rows, runs):
-    L = [describe(rows), "", "| statistic | this study | paper |", "|---|---|---|"]
+    L = [describe(rows, len(runs)), "", "| statistic | this study | paper |", "|---|---|---|"]
     L += [f"| {what} | {ours} | {paper} |" for what, ours, paper in statistics(rows, runs)]
     return "\n".join(L)
 
@@ -275,18 +291,21 @@ def side_by_side(columns):
     for what in order:
         L.append(f"| {what} | " + " | ".join(col.get(what, "—") for col in values) + f" | {paper[what]} |")
     L.append("")
-    L += [f"- **{name}**: {describe(rows)}" for name, rows, _ in columns]
+    L += [f"- **{name}**: {describe(rows, len(runs))}" for name, rows, runs in columns]
     return "\n".join(L)
 
 
-def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS):
+def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS, stored=()):
     """(name, rows, runs) per folder and variant (postproc/variants.py), in the
     folders' order: a folder's name is its label (its path if none), followed
     by the variant when the folder holds more than one, so eq 11's two forms,
-    or two scenes found in one folder, are two columns."""
+    or two scenes found in one folder, are two columns. ``stored``: runs known
+    by their rows only, of the one folder given (runs holds those with files)."""
+    if stored and len(folders) != 1:
+        raise ValueError(f"--stored-rows belongs to one folder of runs; {len(folders)} were given")
     out = []
     for k, folder in enumerate(folders):
-        rows, runs = rows_and_runs(folder, bond_points)
+        rows, runs = rows_and_runs(folder, bond_points, stored)
         if not rows:
             raise ValueError(f"no complete run results under {folder}")
         name = labels[k] if labels else folder
@@ -294,7 +313,7 @@ def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS)
         for key in keys:
             sel = [i for i, r in enumerate(rows) if row_variant(r) == key]
             out.append((name if len(keys) == 1 else f"{name} ({variant_label(key, keys)})",
-                        [rows[i] for i in sel], [runs[i] for i in sel]))
+                        [rows[i] for i in sel], [runs[i] for i in sel if runs[i] is not None]))
     return out
 
 
@@ -314,15 +333,19 @@ def main(argv=None):
                     help="a column's name, once per folder in the same order (default: the folder's path)")
     ap.add_argument("-o", "--out", help="also write the Markdown table here")
     summary.add_bond_points_option(ap)
+    stored_rows.add_option(ap)
     a = ap.parse_args(argv)
     if a.label and len(a.label) != len(a.results_dir):
         ap.error(f"--label given {len(a.label)} times for {len(a.results_dir)} folders: give one per folder or none")
     for folder in a.results_dir:
         if not os.path.isdir(folder):
             raise ValueError(f"{folder}: no such folder of results")
+    if a.stored_rows and len(a.results_dir) != 1:
+        ap.error(f"--stored-rows belongs to one folder of runs; {len(a.results_dir)} were given")
     if a.out:
         check_output_file(a.out, "--out")
-    text = comparison(columns(a.results_dir, a.label, a.bond_points))
+    stored = stored_rows.read_all(a.stored_rows, a.bond_points)
+    text = comparison(columns(a.results_dir, a.label, a.bond_points, stored))
     print(text)
     if a.out:
         with whole_file(a.out) as f:

@@ -30,6 +30,8 @@ COLUMNS = [
     "tau1_kPa", "tau2_kPa", "tau3_kPa", "tau1_record_max_kPa",
     "n_split", "n_failed", "n_split_settle", "failed_fraction", "n_t", "n_s", "nt_ns", "n_t_init", "n_s_init", "nt_ns_init",
     "n_snapshots", "missing",
+    # added later (a summary.csv made before lacks them: postproc/stored_rows.py)
+    "F_b_cylinder_kN_per_m", "run_id", "code_version",
 ]
 
 
@@ -89,6 +91,10 @@ def summarize(run, plug_force=shear_strength.CYLINDRICAL_PLUG_FORCE,
         "failed_fraction": shear_strength.failed_fraction(b["y_I_split"], b["y_I_fail"]),
         "n_t": n_t, "n_s": n_s, "nt_ns": ratio, "n_t_init": n_t0, "n_s_init": n_s0, "nt_ns_init": ratio0,
         "n_snapshots": len(run.snapshots), "missing": "; ".join(sorted(run.missing)),
+        # F_b of the cylindrical plug w_I h (eq 13): tau^(2) of `icerubble compare`
+        "F_b_cylinder_kN_per_m": float(plug.run_buoyant_load(run, run.indenter_width * h)) / 1e3,
+        # what made the run, for a row read later without its file (stored_rows)
+        "run_id": str(run.attrs.get("run_id", "")), "code_version": str(run.attrs.get("code_version", "")),
     }
 
 

@@ -38,7 +38,7 @@ def _write(out_dir, stem, header, body, caption):
 
 
 def _note_paper_columns(cat, stem):
-    absent = [t for t in PAPER_TAU if not cat.select(tau_cr=t)]
+    absent = [t for t in PAPER_TAU if not cat.select(tau_cr=t, stored=True)]
     if absent:
         cat.notes.append(f"{stem}: paper column(s) tau_cr = " + ", ".join(f"{t / 1e3:g}" for t in absent) +
                          " kPa have no runs")

@@ -1,0 +1,162 @@
+"""Runs known by their summary rows only (postproc/stored_rows.py): a study whose
+run files were made on machines not kept gives the same tables and per-run
+figures from its stored rows as from the files themselves; what needs records
+says so; a row measured otherwise than asked is refused."""
+import csv
+import os
+import re
+
+import numpy as np
+import pytest
+
+from postproc import failure_plane, make_figures, paper_comparison, stored_rows
+from tests.postproc import synthetic
+
+TAUS = (5e3, 50e3, 100e3)
+
+
+@pytest.fixture(scope="module")
+def halves(tmp_path_factory):
+    """A study in two folders, ridge 1 in a/ and ridge 2 in b/, and the whole
+    study (both, found recursively) in their parent."""
+    base = tmp_path_factory.mktemp("study")
+    synthetic.write_set(str(base / "runs" / "a"), ridges=("1",), tau_crs=TAUS, travel_end=0.04)
+    synthetic.write_set(str(base / "runs" / "b"), ridges=("2",), tau_crs=TAUS, travel_end=0.04)
+    return base
+
+
+def _numbers(path):
+    """The table's numbers ('a ± b' gives a and b, '–' NaN), by quantity."""
+    with open(path) as fh:
+        rows = list(csv.reader(fh))
+    return {r[0]: [float(x) for c in r[1:] for x in (re.findall(r"-?\d+(?:\.\d+)?", c) or ["nan"])]
+            for r in rows[1:]}
+
+
+def test_tables_from_stored_rows_equal_those_from_the_run_files(halves):
+    """Ridge 1's runs made 'elsewhere' (their summary.csv kept), ridge 2's here:
+    Tables 2-3, the per-run values of Figs. 8, 10, 11, 13-15 and the summary
+    written equal the whole study's from its files, to the CSV's 6 digits (the
+    tables print 2 decimals: within one unit of the last)."""
+    whole, a_out, b_out = halves / "whole", halves / "a_out", halves / "b_out"
+    assert make_figures.main([str(halves / "runs"), "-o", str(whole)]) == 0
+    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    assert make_figures.main([str(halves / "runs" / "b"), "-o", str(b_out),
+                              "--stored-rows", str(a_out / "summary.csv")]) == 0
+    for stem in ("table2_shear_strength", "table3_ratios"):
+        got, want = _numbers(b_out / f"{stem}.csv"), _numbers(whole / f"{stem}.csv")
+        assert got.keys() == want.keys()
+        for q in want:
+            np.testing.assert_allclose(got[q], want[q], atol=0.011, equal_nan=True, err_msg=f"{stem}: {q}")
+    # the summary written holds every run, so that the next call can take it again
+    with open(b_out / "summary.csv") as fh:
+        merged = {os.path.basename(r["file"]): r for r in csv.DictReader(fh)}
+    with open(whole / "summary.csv") as fh:
+        full = {os.path.basename(r["file"]): r for r in csv.DictReader(fh)}
+    assert merged.keys() == full.keys() and len(full) == 12
+    for name, r in full.items():
+        for k in ("F_m_kN_per_m", "alpha_mean_1_20mm_deg", "A_p_mean_1_20mm_m2", "tau2_kPa", "nt_ns"):
+            np.testing.assert_allclose(float(merged[name][k] or "nan"), float(r[k] or "nan"), rtol=1e-5,
+                                       equal_nan=True, err_msg=f"{name}: {k}")
+    # made from rows: Figs. 8, 10, 11, 13-15; drawn from records only from the files here
+    for stem in ("fig08_peak_vs_mu", "fig10_peak_vs_tau", "fig11_peak_ratio_mu", "fig13_alpha_vs_tau",
+                 "fig14_plug_area", "fig15_forces_vs_plug", "fig06_force_records"):
+        assert (b_out / f"{stem}.png").exists(), stem
+    text = (b_out / "MISSING.md").read_text()
+    assert "6 stored row(s) from" in text and "6 run(s) known by their stored rows only" in text
+    assert "ridge1_mu0.05_tau50kPa.h5" in text and "ERROR" not in text
+
+
+def test_of_equal_travels_the_run_file_is_kept_over_its_stored_row(halves, tmp_path):
+    a_out = tmp_path / "a_out"
+    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    out = tmp_path / "again"
+    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(out),
+                              "--stored-rows", str(a_out / "summary.csv")]) == 0
+    text = (out / "MISSING.md").read_text()
+    assert "known by their stored rows only" not in text
+    assert text.count("duplicate run (ridge 1") == 6
+
+
+def test_alpha_pooled_from_run_means_equals_the_samples_pooled():
+    """Fig. 13 pools the alpha samples of many runs; a row keeps a run's count, mean
+    and sd only, and those give the pooled mean and sd exactly."""
+    rng = np.random.default_rng(3)
+    samples = [rng.normal(30, 8, n) for n in (1, 2, 7, 40)]
+    parts = [(s.size,) + failure_plane.mean_sd(s) for s in samples] + [(0, np.nan, np.nan)]
+    np.testing.assert_allclose(failure_plane.pooled_mean_sd(parts),
+                               failure_plane.mean_sd(np.concatenate(samples)), rtol=1e-12)
+    assert np.isnan(failure_plane.pooled_mean_sd([(1, 5.0, np.nan)])[1])
+    assert np.isnan(failure_plane.pooled_mean_sd([(0, np.nan, np.nan)])[0])
+
+
+def test_comparison_from_stored_rows_equals_the_files_but_R(halves, tmp_path):
+    """Every statistic of `icerubble compare` from ridge 1's stored rows and ridge 2's
+    files equals the one from all files, except R(F, F_d), which needs records."""
+    a_out = tmp_path / "a_out"
+    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    stored = stored_rows.read(str(a_out / "summary.csv"), "split")
+    (_, rows, runs), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"], stored=stored)
+    (_, rows_all, runs_all), = paper_comparison.columns([str(halves / "runs")], ["all"])
+    assert len(rows) == 12 and len(runs) == 6
+    got = {w: v for w, v, _ in paper_comparison.statistics(rows, runs)}
+    want = {w: v for w, v, _ in paper_comparison.statistics(rows_all, runs_all)}
+    assert got.keys() == want.keys()
+    for what in want:
+        if not what.startswith("R("):
+            assert got[what] == want[what], what
+    assert "6 of them known by stored summary rows only (not in R)" in paper_comparison.table(rows, runs)
+    # a summary.csv made before the cylindrical plug's F_b had a column: tau^(2) from
+    # F_b(A_p) at 20 mm, eq 13 being linear in the area, gives the same statistics
+    old = str(tmp_path / "old.csv")
+    _rewrite(str(a_out / "summary.csv"), old,
+             lambda rows, f: ([{k: v for k, v in r.items() if k not in stored_rows.OPTIONAL_COLUMNS} for r in rows],
+                              [k for k in f if k not in stored_rows.OPTIONAL_COLUMNS]))
+    (_, rows_old, runs_old), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"],
+                                                        stored=stored_rows.read(old, "split"))
+    got_old = {w: v for w, v, _ in paper_comparison.statistics(rows_old, runs_old)}
+    assert [v for w, v in got_old.items() if "τ^(2)" in w] == [v for w, v in want.items() if "τ^(2)" in w]
+
+
+def _rewrite(src, dst, edit):
+    with open(src) as fh:
+        rows = list(csv.DictReader(fh))
+    fields = list(rows[0].keys())
+    rows, fields = edit(rows, fields)
+    with open(dst, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+
+
+def test_rows_that_cannot_serve_are_refused_with_the_reason(halves, tmp_path, capsys):
+    a_out = tmp_path / "a_out"
+    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    good = str(a_out / "summary.csv")
+    bad_points, no_column, not_number = (str(tmp_path / n) for n in ("failed.csv", "short.csv", "text.csv"))
+    _rewrite(good, bad_points, lambda rows, f: ([{**r, "bond_points": "failed"} for r in rows], f))
+    _rewrite(good, no_column, lambda rows, f: ([{k: v for k, v in r.items() if k != "F_m_kN_per_m"} for r in rows],
+                                               [k for k in f if k != "F_m_kN_per_m"]))
+    _rewrite(good, not_number, lambda rows, f: ([{**r, "mu": "low"} for r in rows], f))
+    for path, why in ((bad_points, "measured through 'failed' bond points, and this call reads 'split'"),
+                      (no_column, "column(s) F_m_kN_per_m absent"),
+                      (not_number, "line 2: column 'mu' holds 'low', not a number"),
+                      (str(tmp_path / "none.csv"), "no such file")):
+        with pytest.raises(ValueError, match=why.replace("(", r"\(").replace(")", r"\)")):
+            stored_rows.read(path, "split")
+    out = tmp_path / "never"
+    with pytest.raises(ValueError, match="no such file"):
+        make_figures.main([str(halves / "runs" / "b"), "-o", str(out), "--stored-rows", str(tmp_path / "x.csv")])
+    assert not out.exists()   # refused before anything was written
+    with pytest.raises(SystemExit):
+        paper_comparison.main([str(halves / "runs" / "a"), str(halves / "runs" / "b"), "--stored-rows", good])
+    assert "--stored-rows belongs to one folder of runs; 2 were given" in capsys.readouterr().err
+
+
+def test_a_stored_run_has_no_records():
+    row = {c: np.nan for c in stored_rows.REQUIRED_COLUMNS}
+    row.update(file="runs/x.h5", ridge="1")
+    s = stored_rows.StoredRun(row=row, source="s.csv")
+    with pytest.raises(make_figures.Missing, match=r"x.h5: known here by its summary row only \(s.csv\); "
+                                                   "its force_y is in the run file"):
+        s.force_y
