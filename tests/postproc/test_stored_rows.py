@@ -18,10 +18,12 @@ TAUS = (5e3, 50e3, 100e3)
 @pytest.fixture(scope="module")
 def halves(tmp_path_factory):
     """A study in two folders, ridge 1 in a/ and ridge 2 in b/, and the whole
-    study (both, found recursively) in their parent."""
+    study (both, found recursively) in their parent; a_out/ holds what
+    make_figures made of a/ alone, its summary.csv the rows that travel."""
     base = tmp_path_factory.mktemp("study")
     synthetic.write_set(str(base / "runs" / "a"), ridges=("1",), tau_crs=TAUS, travel_end=0.04)
     synthetic.write_set(str(base / "runs" / "b"), ridges=("2",), tau_crs=TAUS, travel_end=0.04)
+    assert make_figures.main([str(base / "runs" / "a"), "-o", str(base / "a_out")]) == 0
     return base
 
 
@@ -40,7 +42,6 @@ def test_tables_from_stored_rows_equal_those_from_the_run_files(halves):
     tables print 2 decimals: within one unit of the last)."""
     whole, a_out, b_out = halves / "whole", halves / "a_out", halves / "b_out"
     assert make_figures.main([str(halves / "runs"), "-o", str(whole)]) == 0
-    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
     assert make_figures.main([str(halves / "runs" / "b"), "-o", str(b_out),
                               "--stored-rows", str(a_out / "summary.csv")]) == 0
     for stem in ("table2_shear_strength", "table3_ratios"):
@@ -68,8 +69,7 @@ def test_tables_from_stored_rows_equal_those_from_the_run_files(halves):
 
 
 def test_of_equal_travels_the_run_file_is_kept_over_its_stored_row(halves, tmp_path):
-    a_out = tmp_path / "a_out"
-    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    a_out = halves / "a_out"
     out = tmp_path / "again"
     assert make_figures.main([str(halves / "runs" / "a"), "-o", str(out),
                               "--stored-rows", str(a_out / "summary.csv")]) == 0
@@ -93,8 +93,7 @@ def test_alpha_pooled_from_run_means_equals_the_samples_pooled():
 def test_comparison_from_stored_rows_equals_the_files_but_R(halves, tmp_path):
     """Every statistic of `icerubble compare` from ridge 1's stored rows and ridge 2's
     files equals the one from all files, except R(F, F_d), which needs records."""
-    a_out = tmp_path / "a_out"
-    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    a_out = halves / "a_out"
     stored = stored_rows.read(str(a_out / "summary.csv"), "split")
     (_, rows, runs), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"], stored=stored)
     (_, rows_all, runs_all), = paper_comparison.columns([str(halves / "runs")], ["all"])
@@ -130,8 +129,7 @@ def _rewrite(src, dst, edit):
 
 
 def test_rows_that_cannot_serve_are_refused_with_the_reason(halves, tmp_path, capsys):
-    a_out = tmp_path / "a_out"
-    assert make_figures.main([str(halves / "runs" / "a"), "-o", str(a_out)]) == 0
+    a_out = halves / "a_out"
     good = str(a_out / "summary.csv")
     bad_points, no_column, not_number = (str(tmp_path / n) for n in ("failed.csv", "short.csv", "text.csv"))
     _rewrite(good, bad_points, lambda rows, f: ([{**r, "bond_points": "failed"} for r in rows], f))
