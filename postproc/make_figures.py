@@ -50,20 +50,18 @@ def promised_files(out_dir):
     return out + [os.path.join(out_dir, "summary.csv")]
 
 
-_travel = stored_rows.travel
-
-
 def _dedupe(runs, report):
     """One run per case (ridge, mu, tau_cr) of a variant: the one with the longest
     travel, of equal ones the first (shear_strength.longest_per_case: a case run to
     20 mm and, from the same rest state, to 300 mm is read from its 300 mm run;
     runs with records come before stored rows, so of equal travels the file wins)."""
+    travel = stored_rows.travel
     kept, dropped = shear_strength.longest_per_case(runs, lambda r: (r.ridge, round(r.mu, 9), round(r.tau_cr, 6)),
-                                                    _travel)
+                                                    travel)
     for drop, keep in dropped:
         report.append(f"- duplicate run (ridge {drop.ridge}, mu {drop.mu:g}, tau_cr {drop.tau_cr / 1e3:g} kPa): "
                       f"using {keep.name}, ignoring {drop.name}"
-                      + (f" (the longer travel, {_travel(keep) * 1e3:g} mm)" if _travel(keep) > _travel(drop) else ""))
+                      + (f" (the longer travel, {travel(keep) * 1e3:g} mm)" if travel(keep) > travel(drop) else ""))
     return kept
 
 

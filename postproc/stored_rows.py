@@ -19,7 +19,7 @@ tau^(2) from F^m and the plug force of this call.
 """
 import csv
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -40,7 +40,6 @@ class StoredRun:
     variant) and its row. Anything drawn from records raises Missing."""
     row: dict
     source: str                 # the summary.csv it was read from
-    records: bool = field(default=False, init=False)
 
     @property
     def path(self):
