@@ -61,7 +61,8 @@ def _dedupe(runs, report):
     for drop, keep in dropped:
         report.append(f"- duplicate run (ridge {drop.ridge}, mu {drop.mu:g}, tau_cr {drop.tau_cr / 1e3:g} kPa): "
                       f"using {keep.name}, ignoring {drop.name}"
-                      + (f" (the longer travel, {travel(keep) * 1e3:g} mm)" if travel(keep) > travel(drop) else ""))
+                      + (f" (the longer travel, {travel(keep) * 1e3:g} mm)"
+                         if shear_strength.longer(travel(keep), travel(drop)) else ""))
     return kept
 
 

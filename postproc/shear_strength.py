@@ -78,9 +78,20 @@ PEAK_KEYS = ("F_m_kN_per_m", "F_record_max_kN_per_m", "tau1_record_max_kPa")
 MODE_KEYS = ("nt_ns", "nt_ns_init", "failed_fraction")
 
 
+# A summary row keeps its numbers to this many significant digits (summary.csv);
+# travels are compared at it, so that a run read from its file and the same run read
+# back from its stored row have equal travels (the file, listed first, is then kept).
+ROW_SIGNIFICANT_DIGITS = 6
+
+
+def longer(travel_a, travel_b):
+    """Whether travel_a is longer than travel_b at a summary row's precision."""
+    return float(f"{travel_a:.{ROW_SIGNIFICANT_DIGITS}g}") > float(f"{travel_b:.{ROW_SIGNIFICANT_DIGITS}g}")
+
+
 def longest_per_case(items, case, travel):
     """(kept, dropped): of the items of one case(item), the one of the longest
-    travel(item), of equal ones the first, in order of each case's first
+    travel(item), of equal ones (at a summary row's precision) the first, in order of each case's first
     appearance; dropped: (item set aside, item kept then) pairs. A study runs some
     cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one rest
     state, so both have the same first peak; counted twice, a case would weigh
@@ -91,7 +102,7 @@ def longest_per_case(items, case, travel):
         k = case(item)
         if k not in kept:
             kept[k] = item
-        elif travel(item) > travel(kept[k]):
+        elif longer(travel(item), travel(kept[k])):
             dropped.append((kept[k], item))
             kept[k] = item
         else:

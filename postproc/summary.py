@@ -108,7 +108,7 @@ def add_bond_points_option(parser):
 
 def _fmt(v):
     if isinstance(v, float):
-        return "" if not np.isfinite(v) else f"{v:.6g}"
+        return "" if not np.isfinite(v) else f"{v:.{shear_strength.ROW_SIGNIFICANT_DIGITS}g}"
     return v
 
 

@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from postproc import failure_plane, make_figures, paper_comparison, stored_rows
+from postproc import failure_plane, make_figures, paper_comparison, shear_strength, stored_rows, summary
 from tests.postproc import synthetic
 
 TAUS = (5e3, 50e3, 100e3)
@@ -76,6 +76,21 @@ def test_of_equal_travels_the_run_file_is_kept_over_its_stored_row(halves, tmp_p
     text = (out / "MISSING.md").read_text()
     assert "known by their stored rows only" not in text
     assert text.count("duplicate run (ridge 1") == 6
+
+
+def test_the_file_is_kept_where_its_row_rounds_its_travel_up():
+    """A row keeps 6 significant digits: a run's travel of 20.008689541 mm is stored
+    as 20.0087, longer than the file's own. Of the file (listed first) and its row
+    the file must be kept, and a 300 mm run must still win (found at paper depth:
+    the record figures had lost the files of runs at hand)."""
+    file_travel = 0.020008689541296253
+    row_travel = float(summary._fmt(file_travel * 1e3)) * 1e-3
+    assert row_travel > file_travel
+    items = [("file", file_travel), ("row", row_travel), ("other case", 0.02)]
+    kept, dropped = shear_strength.longest_per_case(items, lambda i: i[0] == "other case", lambda i: i[1])
+    assert kept == [("file", file_travel), ("other case", 0.02)] and dropped == [(items[1], items[0])]
+    kept, _ = shear_strength.longest_per_case(items[:2] + [("300 mm", 0.300005)], lambda i: 0, lambda i: i[1])
+    assert kept == [("300 mm", 0.300005)]
 
 
 def test_alpha_pooled_from_run_means_equals_the_samples_pooled():
