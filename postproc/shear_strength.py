@@ -91,12 +91,12 @@ def longer(travel_a, travel_b):
 
 def longest_per_case(items, case, travel):
     """(kept, dropped): of the items of one case(item), the one of the longest
-    travel(item), of equal ones (at a summary row's precision) the first, in order
-    of each case's first appearance; dropped: (item set aside, item kept then) pairs. A study runs some
-    cases twice, to 20 mm (Figs. 8-15) and to 300 mm (Table 3), from one rest
-    state, so both have the same first peak; counted twice, a case would weigh
-    double in a mean over ridges, and the 20 mm run's failure count would be
-    mixed into the 300 mm one's."""
+    travel(item), of equal ones (at a summary row's precision) the first, in
+    order of each case's first appearance; dropped: (item set aside, item kept
+    then) pairs. A study runs some cases twice, to 20 mm (Figs. 8-15) and to
+    300 mm (Table 3), from one rest state, so both have the same first peak;
+    counted twice, a case would weigh double in a mean over ridges, and the
+    20 mm run's failure count would be mixed into the 300 mm one's."""
     kept, dropped = {}, []
     for item in items:
         k = case(item)
