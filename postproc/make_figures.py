@@ -9,13 +9,15 @@ files with complete != 1 are skipped and reported). Runs are grouped by ridge (r
 attr ``ridge``), mu and tau_cr (/parameters). Runs of a different scene, ``model``
 or ``force_direction`` are never mixed (postproc/variants.py): with more than one
 such variant, each gets its own sub-folder of OUT_DIR. Writes PNG + PDF per figure, CSV + Markdown per table,
-summary.csv (one row per run) and MISSING.md (what could not be made and why).
+summary.csv (one row per run), fd_pairs.csv (the (F̄, F_d) pairs of R(F, F_d),
+postproc/fd_pairs.py) and MISSING.md (what could not be made and why).
 --bond-points picks the points behind alpha and A_p (Figs. 12-15, Table 2's
 tau^(3)): 'split' (the failure criterion reached, the paper's; default) or
 'failed' (fully failed); docs/postproc.md, "Definitions and choices".
 --stored-rows adds runs known by a summary.csv's rows only, made where their files
 were (postproc/stored_rows.py): they join Tables 2-3 and Figs. 8, 10, 11, 13-15,
-and the summary.csv written here, so that the next call can take it again.
+and the summary.csv written here (their pairs the fd_pairs.csv), so that the next
+call can take them again.
 Exit status: 0 when it ran (even if some items are missing), 1 if a figure failed
 with an unexpected error, 2 if no readable run was found.
 """
@@ -28,8 +30,8 @@ from icerubble import cli
 from icerubble.files import results
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import (failure_plane, figures_deformation, figures_failure, figures_force, shear_strength, stored_rows,
-               summary, tables)
+from . import (failure_plane, fd_pairs, figures_deformation, figures_failure, figures_force, shear_strength,
+               stored_rows, summary, tables)
 from .catalog import Catalog, Missing
 from .variants import folder as variant_folder, variant
 
@@ -47,7 +49,7 @@ def promised_files(out_dir):
     """Every file a complete set of runs yields in one variant's folder."""
     out = [os.path.join(out_dir, f"{s}.{e}") for s in FIGURE_STEMS.values() for e in ("png", "pdf")]
     out += [os.path.join(out_dir, f"{s}.{e}") for s in TABLE_STEMS.values() for e in ("csv", "md")]
-    return out + [os.path.join(out_dir, "summary.csv")]
+    return out + [os.path.join(out_dir, "summary.csv"), os.path.join(out_dir, fd_pairs.FILE_NAME)]
 
 
 def _dedupe(runs, report):
@@ -66,6 +68,14 @@ def _dedupe(runs, report):
     return kept
 
 
+def _pairs(run, row):
+    """A run's (F̄, F_d) pairs under its row's file and run_id: from its file, or
+    the stored run's own (none if it has none)."""
+    if isinstance(run, stored_rows.StoredRun):
+        return run.fd_pairs or []
+    return fd_pairs.of_run(run, row["file"], row["run_id"])
+
+
 def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS,
                  stored=()):
     """Figures, tables and summary for one variant (``stored``: its runs known by
@@ -74,7 +84,11 @@ def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure
     os.makedirs(out_dir, exist_ok=True)
     cat = Catalog(runs=runs, out_dir=out_dir, tau_ref=tau_ref, plug_force=plug_force, bond_points=bond_points,
                   stored=list(stored))
-    summary.write_csv([cat.row(r) for r in cat.every_run], os.path.join(out_dir, "summary.csv"))
+    rows = [cat.row(r) for r in cat.every_run]
+    summary.write_csv(rows, os.path.join(out_dir, "summary.csv"))
+    # R(F, F_d)'s pairs beside the rows, so that R, too, can be made where the files are not
+    fd_pairs.write_csv([p for r, row in zip(cat.every_run, rows) for p in _pairs(r, row)],
+                       os.path.join(out_dir, fd_pairs.FILE_NAME))
     if stored:
         report.append(f"- {len(stored)} run(s) known by their stored rows only ("
                       + ", ".join(sorted({s.source for s in stored})) + "): in Tables 2-3 and Figs. 8, 10, 11, "

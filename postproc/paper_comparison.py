@@ -25,8 +25,9 @@ The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
 (1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
 
 --stored-rows (one folder only) adds runs known by a summary.csv's rows, made
-where their files were (postproc/stored_rows.py): every statistic reads them
-but R(F, F_d), which needs the records.
+where their files were (postproc/stored_rows.py): every statistic reads them;
+R(F, F_d) reads their (F̄, F_d) pairs where an fd_pairs.csv lies beside the
+summary.csv (postproc/fd_pairs.py), and leaves out a run that has none.
 """
 import argparse
 import os
@@ -39,7 +40,7 @@ from icerubble.files import results
 from icerubble.files.output_path import check_output_file, whole_file
 
 from . import displaced_area as dA
-from . import failure_plane, loads, plug, shear_strength, stored_rows, summary
+from . import failure_plane, fd_pairs, loads, plug, shear_strength, stored_rows, summary
 from .failure_plane import mean_sd
 from .variants import label as variant_label, row_variant
 
@@ -81,7 +82,7 @@ def cylindrical_plug_force(run):
 
 def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS, stored=()):
     """Summary rows and runs, aligned, one per case (the longer run's); a run
-    known by its stored row only (``stored``) has None for its run."""
+    known by its stored row only (``stored``) is its StoredRun."""
     runs, rows = [], []
     for path in results.find_results(folder)[0]:
         if os.sep + "scenes" + os.sep in path:   # cached piles and meshes, not runs
@@ -98,7 +99,7 @@ def rows_and_runs(folder, bond_points=failure_plane.DEFAULT_BOND_POINTS, stored=
     for s in stored:   # after the files: of a case's equal travels, the file is kept
         r = s.with_strengths(None)   # tau^(2) with the row's own cylindrical plug, as above
         r["tau_cr_kPa"] = round(r["tau_cr_kPa"], 6)
-        runs.append(None)
+        runs.append(s)
         rows.append(r)
     # a case run to 20 and to 300 mm counts once, by its longer run (docs/postproc.md)
     pairs, _ = shear_strength.longest_per_case(list(zip(rows, runs)), lambda p: shear_strength.row_case(p[0]),
@@ -128,33 +129,42 @@ def spread(rows, tau, mu, key="F_m_kN_per_m"):
     return 100.0 * (max(F) / min(F) - 1.0) if len(F) >= 2 else np.nan
 
 
-def r_fd(runs, tau=None, K=0.45, y_min=20e-3, load=dA.paired_load):
-    """R(F, F_d(K)) over the snapshots from y_min on, the number of pairs and F/F_d;
-    F from ``load(run, y_I)``: F̄ over y_I ± 5 mm by default."""
+def run_pairs(run):
+    """The run's (F̄, F_d) pairs from 20 mm on (postproc/fd_pairs.py): from its
+    file, or a stored run's own (None where it has none)."""
+    if isinstance(run, stored_rows.StoredRun):
+        return run.fd_pairs
+    return fd_pairs.of_run(run, "", "")
+
+
+def r_fd(runs, tau=None, K=0.45, single_sample=False, pairs_of=run_pairs):
+    """R(F, F_d(K)) over the snapshots from 20 mm on, the number of pairs and F/F_d;
+    F is F̄, the mean over y_I ± 5 mm, or with ``single_sample`` F(y_I) itself (how
+    R was computed before F̄). ``pairs_of(run)``: the run's pairs (run_pairs)."""
+    col = "F_sample_kN_per_m" if single_sample else "F_mean_kN_per_m"
     x, y = [], []
     for run in runs:
         if tau is not None and not np.isclose(run.tau_cr / 1e3, tau):
             continue
-        for s in run.snapshots:
-            if s.y_I >= y_min - 0.5e-3 and s.y_I <= run.force_y[-1]:
-                x.append(dA.displaced_load(run, K, s.y_I))
-                y.append(load(run, s.y_I))
+        for p in pairs_of(run) or ():
+            x.append(p[fd_pairs.f_d_column(K)] * 1e3)
+            y.append(p[col] * 1e3)
     R = dA.correlation(x, y)[0] if len(x) > 2 else np.nan
     ratio = np.asarray(y) / np.asarray(x) if x else np.array([np.nan])
     return R, len(x), ratio
 
 
-def single_sample_load(run, y_I):
-    """F at y_I itself, one sample of the record (how R was computed before F̄)."""
-    return loads.load_at(run.force_y, run.force_F, y_I)
-
-
-def describe(rows, n_files=None):
+def describe(rows, runs=None):
     """One line naming the runs a column reads and the definitions it uses;
-    ``n_files``: how many of them were read from their files (the rest from
-    stored rows, not in R)."""
-    stored = "" if n_files is None or n_files == len(rows) else \
-        f"; {len(rows) - n_files} of them known by stored summary rows only (not in R)"
+    ``runs``: its runs, files and StoredRuns, to say how many are known by their
+    rows only and how many of those R reads by their stored pairs."""
+    kept = [r for r in runs or () if isinstance(r, stored_rows.StoredRun)]
+    with_pairs = sum(r.fd_pairs is not None for r in kept)
+    stored = "" if not kept else (f"; {len(kept)} of them known by stored summary rows only ("
+                                  + ("not in R" if not with_pairs else
+                                     "in R by their stored (F̄, F_d) pairs" if with_pairs == len(kept) else
+                                     f"{with_pairs} in R by their stored (F̄, F_d) pairs, {len(kept) - with_pairs} "
+                                     "not in R") + ")")
     taus = sorted({r["tau_cr_kPa"] for r in rows})
     ridges = sorted({r["ridge"] for r in rows})
     mus = sorted({r["mu"] for r in rows})
@@ -254,13 +264,19 @@ def statistics(rows, runs):
         share = [r["F_b_Ap_20mm_kN_per_m"] / r["F_m_kN_per_m"] for r in sel]
         S.append(("F_b(A_p, η)/F^m, τ_cr 50 kPa", _pm(share), PAPER['Fb_share']))
     half = dA.LOAD_WINDOW_HALF_WIDTH * 1e3
-    for K in (0.45, 0.9):
+    cache = {}
+
+    def pairs_of(run):   # each run's snapshots read once for the eight R below
+        if id(run) not in cache:
+            cache[id(run)] = run_pairs(run)
+        return cache[id(run)]
+    for K in fd_pairs.R_K:
         for tau in (50.0, None):
             what = "τ_cr 50 kPa" if tau else "all runs"
-            R, n, ratio = r_fd(runs, tau, K=K)
+            R, n, ratio = r_fd(runs, tau, K=K, pairs_of=pairs_of)
             if n == 0:   # no snapshot from 20 mm on
                 continue
-            R1 = r_fd(runs, tau, K=K, load=single_sample_load)[0]
+            R1 = r_fd(runs, tau, K=K, single_sample=True, pairs_of=pairs_of)[0]
             S.append((f"R(F̄, F_d(K {K:g})), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what}",
                       f"{R:.2f} ({n} points; from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} "
                       "(median)", f"{PAPER['R'][K][tau]} (Fig. 20, y_I 20-150 mm)"))
@@ -268,7 +284,7 @@ def statistics(rows, runs):
 
 
 def table(rows, runs):
-    L = [describe(rows, len(runs)), "", "| statistic | this study | paper |", "|---|---|---|"]
+    L = [describe(rows, runs), "", "| statistic | this study | paper |", "|---|---|---|"]
     L += [f"| {what} | {ours} | {paper} |" for what, ours, paper in statistics(rows, runs)]
     return "\n".join(L)
 
@@ -291,7 +307,7 @@ def side_by_side(columns):
     for what in order:
         L.append(f"| {what} | " + " | ".join(col.get(what, "—") for col in values) + f" | {paper[what]} |")
     L.append("")
-    L += [f"- **{name}**: {describe(rows, len(runs))}" for name, rows, runs in columns]
+    L += [f"- **{name}**: {describe(rows, runs)}" for name, rows, runs in columns]
     return "\n".join(L)
 
 
@@ -300,7 +316,7 @@ def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS,
     folders' order: a folder's name is its label (its path if none), followed
     by the variant when the folder holds more than one, so eq 11's two forms,
     or two scenes found in one folder, are two columns. ``stored``: runs known
-    by their rows only, of the one folder given (runs holds those with files)."""
+    by their rows only, of the one folder given (in runs as their StoredRuns)."""
     if stored and len(folders) != 1:
         raise ValueError(f"--stored-rows belongs to one folder of runs; {len(folders)} were given")
     out = []
@@ -313,7 +329,7 @@ def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS,
         for key in keys:
             sel = [i for i, r in enumerate(rows) if row_variant(r) == key]
             out.append((name if len(keys) == 1 else f"{name} ({variant_label(key, keys)})",
-                        [rows[i] for i in sel], [runs[i] for i in sel if runs[i] is not None]))
+                        [rows[i] for i in sel], [runs[i] for i in sel]))
     return out
 
 

@@ -8,8 +8,10 @@ summary.csv is what Tables 2-3 and Figs. 8, 10, 11, 13-15 read of a run
 (postproc/summary.py). So `icerubble figures --stored-rows CSV` and `icerubble
 compare --stored-rows CSV` take such rows beside the runs of RESULTS_DIR; the
 figures drawn from records (F-y_I, failure planes, u_y fields: Figs. 6, 7, 9,
-12, 16-20) and R(F, F_d) use the run files only, and MISSING.md names what the
-stored rows could not give.
+12, 16-20) use the run files only, and MISSING.md names what the stored rows
+could not give. R(F, F_d) needs a pair of numbers per snapshot, and those travel
+too: an fd_pairs.csv beside the summary.csv (postproc/fd_pairs.py) gives each
+stored run its pairs.
 
 What is stored is a measurement, and is taken as it was made: a row measured
 through other bond points than this call's (--bond-points) is refused, since
@@ -23,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import fd_pairs as fd
 from . import shear_strength, summary
 from .catalog import Missing
 
@@ -40,6 +43,7 @@ class StoredRun:
     variant) and its row. Anything drawn from records raises Missing."""
     row: dict
     source: str                 # the summary.csv it was read from
+    fd_pairs: list = None       # its (F̄, F_d) pairs (postproc/fd_pairs.py); None: none stored
 
     @property
     def path(self):
@@ -104,9 +108,10 @@ def row_with_strengths(row, plug_force):
 
 
 def read(path, bond_points):
-    """StoredRun per row of the summary.csv at ``path``. Raises ValueError naming
-    the file and what is wrong: not a file, a column absent, a cell not a
-    number, rows measured through other bond points than ``bond_points``."""
+    """StoredRun per row of the summary.csv at ``path``, with its (F̄, F_d) pairs
+    where an fd_pairs.csv lies beside it. Raises ValueError naming the file and
+    what is wrong: not a file, a column absent, a cell not a number, rows
+    measured through other bond points than ``bond_points``."""
     if not os.path.isfile(path):
         raise ValueError(f"--stored-rows {path!r}: no such file (a summary.csv of `icerubble figures` "
                          "or `icerubble summary`)")
@@ -127,6 +132,11 @@ def read(path, bond_points):
                                  f"{row['bond_points']!r} bond points, and this call reads {bond_points!r} "
                                  "(--bond-points): alpha and A_p cannot be measured again without the run file")
             out.append(StoredRun(row=row, source=path))
+    pairs_path = fd.beside(path)
+    if os.path.isfile(pairs_path):
+        pairs = fd.read(pairs_path)
+        for s in out:   # a run none are stored for (a row older than the file) stays None
+            s.fd_pairs = pairs.get((s.row["file"], s.row["run_id"]))
     return out
 
 

@@ -5,6 +5,7 @@ says so; a row measured otherwise than asked is refused."""
 import csv
 import os
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -105,21 +106,35 @@ def test_alpha_pooled_from_run_means_equals_the_samples_pooled():
     assert np.isnan(failure_plane.pooled_mean_sd([(0, np.nan, np.nan)])[0])
 
 
-def test_comparison_from_stored_rows_equals_the_files_but_R(halves, tmp_path):
+def test_comparison_from_stored_rows_equals_the_files_R_by_their_stored_pairs(halves, tmp_path):
     """Every statistic of `icerubble compare` from ridge 1's stored rows and ridge 2's
-    files equals the one from all files, except R(F, F_d), which needs records."""
+    files equals the one from all files, R(F, F_d) too: its (F̄, F_d) pairs travel in
+    the fd_pairs.csv beside the summary.csv. A summary.csv without one leaves ridge 1
+    out of R, and the column says so."""
     a_out = halves / "a_out"
     stored = stored_rows.read(str(a_out / "summary.csv"), "split")
+    assert all(s.fd_pairs for s in stored)   # every run reaches 40 mm: pairs at 20, 30, 40 mm
     (_, rows, runs), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"], stored=stored)
     (_, rows_all, runs_all), = paper_comparison.columns([str(halves / "runs")], ["all"])
-    assert len(rows) == 12 and len(runs) == 6
+    assert len(rows) == len(runs) == 12
     got = {w: v for w, v, _ in paper_comparison.statistics(rows, runs)}
     want = {w: v for w, v, _ in paper_comparison.statistics(rows_all, runs_all)}
-    assert got.keys() == want.keys()
+    assert got.keys() == want.keys() and any(w.startswith("R(") for w in want)
     for what in want:
-        if not what.startswith("R("):
-            assert got[what] == want[what], what
-    assert "6 of them known by stored summary rows only (not in R)" in paper_comparison.table(rows, runs)
+        assert got[what] == want[what], what
+    assert "6 of them known by stored summary rows only (in R by their stored (F̄, F_d) pairs)" in \
+        paper_comparison.table(rows, runs)
+    # the rows alone, without their pairs: R from ridge 2's files only
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    shutil.copy(a_out / "summary.csv", alone / "summary.csv")
+    (_, rows_1, runs_1), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"],
+                                                    stored=stored_rows.read(str(alone / "summary.csv"), "split"))
+    (_, rows_b, runs_b), = paper_comparison.columns([str(halves / "runs" / "b")], ["b"])
+    R_1 = {w: v for w, v, _ in paper_comparison.statistics(rows_1, runs_1) if w.startswith("R(")}
+    R_b = {w: v for w, v, _ in paper_comparison.statistics(rows_b, runs_b) if w.startswith("R(")}
+    assert R_1 == R_b and R_1 != {w: v for w, v in want.items() if w.startswith("R(")}
+    assert "6 of them known by stored summary rows only (not in R)" in paper_comparison.table(rows_1, runs_1)
     # a summary.csv made before the cylindrical plug's F_b had a column: tau^(2) from
     # F_b(A_p) at 20 mm, eq 13 being linear in the area, gives the same statistics
     old = str(tmp_path / "old.csv")
