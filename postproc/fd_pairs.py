@@ -1,7 +1,9 @@
 """The pairs behind R(F, F_d) (Fig. 20, docs/model.md §5), as rows that travel.
 
-R(F, F_d) pairs each snapshot from 20 mm on with the run's mean load over
-y_I ± 5 mm (F̄) and the displaced rubble's buoyant load F_d(K) (eq 14). Both need
+R(F, F_d) pairs each snapshot at y_I = 20...150 mm (the paper's Fig. 20) with the
+run's mean load over y_I ± 5 mm (F̄) and the displaced rubble's buoyant load
+F_d(K) (eq 14). The pairs are kept from 20 mm to the end of the record, and R
+reads those up to 150 mm (in_fig20). Both need
 the run file: the displacement field of each snapshot and the force record. A
 study longer than one machine's life (docs/postproc.md, "Runs known by their
 rows") keeps its runs' summary rows in summary.csv; the pairs are kept beside it,
@@ -24,7 +26,8 @@ from . import loads
 
 FILE_NAME = "fd_pairs.csv"           # beside summary.csv
 R_K = (0.45, 0.9)                    # the K of R(F, F_d) in docs/model.md §5
-Y_MIN = 20e-3                        # m: R pairs the snapshots from 20 mm on (Fig. 20)
+Y_MIN = 20e-3                        # m: pairs are kept from the first travel of Fig. 20 on
+SNAPSHOT_SLACK = 0.5e-3              # m: a snapshot is taken at the first step past its travel
 COLUMNS = ("file", "run_id", "y_I_mm", "F_mean_kN_per_m", "F_sample_kN_per_m") + tuple(
     f"F_d_K{K:g}_kN_per_m" for K in R_K)
 
@@ -40,8 +43,7 @@ def of_run(run, file, run_id, y_min=Y_MIN):
     snapshot's own y_I): dicts with COLUMNS."""
     out = []
     for s in run.snapshots:
-        # half a millimetre of slack: a snapshot is taken at the first step past its travel
-        if s.y_I >= y_min - 0.5e-3 and s.y_I <= run.force_y[-1]:
+        if s.y_I >= y_min - SNAPSHOT_SLACK and s.y_I <= run.force_y[-1]:
             p = {"file": file, "run_id": run_id, "y_I_mm": s.y_I * 1e3,
                  "F_mean_kN_per_m": dA.paired_load(run, s.y_I) / 1e3,
                  "F_sample_kN_per_m": loads.load_at(run.force_y, run.force_F, s.y_I) / 1e3}
@@ -49,6 +51,13 @@ def of_run(run, file, run_id, y_min=Y_MIN):
                 p[f_d_column(K)] = dA.displaced_load(run, K, s.y_I) / 1e3
             out.append(p)
     return out
+
+
+def in_fig20(pair):
+    """Whether a pair lies within Fig. 20's travels, y_I = 20...150 mm (the paper's
+    R: "y_I = {20, 30, 40, ..., 150} mm ... for each simulation")."""
+    lo, hi = dA.FIG20_TRAVELS[0], dA.FIG20_TRAVELS[-1]
+    return lo - SNAPSHOT_SLACK <= pair["y_I_mm"] * 1e-3 <= hi + SNAPSHOT_SLACK
 
 
 def write_csv(pairs, path):

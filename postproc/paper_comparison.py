@@ -138,7 +138,7 @@ def run_pairs(run):
 
 
 def r_fd(runs, tau=None, K=0.45, single_sample=False, pairs_of=run_pairs):
-    """R(F, F_d(K)) over the snapshots from 20 mm on, the number of pairs and F/F_d;
+    """R(F, F_d(K)) over the snapshots at y_I = 20...150 mm (Fig. 20's), the number of pairs and F/F_d;
     F is F̄, the mean over y_I ± 5 mm, or with ``single_sample`` F(y_I) itself (how
     R was computed before F̄). ``pairs_of(run)``: the run's pairs (run_pairs)."""
     col = "F_sample_kN_per_m" if single_sample else "F_mean_kN_per_m"
@@ -146,7 +146,7 @@ def r_fd(runs, tau=None, K=0.45, single_sample=False, pairs_of=run_pairs):
     for run in runs:
         if tau is not None and not np.isclose(run.tau_cr / 1e3, tau):
             continue
-        for p in pairs_of(run) or ():
+        for p in filter(fd_pairs.in_fig20, pairs_of(run) or ()):
             x.append(p[fd_pairs.f_d_column(K)] * 1e3)
             y.append(p[col] * 1e3)
     R = dA.correlation(x, y)[0] if len(x) > 2 else np.nan
@@ -181,7 +181,7 @@ def describe(rows, runs=None):
 def statistics(rows, runs):
     """[(statistic, this study, paper), ...] in a fixed order; a statistic the
     runs cannot give (no run at its τ_cr or μ, one ridge for a spread, no
-    snapshot from 20 mm on for R) is left out."""
+    snapshot at 20-150 mm for R) is left out."""
     mus = sorted({r["mu"] for r in rows})
     window = loads.COHESIVE_PEAK_TRAVEL * 1e3
     S = []
@@ -274,10 +274,10 @@ def statistics(rows, runs):
         for tau in (50.0, None):
             what = "τ_cr 50 kPa" if tau else "all runs"
             R, n, ratio = r_fd(runs, tau, K=K, pairs_of=pairs_of)
-            if n == 0:   # no snapshot from 20 mm on
+            if n == 0:   # no snapshot at 20-150 mm
                 continue
             R1 = r_fd(runs, tau, K=K, single_sample=True, pairs_of=pairs_of)[0]
-            S.append((f"R(F̄, F_d(K {K:g})), F̄ over y_I ± {half:g} mm, y_I ≥ 20 mm, {what}",
+            S.append((f"R(F̄, F_d(K {K:g})), F̄ over y_I ± {half:g} mm, y_I 20-150 mm, {what}",
                       f"{R:.2f} ({n} points; from single samples of F {R1:.2f}); F̄/F_d {np.nanmedian(ratio):.2f} "
                       "(median)", f"{PAPER['R'][K][tau]} (Fig. 20, y_I 20-150 mm)"))
     return S

@@ -1,5 +1,6 @@
 """The (F̄, F_d) pairs of R(F, F_d) as rows that travel (postproc/fd_pairs.py):
-R from stored pairs is Pearson's R of the numbers stored, the pairs written and
+R from stored pairs is Pearson's R of the numbers stored at Fig. 20's travels
+(20-150 mm), the pairs written and
 read back are the numbers measured, and a file that cannot serve is refused."""
 import csv
 
@@ -28,6 +29,11 @@ def test_R_from_stored_pairs_is_pearsons_R_of_the_numbers_stored():
     # pairs on a line y = 2x + 1 are R = 1; the τ_cr filter picks the run at 5 kPa alone
     line = _stored(5.0, [1.0, 2.0, 4.0], [3.0, 5.0, 9.0], "y.h5")
     assert paper_comparison.r_fd([half, line], tau=5.0, K=0.9)[:2] == (pytest.approx(1.0, abs=1e-12), 3)
+    # R reads Fig. 20's travels, 20-150 mm: pairs at 160 and 170 mm off the line do not count
+    x = np.arange(16.0)
+    y = 2 * x + 1
+    y[14:] = [-50.0, 80.0]
+    assert paper_comparison.r_fd([_stored(5.0, x, y)], K=0.45)[:2] == (pytest.approx(1.0, abs=1e-12), 14)
     # a stored run without pairs adds none
     none = stored_rows.StoredRun(row={"file": "z.h5", "tau_cr_kPa": 5.0}, source="s.csv")
     assert paper_comparison.r_fd([line, none], K=0.9)[1] == 3
