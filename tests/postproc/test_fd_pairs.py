@@ -30,7 +30,7 @@ def test_R_from_stored_pairs_is_pearsons_R_of_the_numbers_stored():
     line = _stored(5.0, [1.0, 2.0, 4.0], [3.0, 5.0, 9.0], "y.h5")
     assert paper_comparison.r_fd([half, line], tau=5.0, K=0.9)[:2] == (pytest.approx(1.0, abs=1e-12), 3)
     # R reads Fig. 20's travels, 20-150 mm: pairs at 160 and 170 mm off the line do not count
-    x = np.arange(16.0)
+    x = np.arange(1.0, 17.0)
     y = 2 * x + 1
     y[14:] = [-50.0, 80.0]
     assert paper_comparison.r_fd([_stored(5.0, x, y)], K=0.45)[:2] == (pytest.approx(1.0, abs=1e-12), 14)
