@@ -68,14 +68,6 @@ def _dedupe(runs, report):
     return kept
 
 
-def _pairs(run, row):
-    """A run's (F̄, F_d) pairs under its row's file and run_id: from its file, or
-    the stored run's own (none if it has none)."""
-    if isinstance(run, stored_rows.StoredRun):
-        return run.fd_pairs or []
-    return fd_pairs.of_run(run, row["file"], row["run_id"])
-
-
 def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure_plane.DEFAULT_BOND_POINTS,
                  stored=()):
     """Figures, tables and summary for one variant (``stored``: its runs known by
@@ -87,7 +79,8 @@ def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure
     rows = [cat.row(r) for r in cat.every_run]
     summary.write_csv(rows, os.path.join(out_dir, "summary.csv"))
     # R(F, F_d)'s pairs beside the rows, so that R, too, can be made where the files are not
-    fd_pairs.write_csv([p for r, row in zip(cat.every_run, rows) for p in _pairs(r, row)],
+    fd_pairs.write_csv([p for r, row in zip(cat.every_run, rows)
+                        for p in stored_rows.pairs_of(r, row["file"], row["run_id"]) or ()],
                        os.path.join(out_dir, fd_pairs.FILE_NAME))
     if stored:
         report.append(f"- {len(stored)} run(s) known by their stored rows only ("

@@ -129,18 +129,10 @@ def spread(rows, tau, mu, key="F_m_kN_per_m"):
     return 100.0 * (max(F) / min(F) - 1.0) if len(F) >= 2 else np.nan
 
 
-def run_pairs(run):
-    """The run's (F̄, F_d) pairs from 20 mm on (postproc/fd_pairs.py): from its
-    file, or a stored run's own (None where it has none)."""
-    if isinstance(run, stored_rows.StoredRun):
-        return run.fd_pairs
-    return fd_pairs.of_run(run, "", "")
-
-
-def r_fd(runs, tau=None, K=0.45, single_sample=False, pairs_of=run_pairs):
+def r_fd(runs, tau=None, K=0.45, single_sample=False, pairs_of=stored_rows.pairs_of):
     """R(F, F_d(K)) over the snapshots at y_I = 20...150 mm (Fig. 20's), the number of pairs and F/F_d;
     F is F̄, the mean over y_I ± 5 mm, or with ``single_sample`` F(y_I) itself (how
-    R was computed before F̄). ``pairs_of(run)``: the run's pairs (run_pairs)."""
+    R was computed before F̄). ``pairs_of(run)``: the run's pairs (stored_rows.pairs_of)."""
     col = "F_sample_kN_per_m" if single_sample else "F_mean_kN_per_m"
     x, y = [], []
     for run in runs:
@@ -268,7 +260,7 @@ def statistics(rows, runs):
 
     def pairs_of(run):   # each run's snapshots read once for the eight R below
         if id(run) not in cache:
-            cache[id(run)] = run_pairs(run)
+            cache[id(run)] = stored_rows.pairs_of(run)
         return cache[id(run)]
     for K in fd_pairs.R_K:
         for tau in (50.0, None):

@@ -140,6 +140,14 @@ def read(path, bond_points):
     return out
 
 
+def pairs_of(run, file="", run_id=""):
+    """A run's (F̄, F_d) pairs (postproc/fd_pairs.py): a stored run's own (None
+    where none are stored), else measured from its file under ``file`` and ``run_id``."""
+    if isinstance(run, StoredRun):
+        return run.fd_pairs
+    return fd.of_run(run, file, run_id)
+
+
 def read_all(paths, bond_points):
     return [s for p in paths or () for s in read(p, bond_points)]
 
