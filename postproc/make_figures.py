@@ -60,9 +60,12 @@ def _dedupe(runs, report):
     travel = stored_rows.travel
     kept, dropped = shear_strength.longest_per_case(runs, lambda r: (r.ridge, round(r.mu, 9), round(r.tau_cr, 6)),
                                                     travel)
+    def named(r):   # a file and its own stored row share a name: say which of the two is meant
+        return f"{r.name} (stored row)" if isinstance(r, stored_rows.StoredRun) else r.name
+
     for drop, keep in dropped:
         report.append(f"- duplicate run (ridge {drop.ridge}, mu {drop.mu:g}, tau_cr {drop.tau_cr / 1e3:g} kPa): "
-                      f"using {keep.name}, ignoring {drop.name}"
+                      f"using {named(keep)}, ignoring {named(drop)}"
                       + (f" (the longer travel, {travel(keep) * 1e3:g} mm)"
                          if shear_strength.longer(travel(keep), travel(drop)) else ""))
     return kept

@@ -77,6 +77,8 @@ def test_of_equal_travels_the_run_file_is_kept_over_its_stored_row(halves, tmp_p
     text = (out / "MISSING.md").read_text()
     assert "known by their stored rows only" not in text
     assert text.count("duplicate run (ridge 1") == 6
+    # each line says which of a name's two readings was kept: the file, not its row
+    assert text.count(".h5, ignoring ") == 6 and text.count(".h5 (stored row)\n") == 6
 
 
 def test_the_file_is_kept_where_its_row_rounds_its_travel_up():
