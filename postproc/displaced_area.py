@@ -80,6 +80,12 @@ def displaced_load(run, K, y_I):
     return float(plug.run_buoyant_load(run, displaced_area(run, K, y_I)))
 
 
+def displaced_loads(run, Ks, travels):
+    """F_d [N/m] (eq 14) as an array (len(travels), len(Ks)) from displaced_areas,
+    each snapshot read once; rows of travels without a snapshot are NaN."""
+    return plug.run_buoyant_load(run, displaced_areas(run, Ks, travels))
+
+
 def correlation(x, y):
     """Pearson correlation R and least-squares line y = slope x + intercept (Fig. 20).
     Returns (R, slope, intercept); NaNs when fewer than 2 finite pairs or no spread."""

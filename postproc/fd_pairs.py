@@ -22,7 +22,7 @@ import numpy as np
 from icerubble.files.output_path import whole_file
 
 from . import displaced_area as dA
-from . import loads, plug
+from . import loads
 
 FILE_NAME = "fd_pairs.csv"           # beside summary.csv
 R_K = (0.45, 0.9)                    # the K of R(F, F_d) in docs/model.md §5
@@ -42,14 +42,14 @@ def of_run(run, file, run_id, y_min=Y_MIN):
     """The run's pairs, one per snapshot from y_min on within its record (the
     snapshot's own y_I): dicts with COLUMNS."""
     ys = [s.y_I for s in run.snapshots if y_min - SNAPSHOT_SLACK <= s.y_I <= run.force_y[-1]]
-    A = dA.displaced_areas(run, R_K, ys)   # each snapshot's field read once for both K
+    F_d = dA.displaced_loads(run, R_K, ys)   # each snapshot's field read once for both K
     out = []
-    for y_I, A_K in zip(ys, A):
+    for y_I, F_d_K in zip(ys, F_d):
         p = {"file": file, "run_id": run_id, "y_I_mm": y_I * 1e3,
              "F_mean_kN_per_m": dA.paired_load(run, y_I) / 1e3,
              "F_sample_kN_per_m": loads.load_at(run.force_y, run.force_F, y_I) / 1e3}
-        for K, a in zip(R_K, A_K):
-            p[f_d_column(K)] = float(plug.run_buoyant_load(run, a)) / 1e3   # eq 14, as displaced_load
+        for K, f in zip(R_K, F_d_K):
+            p[f_d_column(K)] = float(f) / 1e3
         out.append(p)
     return out
 

@@ -74,10 +74,9 @@ def fig18(cat):
     """Fig. 18: F(y_I), F̄ (mean over y_I ± 5 mm) at the snapshots and F_d(K = 0.45,
     0.9; y_I) for y_I = 20...150 mm, reference run."""
     run = cat.reference_run()
-    A = dA.displaced_areas(run, FIG18_K, dA.FIG20_TRAVELS)
-    if not np.isfinite(A).any():
+    Fd = dA.displaced_loads(run, FIG18_K, dA.FIG20_TRAVELS)
+    if not np.isfinite(Fd).any():
         raise Missing(f"{run.name}: no snapshots at y_I = 20...150 mm")
-    Fd = plug.run_buoyant_load(run, A)
     fig, axes = plotting.new(width=5.0)
     ax = axes[0, 0]
     y, F = loads.record(run, 155e-3)
