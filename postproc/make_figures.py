@@ -30,8 +30,8 @@ from icerubble import cli
 from icerubble.files import results
 from icerubble.files.output_path import check_output_folder, whole_file
 
-from . import (failure_plane, fd_pairs, figures_deformation, figures_failure, figures_force, shear_strength,
-               stored_rows, summary, tables)
+from . import (failure_plane, fd_pairs, figures_deformation, figures_failure, figures_force, plotting,
+               shear_strength, stored_rows, summary, tables)
 from .catalog import Catalog, Missing
 from .variants import folder as variant_folder, variant
 
@@ -102,6 +102,8 @@ def make_variant(runs, out_dir, tau_ref, plug_force, report, bond_points=failure
             errors += 1
             report.append(f"- {label}: ERROR {type(exc).__name__}: {exc}")
             traceback.print_exc()
+        finally:
+            plotting.discard_open()   # a figure stopped half-drawn by Missing stays open otherwise
     report.extend(f"- partial: {n}" for n in cat.notes)
     for r in runs:
         for group, why in sorted(r.missing.items()):

@@ -41,3 +41,9 @@ def save(fig, out_dir, stem, caption):
         paths.append(p)
     plt.close(fig)
     return paths
+
+
+def discard_open():
+    """Close every figure still open: one whose drawing stopped before ``save``
+    (a run without the snapshots it needs) would otherwise stay in pyplot's registry."""
+    plt.close("all")

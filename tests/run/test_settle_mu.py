@@ -20,9 +20,8 @@ holds on any pile: the settle ends at rest and in balance, and a block that
 moves centimetres is a loose one that rose (buoyancy is the only load that
 drives a loose submerged block; a bonded block is held by its bonds).
 
-About three minutes: the demo ridge 1 (shipped, data/ridges/), two settles
-with the balanced preset's larger settle step (~2 min at mu = 0.05, ~0.5 min
-at 0.3), 0.02 mm of loading each.
+About two minutes on 2 threads: the demo ridge 1 (shipped, data/ridges/), two
+settles with the balanced preset's larger settle step, 0.02 mm of loading each.
 """
 import glob
 import os
@@ -59,7 +58,8 @@ def runs(files, tmp_path_factory):
         path = tmp_path_factory.mktemp(f"mu{mu}") / "run.h5"
         # balanced: settling at 4x the step, the same rest (docs/speed_and_accuracy.md)
         options = RunOptions.from_numerics(numerics(SCENE, "balanced"), name="balanced")
-        options.threads, options.vtu, options.progress_every_s = 1, False, 1e9
+        # both of a CI machine's cores: what is asserted holds on any pile, so round-off may differ
+        options.threads, options.vtu, options.progress_every_s = 2, False, 1e9
         run = PunchThrough(mesh_path, path, params=dict(sc["params"], mu=mu, target_travel=TRAVEL),
                            options=options)
         run.run()
