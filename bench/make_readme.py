@@ -350,7 +350,7 @@ def force_direction(d):
                      "F^m (kN/m at mm)", "α (°)", "A_p (m²)", "F(20 mm) (kN/m)", "mean F 15-20 mm (kN/m)",
                      "split / failed",
                      "n_t/n_s at full failure", "n_t/n_s at initiation", "Table 3 (300 mm)", "code"], rows)
-            + force_direction_long(d) + force_direction_friction(d))
+            + force_direction_long(d) + force_direction_table3(d) + force_direction_friction(d))
 
 
 def force_direction_long(d):
@@ -369,6 +369,38 @@ def force_direction_long(d):
             + table(["ridge", "μ", "τ_cr (kPa)", "travel (mm)", "force direction", "n_t/n_s within 20 mm",
                      "within 100 mm", "over the travel", "mean F 20-150 mm (kN/m)", "mean F 150-300 mm (kN/m)",
                      "record max (kN/m at mm)"], rows))
+
+
+def force_direction_table3(d):
+    """Table 3's own design, ridge by ridge: n_t/n_s at full failure over 300 mm at μ 0.05, one
+    row per τ_cr, each cell with its distance from Table 3's mean in Table 3's sd."""
+    table3 = d.get("table_3", {})
+    runs = {}
+    for r in d["runs"]:
+        if r["y_I_end_mm"] >= 299.5 and abs(r["mu"] - 0.05) < 1e-9:
+            runs.setdefault(r["force_direction"], {})[(r["tau_cr_kPa"], r["ridge"])] = r
+    lines = []
+    for direction, cases in sorted(runs.items()):
+        ridges = sorted({k[1] for k in cases})
+        rows = []
+        for tau in sorted({k[0] for k in cases}):
+            paper = table3.get(f"{tau:.1f}")
+            cells, ratios = [], []
+            for ridge in ridges:
+                r = cases.get((tau, ridge))
+                if r is None:
+                    cells.append("")
+                    continue
+                ratios.append(r["nt_ns"])
+                z = f" ({(r['nt_ns'] - paper[0]) / paper[1]:+.1f} sd)" if paper else ""
+                cells.append(f"{r['n_t']}/{r['n_s']} = {r['nt_ns']:.2f}{z}")
+            m, sd = mean_sd(ratios)
+            mean = f"{m:.2f} ± {sd:.2f} (n={len(ratios)})" if len(ratios) > 1 else ""
+            rows.append([fmt(tau)] + cells + [mean, f"{paper[0]:g} ± {paper[1]:g}" if paper else ""])
+        lines += ["", f"Table 3's count, ridge by ridge: n_t/n_s at full failure over 300 mm, μ 0.05, {direction} "
+                      "(in brackets: the distance from Table 3's mean in Table 3's sd):", ""]
+        lines += table(["τ_cr (kPa)"] + [f"ridge {k}" for k in ridges] + ["mean ± sd over ridges", "Table 3"], rows)
+    return lines
 
 
 def force_direction_friction(d):
