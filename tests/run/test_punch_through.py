@@ -176,11 +176,11 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
     out = tmp_path / "run.h5"
     opts = dict(threads=1, progress_every_s=1e9, vtu=False)
     # the handler the run found: Python's own, or SIG_IGN where the tests were started in the background
-    before = signal.getsignal(signum)
+    handler_found = signal.getsignal(signum)
     with pytest.raises(RunInterrupted, match=rf"stopped by {signum.name} at step \d+ \(phase load"):
         Signalled(mesh_path, out, params=PARAMS, options=RunOptions(**opts)).run()
     assert not out.exists() and (tmp_path / "run.checkpoint.h5").exists()
-    assert signal.getsignal(signum) is before
+    assert signal.getsignal(signum) is handler_found
     with h5py.File(tmp_path / "run.checkpoint.h5") as f:
         before = {k: float(f["driver"].attrs[k]) for k in ("wall_settle_s", "wall_load_s")}
     assert before["wall_settle_s"] > 0 and before["wall_load_s"] > 0
@@ -201,13 +201,13 @@ def test_a_second_ctrl_c_stops_at_once():
     class Run:
         pass
     run = Run()
-    before = signal.getsignal(signal.SIGINT)
+    handler_found = signal.getsignal(signal.SIGINT)
     with catching_stop_signals(run):
         os.kill(os.getpid(), signal.SIGINT)
         assert run._stop_signal == signal.SIGINT
         with pytest.raises(KeyboardInterrupt):
             os.kill(os.getpid(), signal.SIGINT)
-    assert signal.getsignal(signal.SIGINT) is before
+    assert signal.getsignal(signal.SIGINT) is handler_found
 
 
 @pytest.mark.parametrize("bad,word", [(dict(tau_cr=0.0), "tau_cr"), (dict(sigma_cr=-1.0), "sigma_cr"),
