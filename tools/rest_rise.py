@@ -8,7 +8,7 @@ its results folder): τ_cr, μ, how the bonds were treated while settling, the m
 vertical displacement of the indenter's nodes, of the block nodes meshed under it
 (|x| < w_I/2) and of those far from it (|x| > w_I), and the bond points no longer
 intact. The indenter is free while settling (docs/model.md §3.4); a keel whose
-buoyant part under it breaks loose lifts it (docs/study_paper_depth.md, Status),
+buoyant part under it breaks loose lifts it (docs/study_paper_depth.md, "Run log"),
 where a keel at rest moves it by under a millimetre.
 """
 import functools

@@ -1,6 +1,6 @@
 """tools/rest_rise.py reads how far a settle moved the indenter and the keel
 from a rest state: a constructed one whose indenter was lifted by 50 mm and
-whose block under it by 20 mm (docs/study_paper_depth.md, Status)."""
+whose block under it by 20 mm (docs/study_paper_depth.md, "Run log")."""
 import json
 import os
 import sys
