@@ -24,8 +24,9 @@ from F̄, the mean over y_I ± 5 mm (docs/postproc.md, "Definitions and choices"
 The cylindrical-plug load of τ^(2) is computed from each run's own geometry,
 (1 - η)(ρ_w - ρ_i) g w_I h (the paper's ~11 kN/m is this for w_I = h = 4 m).
 
---stored-rows (one folder only) adds runs known by a summary.csv's rows, made
-where their files were (postproc/stored_rows.py): every statistic reads them;
+--stored-rows adds runs known by a summary.csv's rows, made where their files
+were (postproc/stored_rows.py), to the first folder's (with several folders,
+e.g. the paper-depth study first, the reduced study beside it): every statistic reads them;
 R(F, F_d) reads their (F̄, F_d) pairs where an fd_pairs.csv lies beside the
 summary.csv (postproc/fd_pairs.py), and leaves out a run that has none.
 """
@@ -308,12 +309,11 @@ def columns(folders, labels=None, bond_points=failure_plane.DEFAULT_BOND_POINTS,
     folders' order: a folder's name is its label (its path if none), followed
     by the variant when the folder holds more than one, so eq 11's two forms,
     or two scenes found in one folder, are two columns. ``stored``: runs known
-    by their rows only, of the one folder given (in runs as their StoredRuns)."""
-    if stored and len(folders) != 1:
-        raise ValueError(f"--stored-rows belongs to one folder of runs; {len(folders)} were given")
+    by their rows only (in runs as their StoredRuns), of the first folder: the
+    study whose files went with their machines, the others beside it as run here."""
     out = []
     for k, folder in enumerate(folders):
-        rows, runs = rows_and_runs(folder, bond_points, stored)
+        rows, runs = rows_and_runs(folder, bond_points, stored if k == 0 else ())
         if not rows:
             raise ValueError(f"no complete run results under {folder}")
         name = labels[k] if labels else folder
@@ -348,8 +348,6 @@ def main(argv=None):
     for folder in a.results_dir:
         if not os.path.isdir(folder):
             raise ValueError(f"{folder}: no such folder of results")
-    if a.stored_rows and len(a.results_dir) != 1:
-        ap.error(f"--stored-rows belongs to one folder of runs; {len(a.results_dir)} were given")
     if a.out:
         check_output_file(a.out, "--out")
     stored = stored_rows.read_all(a.stored_rows, a.bond_points)
