@@ -255,10 +255,14 @@ def gpu_body_forces(d):
                       f"apart."]
         if "whole_step_us" in g:
             lines += ["", f"GPU: whole steps (gpu.Steps) of that state, {g['whole_steps']:,} of them with "
-                      f"{g['whole_host_steps']} taken by the model on the host (splits, list rebuilds, each "
+                      f"{g['whole_host_steps']} taken by the model on the host ("
+                      + ("splits" if "whole_list_rebuilds" in g else "splits, list rebuilds")
+                      + ", each "
                       f"followed by the stages made again"
                       + (f": {g['whole_host_step_s']:.2f} s in those steps, {g['whole_make_s']:.2f} s making the stages"
                          if "whole_make_s" in g else "")
+                      + (f"; {g['whole_list_rebuilds']} candidate lists rebuilt in place, {g['whole_list_s']:.2f} s"
+                         if "whole_list_rebuilds" in g else "")
                       + f"), took {g['whole_step_us']:.0f} µs a step (wall), against "
                       + ", ".join(f"{fmt(r['ms_per_step'])} ms at {r['threads']} threads" for r in d["cpu"])
                       + " (the load phase before the nudge). gpu_step_profile.json says where it goes."]

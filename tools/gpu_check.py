@@ -64,7 +64,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square,  # noqa: E402
-                                    pressed_blocks, pulled_bar, rubbing_blocks, sheared_square, sliding_block)
+                                    pressed_blocks, pulled_bar, rubbing_blocks, sheared_square, sliding_block,
+                                    landing_block_and_a_flyer)
 
 
 
@@ -133,7 +134,8 @@ def report_steps(name, cmp, exact):
                  f"{'state the CPU bits' if not cmp['bonds'] else 'fields differing: ' + ', '.join(cmp['bonds'])}, "
                  f"sums {cmp['bond_sums']:.1e} relative, points evaluated {'equal' if cmp['checks'] else 'DIFFER'}")
     print(f"[{'ok' if ok else 'FAIL'}] {name}: {detail}; ledger {cmp['ledger']:.1e}, reaction {cmp['reaction']:.1e} "
-          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}; {cmp['host_steps']} steps taken by the model"
+          f"relative; clock {'equal' if cmp['time'] else 'DIFFERS'}; {cmp['host_steps']} steps taken by the model, "
+          f"{cmp['list_rebuilds']} candidate lists rebuilt in place"
           f"{bonds}", flush=True)
     return ok
 
@@ -274,6 +276,10 @@ def main(argv=None):
         seed_m = int(rng.integers(1 << 30))
         ok &= report_steps("block sliding on a slab, 4,000 whole GPU steps",
                            gpu.compare_steps(lambda: sliding_block(np.random.default_rng(seed_m)), 4000,
+                                             nodes="slab_bottom"), exact=True)
+        seed_m = int(rng.integers(1 << 30))
+        ok &= report_steps("block at rest on a slab, a flyer past it, 4,000 whole GPU steps (lists rebuilt on the GPU's turn)",
+                           gpu.compare_steps(lambda: landing_block_and_a_flyer(np.random.default_rng(seed_m)), 4000,
                                              nodes="slab_bottom"), exact=True)
         for direction in ("paper", "work_conjugate"):
             ok &= report_steps(f"bonded bar pulled apart ({direction}), 14,000 whole GPU steps",

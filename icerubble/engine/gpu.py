@@ -354,8 +354,10 @@ class Steps:
     built (cuda/device_step.hpp): models without the sleeping far field. Copies the model's mesh, state, boundary
     conditions, clock, ledger, friction warm start and bonds' state;
     `step(n)` runs n steps of Model.step, on the GPU but for the steps whose
-    candidate list is rebuilt or whose bond check splits a point, which the
-    model takes itself (`host_steps` counts them); `download()` puts the
+    bond check splits a point, which the model takes itself (`host_steps`
+    counts them); where the candidate list is due, the model's broad phase
+    builds it at the GPU's positions and the contact stages take it in place
+    (`list_rebuilds` counts them); `download()` puts the
     state back into the model, which continues from there."""
 
     def __init__(self, model):
@@ -397,6 +399,15 @@ class Steps:
         return self._d.host_step_seconds
 
     @property
+    def list_rebuilds(self):
+        return self._d.list_rebuilds
+
+    @property
+    def list_seconds(self):
+        """Wall time [s] in the candidate list's rebuilds (positions from the GPU, the broad phase, the copies back)."""
+        return self._d.list_seconds
+
+    @property
     def make_seconds(self):
         """Wall time [s] making the stages from the model (the first making too: allocations, copies)."""
         return self._d.make_seconds
@@ -413,8 +424,9 @@ def compare_steps(make_model, n, nodes=None):
     x, y, vx, vy, 'ledger' (the ledger's terms' largest difference relative
     to the largest of them: the GPU sums in another fixed order), 'reaction'
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
-    (steps the model took itself: candidate list rebuilt, bond points split),
-    'remakes' (times the GPU's stages were made again from the model: after
+    (steps the model took itself: bond points split), 'list_rebuilds' (the
+    candidate list rebuilt in place), 'remakes' (times the GPU's stages were
+    made again from the model: after
     those steps, a pair's failure, a re-bound contact reach) and 'ok'. A
     bonded model adds 'bonds': the bond state's array fields whose bits
     differ anywhere (a list of names; the split and failure
@@ -431,6 +443,7 @@ def compare_steps(make_model, n, nodes=None):
         out["reaction"] = float(np.abs(r_gpu - r_cpu).max() / max(np.abs(r_cpu).max(), 1e-300))
     steps.download()
     out["host_steps"] = steps.host_steps
+    out["list_rebuilds"] = steps.list_rebuilds
     out["remakes"] = steps.remakes
 
     def state(m):
@@ -477,7 +490,8 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
     the reaction equal after every call, 'gpu_steps': the steps the GPU took,
     'remade': how many times the GPU's steps were made from the model,
     'makes': Model.timings' gpu_makes, 'host_makes': the steps the model took
-    (each followed by the stages made again)}."""
+    (each followed by the stages made again), 'list_rebuilds': Model.timings'
+    gpu_list_rebuilds}."""
     cpu, on_gpu = make_model(), make_model()
     on_gpu.device = "cuda"
     same, made, steps = True, 0, None
@@ -495,4 +509,4 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
                 between(m, k)
     t = on_gpu.timings()
     return dict(same=bool(same), gpu_steps=t["gpu_steps"], remade=made, makes=t["gpu_makes"],
-                host_makes=t["steps"] - t["gpu_steps"])
+                host_makes=t["steps"] - t["gpu_steps"], list_rebuilds=t["gpu_list_rebuilds"])

@@ -170,6 +170,35 @@ def rubbing_blocks(rng):
     return m
 
 
+def landing_block_and_a_flyer(rng, speed=20.0):
+    """The sliding block (sliding_block) let down at rest onto its slab,
+    with a third block flying past 8 mm above it at `speed` [m/s], touching
+    nothing: the flyer's nodes move past the candidate list's skin every few
+    hundred steps, so the list is rebuilt, some times while the landed
+    block's pairs stick, and the flyer's candidates with the block change
+    from one list to the next (the candidates' count and arrays change). The
+    friction warm start the sticking pairs carry across a rebuild changes
+    their forces (a sliding pair's force is its limit from any start)."""
+    h = 0.05
+    a_nodes, a_tri = engine.rectangle_mesh(20, 4, h, origin=(0.0, 0.0))
+    b_nodes, b_tri = engine.rectangle_mesh(6, 3, h, origin=(0.1, 0.2 + 1e-6))
+    c_nodes, c_tri = engine.rectangle_mesh(4, 2, h, origin=(0.0, 0.358))
+    nodes = np.vstack((a_nodes, b_nodes, c_nodes))
+    tri = np.vstack((a_tri, b_tri + len(a_nodes), c_tri + len(a_nodes) + len(b_nodes)))
+    body = np.repeat([0, 1, 2], [len(a_tri), len(b_tri), len(c_tri)])
+    m = engine.Model(nodes, tri, body,
+                     materials={b: dict(E=5e9, nu=0.3, rho=920.0, damping=1e-5) for b in (0, 1, 2)})
+    m.set(gravity=True, water=False, mu=0.3, dt_fraction=0.8)
+    m.set_positions(nodes + rng.uniform(-4e-7, 4e-7, nodes.shape))
+    v = rng.normal(0.0, 1e-4, nodes.shape)
+    v[len(a_nodes) + len(b_nodes):, 0] += speed
+    m.set_velocities(v)
+    ids = np.arange(len(a_nodes))
+    m.add_node_set("slab_bottom", ids[ids // 21 == 0])
+    m.fix("slab_bottom")
+    return m
+
+
 def pulled_bar(direction="paper"):
     """Two blocks bonded across the middle of a bar, one end held, the other
     pulled (tests/engine/freeze_bonds_scenes.py pull_bar): in 14,000 steps

@@ -15,7 +15,7 @@ from icerubble.engine import gpu
 from icerubble.run import run_identity as RI
 from icerubble.run.punch_through_run import RunOptions
 from tests.commands import icerubble
-from tests.engine.gpu_scenes import on_gpu_or_emulation, pulled_bar
+from tests.engine.gpu_scenes import landing_block_and_a_flyer, on_gpu_or_emulation, pulled_bar
 from tests.paths import ROOT
 
 no_gpu = pytest.mark.skipif(gpu.available(), reason="a GPU is visible here: 'cuda' is not refused")
@@ -67,6 +67,15 @@ def test_a_model_on_the_gpu_steps_as_on_the_cpu():
     # keeping its own between them; the pulled end's reaction the CPU's bits
     cmp = gpu.compare_device(pulled_bar, 7, 2000, nodes="right")
     assert cmp["same"] and cmp["gpu_steps"] > 0 and cmp["remade"] == 1, cmp
+
+
+@on_gpu_or_emulation
+def test_a_model_on_the_gpu_rebuilds_its_lists_in_place():
+    # a flyer past a block at rest: the candidate lists are rebuilt on the
+    # GPU's turn (counted in the model's timings), no step is the model's
+    cmp = gpu.compare_device(lambda: landing_block_and_a_flyer(np.random.default_rng(4)), 4, 1000,
+                             nodes="slab_bottom")
+    assert cmp["same"] and cmp["list_rebuilds"] >= 5 and cmp["host_makes"] == 0, cmp
 
 
 @on_gpu_or_emulation

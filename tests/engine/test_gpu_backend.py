@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from icerubble.engine import gpu
-from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, on_gpu_or_emulation,
+from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, landing_block_and_a_flyer,
+                                     on_gpu_or_emulation,
                                      opened_square, pressed_blocks, pulled_bar, rubbing_blocks, shaken_bar,
                                      sheared_square, sliding_block)
 
@@ -121,9 +122,22 @@ def test_whole_gpu_steps_are_the_cpus_steps(drag_model):
 @on_gpu_or_emulation
 def test_whole_gpu_steps_with_contact_and_friction_are_the_cpus_steps():
     # 4,000 steps of a block sliding on a slab: normal contact and friction on
-    # the GPU, and the steps whose candidate list is rebuilt taken by the model
+    # the GPU, the candidate list rebuilt by the model's broad phase at the
+    # GPU's positions and put into the stages in place, no step of the model's
     cmp = gpu.compare_steps(lambda: sliding_block(np.random.default_rng(9)), 4000, nodes="slab_bottom")
-    assert cmp["host_steps"] >= 1, cmp  # the block moved past the skin
+    assert cmp["list_rebuilds"] >= 1 and cmp["host_steps"] == 0, cmp  # the block moved past the skin
+    assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {k: 0 for k in ("x", "y", "vx", "vy")}, cmp
+    assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
+
+
+@on_gpu_or_emulation
+def test_the_friction_warm_start_crosses_a_list_rebuild_on_the_gpu():
+    # a block come to rest on a slab, its pairs sticking, while a third block
+    # flies past above: the list is rebuilt every few hundred steps, some of
+    # them while the pairs stick, whose forces then depend on the warm start
+    # carried over by key (dropping it at the rebuild fails this test)
+    cmp = gpu.compare_steps(lambda: landing_block_and_a_flyer(np.random.default_rng(4)), 4000, nodes="slab_bottom")
+    assert cmp["list_rebuilds"] >= 5 and cmp["host_steps"] == 0, cmp
     assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {k: 0 for k in ("x", "y", "vx", "vy")}, cmp
     assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
 

@@ -95,19 +95,20 @@ bool ContactSolver::list_still_valid(const ContactInput& in) const {
   return !moved;
 }
 
+void ContactSolver::build_list(const ContactInput& in) {
+  broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_, in.threads, skin_fraction_);
+  xref_.assign(in.x, in.x + in.n_nodes);
+  yref_.assign(in.y, in.y + in.n_nodes);
+  list_topology_ = in.topology_version;
+  list_signature_ = in.topology_version == 0 ? list_signature(in) : 0;
+  have_list_ = true;
+  ++rebuilds_;
+}
+
 int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput& in, double* fx,
                                       double* fy) {
   const double t0 = now_s();
-  if (!list_still_valid(in)) {
-    broad_.find(in.n_surface, in.surface_tris, in.tri, in.body, in.x, in.y, candidates_,
-                in.threads, skin_fraction_);
-    xref_.assign(in.x, in.x + in.n_nodes);
-    yref_.assign(in.y, in.y + in.n_nodes);
-    list_topology_ = in.topology_version;
-    list_signature_ = in.topology_version == 0 ? list_signature(in) : 0;
-    have_list_ = true;
-    ++rebuilds_;
-  }
+  if (!list_still_valid(in)) build_list(in);
   const double t1 = now_s();
 
   const int64_t nc = static_cast<int64_t>(candidates_.size());

@@ -194,6 +194,10 @@ class ContactSolver {
   void set_skin_fraction(double f);
   double skin_fraction() const { return skin_fraction_; }
   int64_t rebuilds() const { return rebuilds_; }  // broad-phase builds so far
+  // The candidate list built at in's positions now, as compute_normal builds
+  // it when the list is stale: the GPU step's rebuild (cuda/device_step.cu),
+  // which tests the list on the GPU and runs no CPU step.
+  void build_list(const ContactInput& in);
   // The candidate list's validity as list_still_valid tests it (the GPU
   // step tests it on the GPU): the node positions it was built at and its
   // skin [m] (0 without a list: no move keeps it).

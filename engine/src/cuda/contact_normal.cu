@@ -100,25 +100,30 @@ void DeviceContactNormal::Impl::launch() {
 }
 
 
+void DeviceContactNormal::Impl::set_candidates(const CandidateLayout& L) {
+  const size_t n = size_t(L.size());
+  n_pairs = int64_t(n);
+  node.upload(L.node);
+  start.upload(L.start);
+  entry.upload(L.entry);
+  fx.resize(6 * n);
+  fy.resize(6 * n);
+  hit.resize(n);
+  pair_energy.resize(n);
+}
+
 DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
   Impl& d = *impl_;
   d.stream = new_stream();
   const Nodes& N = m.nodes();
   const std::vector<CandidatePair>& cand = m.contact().candidates();
   d.n_nodes = N.size();
-  d.n_pairs = int64_t(cand.size());
   d.penalty = m.contact_params().penalty;
   CandidateLayout L;
   lay_out_candidates(cand, m.triangles().node.data(), d.n_nodes, L);
+  d.set_candidates(L);
   d.x.upload(N.x);
   d.y.upload(N.y);
-  d.node.upload(L.node);
-  d.start.upload(L.start);
-  d.entry.upload(L.entry);
-  d.fx.resize(6 * cand.size());
-  d.fy.resize(6 * cand.size());
-  d.hit.resize(cand.size());
-  d.pair_energy.resize(cand.size());
   d.f_con_x.resize(d.n_nodes);
   d.f_con_y.resize(d.n_nodes);
   d.total.resize(1);

@@ -2,6 +2,7 @@
 // step (cuda/device_step.cu) can reach it.
 #pragma once
 #include "cuda/contact_normal.hpp"
+#include "contact/candidate_layout.hpp"
 #include "cuda/device_array.cuh"
 
 namespace engine {
@@ -30,6 +31,9 @@ struct DeviceContactNormal::Impl {
 
   // the stage's launches on `stream` (asynchronous)
   void launch();
+  // the candidates laid out (contact/candidate_layout.hpp): at the making,
+  // and where the whole step rebuilds its list without remaking the stages
+  void set_candidates(const CandidateLayout& L);
 };
 
 }  // namespace engine

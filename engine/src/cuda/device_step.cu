@@ -8,17 +8,19 @@
 //
 // The candidate list stays the one the model built until a node of a surface
 // triangle has moved past its skin (the test of ContactSolver::list_still_valid,
-// made on the GPU after each update). The next step is then the model's own:
-// the state goes back into the model, Model::step takes the step and builds a
-// new list, and the stages are made again from the model. Any complete list
-// gives the same touching pairs, so the same bits. Friction's warm start is
-// kept per candidate between rebuilds (NaN: did not touch in the step before).
+// made on the GPU after each update). The next step's list is then built by
+// the model's broad phase at the GPU's positions, as the CPU's next step
+// builds it, and put into the contact stages in place (rebuild_list): the
+// positions come back, the candidates' layout goes out, nothing else is made
+// again, and the step is the GPU's. Any complete list gives the same touching
+// pairs, so the same bits. Friction's warm start is kept per candidate
+// (NaN: did not touch in the step before) and carried to the new list by key.
 //
 // Bond points split rarely (a few thousand in a paper run of a million
 // steps), and a split changes the mesh: the GPU checks every step as
 // FreezeBonds::check does (the same screening), and a step whose check finds
-// a point at the criterion is the model's, as a rebuild of the list is (the
-// state goes back, the model splits, the stages are made again). A pair's
+// a point at the criterion is the model's (the state goes back, the model
+// splits, the stages are made again). A pair's
 // full failure changes the list of opened pairs: the step is the GPU's, and
 // the stages are made again after it.
 //
@@ -247,6 +249,9 @@ struct DeviceStep::Impl {
   // list after a split) and the stages made from the model (copies included)
   double host_step_seconds = 0.0, make_seconds = 0.0;
   int64_t remakes = 0;  // the stages made again from the model (after a host step, a failure, a re-bound)
+  // the candidate list rebuilt in place (rebuild_list), and its wall time [s]
+  int64_t list_rebuilds = 0;
+  double list_seconds = 0.0;
   EnergyLedger energy;
   cudaStream_t stream = nullptr;  // the body-force stage's; every stage runs on it
   // a batch's records (kBatch, then prime's) and where they are read; its halt word
@@ -528,7 +533,7 @@ struct DeviceStep::Impl {
     const int64_t end = step_count + n;
     while (step_count < end) {
       if (!list_valid) {
-        host_step();
+        rebuild_list();
         continue;
       }
       if (!primed) prime();
@@ -697,6 +702,37 @@ struct DeviceStep::Impl {
     launch_kernel(record_step_kernel, 1, 1, stream, halt, sc, r);
   }
 
+  // The candidate list rebuilt at the GPU's positions by the model's broad
+  // phase (Model::build_contact_list: where the CPU's next step would build
+  // it, at the same state), laid out and put into the contact stages in
+  // place, the warm start carried over by key; the other stages and the GPU's
+  // state stay as they are. The model's own state is not touched (download()
+  // gives it the GPU's). The batch's graph is captured again: the candidates'
+  // arrays and count are its arguments.
+  void rebuild_list() {
+    {
+      Stopwatch sw(list_seconds);
+      cuda_check(cudaStreamSynchronize(stream), "GPU step");
+      model->build_contact_list(u().x.download(), u().y.download());
+      const Model& cm = *model;
+      CandidateLayout L;
+      lay_out_candidates(cm.contact().candidates(), cm.triangles().node.data(), int32_t(cm.nodes().size()), L);
+      std::vector<uint64_t> wk;
+      std::vector<double> wl;
+      warm_start(wk, wl);
+      cn().set_candidates(L);
+      fr().set_candidates(L, warm_start_per_candidate(L.key, wk, wl));
+      list_x.upload(cm.contact().list_origin_x());
+      list_y.upload(cm.contact().list_origin_y());
+      skin = cm.contact().list_skin();
+      share_arrays();  // friction's pair arrays are the normal pass's again
+      drop_graph();
+      settle_uploads();
+    }
+    ++list_rebuilds;
+    list_valid = true;
+  }
+
   // The model takes the step (the candidate list is rebuilt there), and the
   // stages are made again from it. A step that split points searched for
   // neighbours before it split (Model::compute_forces' order), so the list it
@@ -779,17 +815,22 @@ struct DeviceStep::Impl {
     m.restore_energy(energy);
     m.restore_clock(time, step_count);
     if (!contact) return;
-    const std::vector<uint64_t> keys = fr().prev_key.download();
-    const std::vector<double> prev = fr().prev_lambda.download();
     std::vector<uint64_t> wk;
     std::vector<double> wl;
+    warm_start(wk, wl);
+    m.set_contact_warm_start(wk, wl);
+    if (bonded) bonds_to_model(m);
+  }
+  // The friction warm start the GPU holds (the candidates that touched in the
+  // last step): their keys, ascending, and tangential forces.
+  void warm_start(std::vector<uint64_t>& wk, std::vector<double>& wl) {
+    const std::vector<uint64_t> keys = fr().prev_key.download();
+    const std::vector<double> prev = fr().prev_lambda.download();
     for (size_t c = 0; c < keys.size(); ++c)
       if (!std::isnan(prev[c])) {
         wk.push_back(keys[c]);
         wl.push_back(prev[c]);
       }
-    m.set_contact_warm_start(wk, wl);
-    if (bonded) bonds_to_model(m);
   }
 
   // The opened pairs' history, their failures, the screening flags and the
@@ -876,6 +917,8 @@ int64_t DeviceStep::step_count() const { return impl_->step_count; }
 int64_t DeviceStep::host_steps() const { return impl_->host_steps; }
 double DeviceStep::host_step_seconds() const { return impl_->host_step_seconds; }
 double DeviceStep::make_seconds() const { return impl_->make_seconds; }
+int64_t DeviceStep::list_rebuilds() const { return impl_->list_rebuilds; }
+double DeviceStep::list_seconds() const { return impl_->list_seconds; }
 int64_t DeviceStep::remakes() const { return impl_->remakes - 1; }  // the first making is not a remake
 const EnergyLedger& DeviceStep::energy() const { return impl_->energy; }
 

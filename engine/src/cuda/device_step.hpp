@@ -3,9 +3,11 @@
 // contact_normal.cu, bond_check.cu, cohesive_forces.cu, friction.cu,
 // node_update.cu) on one stream, chained on the GPU, with the boundary
 // conditions and the force assembly of the CPU's per-node functions
-// (loads/boundary_kernel.hpp, model/assemble_kernel.hpp). A step whose
-// candidate list would be rebuilt, or whose bond check finds a point at the
-// criterion, is taken by the model itself (cuda/device_step.cu). Steps run
+// (loads/boundary_kernel.hpp, model/assemble_kernel.hpp). A step whose bond
+// check finds a point at the criterion is taken by the model itself
+// (cuda/device_step.cu); where the candidate list is due, the model's broad
+// phase builds it at the GPU's positions and the contact stages take it in
+// place, the GPU's steps going on. Steps run
 // in batches, read back in one copy: each step's ledger sums, energies and
 // flags (an element inverted, the list must be rebuilt, a pair failed); the
 // host books the ledger and guards the run; the state stays on the GPU until
@@ -53,9 +55,13 @@ class DeviceStep {
 
   double time() const;
   int64_t step_count() const;
-  // Steps the model took itself (its candidate list rebuilt there, or bond
-  // points split) since this was made.
+  // Steps the model took itself (bond points split there) since this was made.
   int64_t host_steps() const;
+  // Times the candidate list was rebuilt (the model's broad phase at the
+  // GPU's positions, put into the contact stages in place) since this was
+  // made, and the wall time of those rebuilds [s] (copies included).
+  int64_t list_rebuilds() const;
+  double list_seconds() const;
   // Times the stages were made again from the model since this was made
   // (after each host step, a pair's full failure, a re-bound contact step):
   // each copies the mesh and state to the GPU.

@@ -352,6 +352,40 @@ void DeviceFriction::Impl::launch() {
 }
 
 
+std::vector<double> warm_start_per_candidate(const std::vector<uint64_t>& key, const std::vector<uint64_t>& keys,
+                                             const std::vector<double>& forces) {
+  std::vector<double> prev(key.size(), NAN);
+  for (size_t c = 0, j = 0; c < key.size(); ++c) {
+    while (j < keys.size() && keys[j] < key[c]) ++j;
+    if (j < keys.size() && keys[j] == key[c]) prev[c] = forces[j];
+  }
+  return prev;
+}
+
+void DeviceFriction::Impl::set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate) {
+  const size_t n = size_t(L.size());
+  n_cand = int32_t(n);
+  node.upload(L.node);
+  key.upload(L.key);
+  start.upload(L.start);
+  entry.upload(L.entry);
+  hit.resize(n);
+  for (auto* a : {&nx, &ny, &fn, &kinv, &lambda}) a->resize(n);
+  nc.resize(3 * n);
+  nt.resize(3 * n);
+  colour.resize(n);
+  tp.resize(n);
+  slot_colour.resize(n);
+  order.resize(n);
+  colour_start.resize(n + 1);  // at most as many colours as touching pairs
+  n_earlier.resize(n);
+  warm.resize(n);
+  earlier.resize(size_t(kEarlier) * n);
+  prev_key.upload(L.key);
+  prev_lambda.upload(warm_per_candidate);
+  n_prev = int64_t(n);
+}
+
 DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new Impl) {
   Impl& d = *impl_;
   d.stream = new_stream();
@@ -359,7 +393,6 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   const ContactSolver& C = m.contact();
   const std::vector<CandidatePair>& cand = C.candidates();
   d.n_nodes = N.size();
-  d.n_cand = int32_t(cand.size());
   d.mu = m.contact_params().mu;
   d.penalty = m.contact_params().penalty;
   d.dt = m.dt();
@@ -374,39 +407,15 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.f_pre_x.upload(N.f_pre_x);
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
-  d.node.upload(L.node);
-  d.key.upload(L.key);
-  d.start.upload(L.start);
-  d.entry.upload(L.entry);
-  d.hit.resize(cand.size());
-  for (auto* a : {&d.nx, &d.ny, &d.fn, &d.kinv, &d.lambda}) a->resize(cand.size());
-  d.nc.resize(3 * cand.size());
-  d.nt.resize(3 * cand.size());
-  d.colour.resize(cand.size());
-  d.tp.resize(cand.size());
-  d.slot_colour.resize(cand.size());
-  d.order.resize(cand.size());
-  d.colour_start.resize(cand.size() + 1);  // at most as many colours as touching pairs
-  d.n_earlier.resize(cand.size());
-  d.warm.resize(cand.size());
-  d.earlier.resize(size_t(kEarlier) * cand.size());
-  d.earlier_list = kEarlier;
   d.counts.resize(3);
+  d.earlier_list = kEarlier;
   const std::vector<uint64_t>& wk = C.warm_start_keys();
   const std::vector<double>& wl = C.warm_start_forces();
-  if (warm_start == WarmStart::model_keys) {
+  d.set_candidates(L, warm_start_per_candidate(L.key, wk, wl));
+  if (warm_start == WarmStart::model_keys) {  // the model's own list instead
     d.prev_key.upload(wk);
     d.prev_lambda.upload(wl);
     d.n_prev = int64_t(wk.size());
-  } else {  // both key lists ascending: one merge
-    std::vector<double> prev(L.key.size(), NAN);
-    for (size_t c = 0, j = 0; c < L.key.size(); ++c) {
-      while (j < wk.size() && wk[j] < L.key[c]) ++j;
-      if (j < wk.size() && wk[j] == L.key[c]) prev[c] = wl[j];
-    }
-    d.prev_key.upload(L.key);
-    d.prev_lambda.upload(prev);
-    d.n_prev = int64_t(L.key.size());
   }
   d.power.resize(1);
 }

@@ -1,6 +1,9 @@
 // The friction stage's GPU state (cuda/friction.cu), where the whole step
 // (cuda/device_step.cu) can reach it.
 #pragma once
+#include <vector>
+
+#include "contact/candidate_layout.hpp"
 #include "cuda/device_array.cuh"
 #include "cuda/friction.hpp"
 
@@ -48,6 +51,15 @@ struct DeviceFriction::Impl {
 
   // the stage's launches on `stream` (asynchronous)
   void launch();
+  // the candidates laid out (contact/candidate_layout.hpp) with the warm start
+  // per candidate (NaN: none), as prev_key and prev_lambda: at the making,
+  // and where the whole step rebuilds its list without remaking the stages
+  void set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate);
 };
+
+// Per candidate of layout keys `key` (ascending), the warm start of the pair
+// with that key in (keys, forces) (keys ascending), NaN where none: one merge.
+std::vector<double> warm_start_per_candidate(const std::vector<uint64_t>& key, const std::vector<uint64_t>& keys,
+                                             const std::vector<double>& forces);
 
 }  // namespace engine

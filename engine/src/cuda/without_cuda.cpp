@@ -86,6 +86,8 @@ int64_t DeviceStep::host_steps() const { no_gpu(); }
 int64_t DeviceStep::remakes() const { no_gpu(); }
 double DeviceStep::host_step_seconds() const { no_gpu(); }
 double DeviceStep::make_seconds() const { no_gpu(); }
+int64_t DeviceStep::list_rebuilds() const { no_gpu(); }
+double DeviceStep::list_seconds() const { no_gpu(); }
 const EnergyLedger& DeviceStep::energy() const { no_gpu(); }
 
 }  // namespace engine
