@@ -50,6 +50,10 @@ __global__ void __launch_bounds__(kBlock)
 
 // The same, in a committed step: the pair's history and any full failure
 // written as FreezeBonds::apply(commit) writes them (each lane its own pair).
+// A pair that failed in an earlier step of these stages stays in their list
+// (the whole step makes no stage again for a failure) and is passed over, as
+// the CPU's list, which it has left, passes over it: no force (a +0 in its
+// nodes' sums), no energy terms, its history and failure record kept.
 __global__ void __launch_bounds__(kBlock)
     committed_pair_kernel(const int32_t* halt, CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
                           cohesive_law::ForceDirection dir, double dt, const double* time, double* fpx, double* fpy,
@@ -60,10 +64,12 @@ __global__ void __launch_bounds__(kBlock)
   CohesivePairStep r;
   if (j < n) {
     const int32_t k = open[j];
-    r = cohesive_pair_step(a, k, dir, dt);
+    if (h.pair_state[k] != PairState::failed) {
+      r = cohesive_pair_step(a, k, dir, dt);
+      if (commit_pair_step(h, a, k, r, *time)) *any_failed = 1;  // any lane: the same 1
+    }
     fpx[j] = r.fpx;
     fpy[j] = r.fpy;
-    if (commit_pair_step(h, a, k, r, *time)) *any_failed = 1;  // any lane: the same 1
   }
   const double terms[kTerms] = {r.work, r.stored, r.dissipation};
   #pragma unroll

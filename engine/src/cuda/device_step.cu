@@ -20,9 +20,10 @@
 // steps), and a split changes the mesh: the GPU checks every step as
 // FreezeBonds::check does (the same screening), and a step whose check finds
 // a point at the criterion is the model's (the state goes back, the model
-// splits, the stages are made again). A pair's
-// full failure changes the list of opened pairs: the step is the GPU's, and
-// the stages are made again after it.
+// splits, the stages are made again). A pair's full failure takes it out of
+// the CPU's list of opened pairs; on the GPU it stays in the cohesive stage's
+// list, passed over from then on (cohesive_forces.cu), and the steps go on:
+// the stages are not made again for it.
 //
 // With a finite contact_reach the GPU tests every kReachCheckEvery steps, as
 // Model::advance does, whether a node has moved past reach/2 since the
@@ -35,8 +36,7 @@
 // energies and flags in its StepRecord), then books each in order, as it
 // would have one by one. A step that ends in an event the host must handle
 // (the next step's check finds a point at eq 5, the list must be rebuilt, a
-// pair failed, a node moved past reach/2, an element inverted, a sum not
-// finite) sets the batch's halt word, and the batch's later kernels return
+// node moved past reach/2, an element inverted, a sum not finite) sets the batch's halt word, and the batch's later kernels return
 // at once (cuda/halt.cuh): the GPU's state is that step's, as if the batch
 // had ended there. Only the energy alarm is the host's alone (it reads the
 // booked ledger): a run it stops reports the ledger of the step that fired
@@ -137,7 +137,7 @@ enum Extra { x_elastic = n_terms, x_contact, x_friction_power, x_coh_work, x_coh
              n_copied };
 // ... and its flags (f_split: the next step's check found a point at eq 5;
 // f_nonfinite: a sum of the step is not finite).
-enum Flag { f_inverted, f_moved, f_split, f_failed, f_reach, f_nonfinite, n_flags };
+enum Flag { f_inverted, f_moved, f_split, f_reach, f_nonfinite, n_flags };
 
 // Steps of a batch, launched before one copy back. A batch costs the host a
 // copy and a wait instead of one per step; a longer one runs further past an
@@ -166,7 +166,6 @@ struct StepScalars {
   const int32_t* moved;    // a node past the skin
   const int32_t* reach;    // a node past reach/2
   const double* cohesive;  // work, stored, effective dissipation
-  const int32_t* failed;   // a pair failed
 };
 
 __device__ inline bool finite_sum(double v) { return fabs(v) <= DBL_MAX; }  // false for NaN too
@@ -174,7 +173,7 @@ __device__ inline bool finite_sum(double v) { return fabs(v) <= DBL_MAX; }  // f
 // An event of the step itself (its record's flags) that the host handles
 // after it: the record kernel halts the batch on it, the host finds it.
 ICERUBBLE_HD bool step_event(const int32_t* f) {
-  return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_failed] || f[f_reach] || f[f_nonfinite];
+  return f[f_inverted] != 0x7f7f7f7f || f[f_moved] || f[f_reach] || f[f_nonfinite];
 }
 
 // The step's sums and flags into its record (one lane); an event halts the batch.
@@ -191,7 +190,6 @@ __global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) 
   int32_t* f = r->flags;
   f[f_inverted] = *s.inverted;
   f[f_moved] = s.moved ? *s.moved : 0;
-  f[f_failed] = s.failed ? *s.failed : 0;
   f[f_reach] = s.reach ? *s.reach : 0;
   f[f_nonfinite] = finite ? 0 : 1;
   f[f_split] = 0;
@@ -602,14 +600,11 @@ struct DeviceStep::Impl {
     // first part: it runs again on the stages as they will be
     primed = !step_event(r.flags);
     next_split = r.flags[f_split] != 0;
-    // a pair failed: the opened pairs are others from the next step on; a
-    // node moved past reach/2: the model re-bounds the contact step
-    if (r.flags[f_failed] || r.flags[f_reach]) {
+    // a node moved past reach/2: the model re-bounds the contact step
+    if (r.flags[f_reach]) {
       to_model();
-      if (r.flags[f_reach]) {
-        model->guard_contact_reach();
-        energy = model->energy();  // a raise books the kinetic energy it takes as damping
-      }
+      model->guard_contact_reach();
+      energy = model->energy();  // a raise books the kinetic energy it takes as damping
       // this step's reactions (the new stages start from the model's, of its own last step)
       const std::vector<double> r_x = u().r_x.download(), r_y = u().r_y.download();
       make_stages();
@@ -650,7 +645,6 @@ struct DeviceStep::Impl {
     if (contact) cn().launch();  // (3) normal contact over the candidates
     if (bonded) {  // (5) the opened pairs' cohesive forces, history and failures; the crack closure
       DeviceCohesiveForces::Impl& C = co();
-      zero(C.any_failed);
       const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
       C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data());
@@ -677,12 +671,8 @@ struct DeviceStep::Impl {
     if (m) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, cy, bc_node.data(), bc_code.data(), m,
                          boundary_at(row, 0), inv_dt);
     U.launch();  // (7) the central difference and the ledger's sums
-    StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr,
-                   nullptr,       nullptr};
-    if (bonded) {
-      sc.cohesive = co().sums.data();
-      sc.failed = co().any_failed.data();
-    }
+    StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr, nullptr};
+    if (bonded) sc.cohesive = co().sums.data();
     if (contact) {
       DeviceFriction::Impl& R = fr();
       zero(moved);
@@ -733,20 +723,21 @@ struct DeviceStep::Impl {
     list_valid = true;
   }
 
-  // The model takes the step (the candidate list is rebuilt there), and the
+  // The model takes the step (a step whose check splits points), and the
   // stages are made again from it. A step that split points searched for
   // neighbours before it split (Model::compute_forces' order), so the list it
   // leaves is of the mesh before: the model's next step searches again, on
-  // the split mesh, and evaluate() builds that list now, at the same state,
-  // for the stages to start from (the forces it computes leave the history
-  // as it was).
+  // the split mesh, and build_contact_list builds that list now, at the same
+  // state, for the stages to start from (the broad phase alone: a whole
+  // evaluation here cost the paper mesh a force pass per split step).
   void host_step() {
     {
       Stopwatch sw(host_step_seconds);
       to_model();
-      const int32_t nodes_before = static_cast<const Model&>(*model).nodes().size();
+      const Model& cm = *model;
+      const size_t nodes_before = cm.nodes().size();
       model->step(1);
-      if (contact && static_cast<const Model&>(*model).nodes().size() != nodes_before) model->evaluate();
+      if (contact && cm.nodes().size() != nodes_before) model->build_contact_list(cm.nodes().x, cm.nodes().y);
     }
     ++host_steps;
     time = model->time();
