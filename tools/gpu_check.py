@@ -65,7 +65,7 @@ sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 from icerubble.engine import gpu  # noqa: E402
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, opened_square,  # noqa: E402
                                     pressed_blocks, pulled_bar, rubbing_blocks, sheared_square, sliding_block,
-                                    landing_block_and_a_flyer)
+                                    landing_block_and_a_flyer, scattered_blocks)
 
 
 
@@ -112,6 +112,14 @@ def report_friction(name, cmp):
     print(f"[{'ok' if cmp['ok'] else 'FAIL'}] {name}, friction: {detail}; touching pairs {cmp['pairs']}, {colours} "
           f"({cmp['colours']}, coloured in {cmp['rounds']} rounds); power {cmp['power_rel']:.1e} relative", flush=True)
     return cmp["ok"]
+
+
+def report_search(name, cmp):
+    print(f"[{'ok' if cmp['same'] else 'FAIL'}] {name}, contact search: "
+          f"{'the CPU' + chr(39) + 's candidates and layout' if cmp['same'] else 'candidates or layout DIFFER'} "
+          f"(candidates CPU {cmp['candidates'][0]}, GPU {cmp['candidates'][1]}; skin {cmp['skin'][1]:.3g} m)",
+          flush=True)
+    return cmp["same"]
 
 
 def report_cohesive(name, cmp):
@@ -232,6 +240,9 @@ def main(argv=None):
         ok &= report(f"three floating blocks, {drag_model} drag", gpu.compare(m))
         ok &= report_update(f"three floating blocks, {drag_model} drag", gpu.compare_update(m))
     ok &= report_contact("pressed blocks", gpu.compare_contact(pressed_blocks(rng)))
+    for far in (0, 12):
+        ok &= report_search(f"300 strewn blocks{', 12 more over 2 km' if far else ''}",
+                            gpu.compare_broad_phase(scattered_blocks(rng, 300, far)))
     ok &= report_bonds("bonded square", gpu.compare_bond_check(bonded_square(rng)))
     ok &= report_friction("rubbing blocks", gpu.compare_friction(rubbing_blocks(rng)))
     for direction in ("paper", "work_conjugate"):
@@ -259,6 +270,7 @@ def main(argv=None):
             m.set_positions(xy + rng.uniform(-1e-4, 1e-4, xy.shape))
             ok &= report(f"{os.path.basename(path)}, every node nudged", gpu.compare(m))
             ok &= report_contact(os.path.basename(path), gpu.compare_contact(m))
+            ok &= report_search(os.path.basename(path), gpu.compare_broad_phase(m))
             ok &= report_bonds(os.path.basename(path), gpu.compare_bond_check(m))
             ok &= report_update(os.path.basename(path), gpu.compare_update(m))
             ok &= report_friction(os.path.basename(path), gpu.compare_friction(m))

@@ -240,6 +240,20 @@ def compare_contact(model):
     return out
 
 
+def compare_broad_phase(model):
+    """The contact candidates searched on the GPU at `model`'s positions
+    (cuda/broad_phase.cu) against the CPU's search there, both laid out as the
+    contact stages read them (the nodes, keys and each node's entries):
+    {'same': every array and the skin equal, 'candidates': (CPU, GPU),
+    'skin': (CPU, GPU)}."""
+    _require()
+    model._m.prepare()
+    gpu = _engine.DeviceBroadPhase(model._m).search(model._m)
+    cpu = _engine.broad_phase_layout(model._m)
+    same = all(np.array_equal(cpu[k], gpu[k]) for k in ("node", "key", "start", "entry")) and cpu["skin"] == gpu["skin"]
+    return dict(same=bool(same), candidates=(len(cpu["key"]), len(gpu["key"])), skin=(cpu["skin"], gpu["skin"]))
+
+
 class BondCheck(_Stage):
     """The bond check (eqs 5-7) of `model` (an engine.Model) on the GPU, every
     intact bond point at the model's state (stresses of its last evaluation)."""

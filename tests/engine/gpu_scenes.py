@@ -199,6 +199,24 @@ def landing_block_and_a_flyer(rng, speed=20.0):
     return m
 
 
+def scattered_blocks(rng, near, far=0, spread=3.0, far_spread=2000.0):
+    """`near` blocks of two cells, of random sizes and turns, strewn over a
+    `spread` m square (overlapping freely: the search does not care), and
+    `far` more over a `far_spread` m one, whose extent makes the search
+    coarsen its grid to the cell cap."""
+    nodes, tris, body = [], [], []
+    for b in range(near + far):
+        h = rng.uniform(0.03, 0.2)
+        n, t = engine.rectangle_mesh(2, 1, h)
+        a = rng.uniform(0.0, 2.0 * np.pi)
+        n = n @ np.array([[np.cos(a), np.sin(a)], [-np.sin(a), np.cos(a)]])
+        tris.append(t + sum(len(k) for k in nodes))
+        nodes.append(n + rng.uniform(0.0, spread if b < near else far_spread, 2))
+        body += [b] * len(t)
+    return engine.Model(np.vstack(nodes), np.vstack(tris), np.array(body),
+                        materials={b: dict(E=5e9, nu=0.3, rho=920.0) for b in range(near + far)})
+
+
 def pulled_bar(direction="paper"):
     """Two blocks bonded across the middle of a bar, one end held, the other
     pulled (tests/engine/freeze_bonds_scenes.py pull_bar): in 14,000 steps

@@ -10,9 +10,8 @@ import pytest
 
 from icerubble.engine import gpu
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, landing_block_and_a_flyer,
-                                     on_gpu_or_emulation,
-                                     opened_square, pressed_blocks, pulled_bar, rubbing_blocks, shaken_bar,
-                                     sheared_square, sliding_block)
+                                     on_gpu_or_emulation, opened_square, pressed_blocks, pulled_bar, rubbing_blocks,
+                                     scattered_blocks, shaken_bar, sheared_square, sliding_block)
 
 
 def test_the_backend_says_why_it_cannot_run():
@@ -211,3 +210,14 @@ def test_the_gpu_step_says_what_it_does_not_run_yet():
     m.set(sleeping=True)
     with pytest.raises(ValueError, match="does not run the sleeping far field"):
         gpu.Steps(m)
+
+
+@on_gpu_or_emulation
+@pytest.mark.parametrize("far", [0, 12])
+def test_the_gpu_finds_the_cpus_contact_candidates(far):
+    # 300 blocks strewn over 3 m (and 12 more over 2 km: the grid coarsened
+    # to its cap, many triangles a cell): the GPU's search, laid out, is the
+    # CPU's, every array (nodes, keys, each node's entries) and the skin
+    cmp = gpu.compare_broad_phase(scattered_blocks(np.random.default_rng(7), 300, far))
+    assert cmp["same"] and cmp["candidates"][0] > 1000, cmp
+

@@ -6,7 +6,10 @@
 #include <cmath>
 
 #include "bindings/bindings.hpp"
+#include "contact/broad_phase.hpp"
+#include "contact/candidate_layout.hpp"
 #include "cuda/body_forces.hpp"
+#include "cuda/broad_phase.hpp"
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
@@ -189,6 +192,38 @@ void bind_device(py::module_& m) {
       .def("stage_times", &DeviceBodyForces::stage_times, py::arg("repeats"),
            py::call_guard<py::gil_scoped_release>())
       .def("fields", [](DeviceBodyForces& d) { return as_dict(d.fields()); });
+  py::class_<DeviceBroadPhase>(m, "DeviceBroadPhase")
+      .def(py::init<const Model&>(), py::arg("model"))
+      .def("search", [](DeviceBroadPhase& d, const Model& model) {
+             const SearchedLayout L = d.search(model);
+             py::dict out;
+             out["node"] = as_array(L.node);
+             out["key"] = as_array(L.key);
+             out["start"] = as_array(L.start);
+             out["entry"] = as_array(L.entry);
+             out["skin"] = L.skin;
+             return out;
+           }, py::arg("model"));
+  m.def("broad_phase_layout", [](const Model& model) {
+        // the CPU's search at the model's positions now (BroadPhase::find with
+        // its solver's skin fraction), laid out as the GPU's contact stages
+        // read it: what DeviceBroadPhase.search finds on the GPU
+        const std::vector<int32_t>& surface = model.surface_triangles();
+        const std::vector<int32_t>& tri = model.triangles().node;
+        BroadPhase bp;
+        std::vector<CandidatePair> cand;
+        bp.find(int32_t(surface.size()), surface.data(), tri.data(), model.triangles().body.data(),
+                model.nodes().x.data(), model.nodes().y.data(), cand, 1, model.contact().skin_fraction());
+        CandidateLayout L;
+        lay_out_candidates(cand, tri.data(), int32_t(model.nodes().size()), L);
+        py::dict out;
+        out["node"] = as_array(L.node);
+        out["key"] = as_array(L.key);
+        out["start"] = as_array(L.start);
+        out["entry"] = as_array(L.entry);
+        out["skin"] = bp.skin();
+        return out;
+      }, "the CPU's candidate search at the model's positions, laid out (what DeviceBroadPhase.search finds)");
   py::class_<DeviceContactNormal>(m, "DeviceContactNormal")
       .def(py::init<const Model&>(), py::arg("model"))
       .def("run", &DeviceContactNormal::run)

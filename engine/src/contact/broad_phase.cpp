@@ -32,7 +32,9 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
     const double y0 = y[v[0]], y1 = y[v[1]], y2 = y[v[2]];
     const double lx = std::min(x0, std::min(x1, x2)), ux = std::max(x0, std::max(x1, x2));
     const double ly = std::min(y0, std::min(y1, y2)), uy = std::max(y0, std::max(y1, y2));
-    if (!(std::isfinite(lx) && std::isfinite(ux) && std::isfinite(ly) && std::isfinite(uy)))
+    // the corners themselves: std::min and std::max can pass a NaN over
+    if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(x2) && std::isfinite(y0) && std::isfinite(y1) &&
+          std::isfinite(y2)))
       throw std::runtime_error("contact detection: non-finite node position in triangle " +
                                std::to_string(surface_tris[i]));
     bx0_[i] = lx;
@@ -46,38 +48,22 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
     ymax = std::max(ymax, ly);
   }
   // Grow every box by the skin; the cells must hold the grown boxes.
-  skin_ = skin_fraction * ext;
+  const GridShape g = grid_shape(n, ext, xmin, ymin, xmax, ymax, skin_fraction);
+  skin_ = g.skin;
   for (int32_t i = 0; i < n; ++i) {
     bx0_[i] -= skin_;
     by0_[i] -= skin_;
     bx1_[i] += skin_;
     by1_[i] += skin_;
   }
-  xmin -= skin_;
-  ymin -= skin_;
-  xmax -= skin_;
-  ymax -= skin_;
-  ext += 2.0 * skin_;
-  // Slightly larger than the largest box, so that rounding in the binning
-  // never puts two overlapping boxes two cells apart.
-  double h = ext > 0.0 ? ext * (1.0 + 1e-9) : 1.0;
-  const double cap = 4.0 * n + 64.0;
-  int64_t nx = 0, ny = 0;
-  for (;;) {
-    nx = static_cast<int64_t>(std::floor((xmax - xmin) / h)) + 1;
-    ny = static_cast<int64_t>(std::floor((ymax - ymin) / h)) + 1;
-    if (static_cast<double>(nx) * static_cast<double>(ny) <= cap) break;
-    h *= std::max(1.01, std::sqrt(static_cast<double>(nx) * static_cast<double>(ny) / cap));
-  }
-  cell_ = h;
+  const int64_t nx = g.nx, ny = g.ny;
+  cell_ = g.h;
   const int64_t ncell = nx * ny;
 
   // Counting sort of the triangles by cell (stable: input order within a cell).
   cell_start_.assign(ncell + 1, 0);
   for (int32_t i = 0; i < n; ++i) {
-    const int64_t ix = std::min<int64_t>(nx - 1, static_cast<int64_t>((bx0_[i] - xmin) / h));
-    const int64_t iy = std::min<int64_t>(ny - 1, static_cast<int64_t>((by0_[i] - ymin) / h));
-    cell_of_[i] = static_cast<int32_t>(iy * nx + ix);
+    cell_of_[i] = static_cast<int32_t>(engine::cell_of(g, bx0_[i], by0_[i]));
     ++cell_start_[cell_of_[i] + 1];
   }
   for (int64_t c = 0; c < ncell; ++c) cell_start_[c + 1] += cell_start_[c];
@@ -95,14 +81,9 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
     out.clear();
     // Tests one pair of surface-list entries and records it if it qualifies.
     auto test = [&](int32_t i, int32_t j) {
-      if (bx0_[i] > bx1_[j] || bx0_[j] > bx1_[i] || by0_[i] > by1_[j] || by0_[j] > by1_[i]) return;
+      const double bi[4] = {bx0_[i], by0_[i], bx1_[i], by1_[i]}, bj[4] = {bx0_[j], by0_[j], bx1_[j], by1_[j]};
       const int32_t ta = surface_tris[i], tb = surface_tris[j];
-      if (body[ta] == body[tb]) return;
-      const int32_t* va = tri + 3 * static_cast<int64_t>(ta);
-      const int32_t* vb = tri + 3 * static_cast<int64_t>(tb);
-      for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q)
-          if (va[p] == vb[q]) return;  // elements sharing a node never contact
+      if (!candidate_pair(bi, bj, ta, tb, tri, body)) return;
       out.push_back(ta < tb ? CandidatePair{ta, tb} : CandidatePair{tb, ta});
     };
 #pragma omp for schedule(static)
@@ -113,8 +94,8 @@ void BroadPhase::find(int32_t n_surface, const int32_t* surface_tris, const int3
         if (b0 == b1) continue;
         for (int32_t p = b0; p < b1; ++p)
           for (int32_t q = p + 1; q < b1; ++q) test(sorted_[p], sorted_[q]);
-        // Forward neighbours: east, north-west, north, north-east.
-        const int64_t nb[4][2] = {{ix + 1, iy}, {ix - 1, iy + 1}, {ix, iy + 1}, {ix + 1, iy + 1}};
+        int64_t nb[4][2];
+        forward_neighbours(ix, iy, nb);
         for (const auto& d : nb) {
           if (d[0] < 0 || d[0] >= nx || d[1] >= ny) continue;
           const int64_t cn = d[1] * nx + d[0];

@@ -101,11 +101,14 @@ void DeviceContactNormal::Impl::launch() {
 
 
 void DeviceContactNormal::Impl::set_candidates(const CandidateLayout& L) {
-  const size_t n = size_t(L.size());
-  n_pairs = int64_t(n);
   node.upload(L.node);
   start.upload(L.start);
   entry.upload(L.entry);
+  size_pairs(size_t(L.size()));
+}
+
+void DeviceContactNormal::Impl::size_pairs(size_t n) {
+  n_pairs = int64_t(n);
   fx.resize(6 * n);
   fy.resize(6 * n);
   hit.resize(n);

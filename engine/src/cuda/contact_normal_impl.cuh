@@ -34,6 +34,9 @@ struct DeviceContactNormal::Impl {
   // the candidates laid out (contact/candidate_layout.hpp): at the making,
   // and where the whole step rebuilds its list without remaking the stages
   void set_candidates(const CandidateLayout& L);
+  // the per-candidate arrays sized for n candidates (n_pairs n); the layout's
+  // arrays (node, start, entry) are the caller's to fill
+  void size_pairs(size_t n);
 };
 
 }  // namespace engine

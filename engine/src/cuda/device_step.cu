@@ -56,7 +56,9 @@
 #include "common/host_device.hpp"
 #include "common/stopwatch.hpp"
 #include "common/input_errors.hpp"
+#include "contact/friction_kernel.hpp"
 #include "cuda/body_forces_impl.cuh"
+#include "cuda/broad_phase_impl.cuh"
 #include "cuda/bond_check_impl.cuh"
 #include "cuda/cohesive_forces_impl.cuh"
 #include "cuda/contact_normal_impl.cuh"
@@ -118,6 +120,17 @@ __global__ void reach_kernel(const int32_t* halt, const int64_t* now, const doub
   if (halted(halt) || !*now) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < n && moved_past_reach(x[i], y[i], x0[i], y0[i], half)) *moved = 1;  // any lane: the same 1
+}
+
+// A new candidate list's warm start, per candidate (keys ascending): the
+// tangential force of the old candidate with its key (old keys ascending),
+// NaN where none (or where that one did not touch), as the model's merge.
+__global__ void carry_warm_start_kernel(const uint64_t* key, int32_t n, const uint64_t* old_key, int64_t n_old,
+                                        const double* old_lambda, double* lambda) {
+  const int32_t c = blockIdx.x * blockDim.x + threadIdx.x;
+  if (c >= n) return;
+  const int64_t j = find_key(old_key, n_old, key[c]);
+  lambda[c] = j >= 0 ? old_lambda[j] : NAN;
 }
 
 // The next step's warm start, per candidate: its tangential force if it
@@ -218,6 +231,7 @@ struct DeviceStep::Impl {
   std::unique_ptr<DeviceFriction> friction;
   std::unique_ptr<DeviceBondCheck> check;         // bonded models: the check (when checking)
   std::unique_ptr<DeviceCohesiveForces> cohesive;  // ... and the cohesive forces
+  std::unique_ptr<DeviceBroadPhase> broad;        // contact: the candidate list searched on the GPU
   bool bonded = false;    // the model has bond points
   bool checking = false;  // ... and checks them (BondParams::check_failure)
   // the bonds' accounts (FreezeBonds: work, stored, effective dissipation,
@@ -278,6 +292,7 @@ struct DeviceStep::Impl {
   DeviceFriction::Impl& fr() { return *friction->impl_; }
   DeviceBondCheck::Impl& bc() { return *check->impl_; }
   DeviceCohesiveForces::Impl& co() { return *cohesive->impl_; }
+  DeviceBroadPhase::Impl& bp() { return *broad->impl_; }
 
   template <class T>
   void fetch(T* host, const DeviceArray<T>& from, size_t first, size_t n) {
@@ -298,6 +313,8 @@ struct DeviceStep::Impl {
     if (friction) fr().stream = nullptr;
     if (check) bc().stream = nullptr;
     if (cohesive) co().stream = nullptr;
+    if (broad) bp().stream = nullptr;
+    broad.reset();
     update.reset();
     normal.reset();
     friction.reset();
@@ -367,8 +384,10 @@ struct DeviceStep::Impl {
     normal.reset(new DeviceContactNormal(cm));
     // the model's warm start (keys of the pairs of its last step) per candidate
     friction.reset(new DeviceFriction(cm, DeviceFriction::WarmStart::per_candidate));
+    broad.reset(new DeviceBroadPhase(cm));
     adopt(cn().stream);
     adopt(fr().stream);
+    adopt(bp().stream);
     if (bonded) {
       const FreezeBonds& B = cm.bonds();
       if (checking) {
@@ -483,6 +502,9 @@ struct DeviceStep::Impl {
     if (N.n_pairs != R.n_cand || N.penalty != R.penalty)
       throw std::logic_error("GPU step: the normal pass and friction were made from different candidates");
     R.hit.alias(N.hit);
+    R.node.alias(N.node);  // one layout (contact/candidate_layout.hpp)
+    R.start.alias(N.start);
+    R.entry.alias(N.entry);
     N.friction_pairs = {R.nc.data(), R.nt.data(), R.nx.data(), R.ny.data(), R.fn.data()};
     R.pairs_given = true;
   }
@@ -692,32 +714,43 @@ struct DeviceStep::Impl {
     launch_kernel(record_step_kernel, 1, 1, stream, halt, sc, r);
   }
 
-  // The candidate list rebuilt at the GPU's positions by the model's broad
-  // phase (Model::build_contact_list: where the CPU's next step would build
-  // it, at the same state), laid out and put into the contact stages in
-  // place, the warm start carried over by key; the other stages and the GPU's
-  // state stay as they are. The model's own state is not touched (download()
-  // gives it the GPU's). The batch's graph is captured again: the candidates'
-  // arrays and count are its arguments.
+  // The candidate list rebuilt where the step's positions are, on the GPU
+  // (DeviceBroadPhase: the CPU's search and layout, cuda/broad_phase.cu), as
+  // the CPU's next step builds it at the same state, into the contact
+  // stages' arrays; friction's warm start carried to the new list by key;
+  // the list's test from here. The positions never leave the GPU: one wait
+  // for the candidates' count. The model is not touched (download() gives it
+  // the GPU's state; its own list stays complete by its own test). The
+  // batch's graph is captured again: the candidates' arrays and count are
+  // its arguments.
   void rebuild_list() {
     {
       Stopwatch sw(list_seconds);
-      cuda_check(cudaStreamSynchronize(stream), "GPU step");
-      model->build_contact_list(u().x.download(), u().y.download());
-      const Model& cm = *model;
-      CandidateLayout L;
-      lay_out_candidates(cm.contact().candidates(), cm.triangles().node.data(), int32_t(cm.nodes().size()), L);
-      std::vector<uint64_t> wk;
-      std::vector<double> wl;
-      warm_start(wk, wl);
-      cn().set_candidates(L);
-      fr().set_candidates(L, warm_start_per_candidate(L.key, wk, wl));
-      list_x.upload(cm.contact().list_origin_x());
-      list_y.upload(cm.contact().list_origin_y());
-      skin = cm.contact().list_skin();
-      share_arrays();  // friction's pair arrays are the normal pass's again
+      DeviceContactNormal::Impl& N = cn();
+      DeviceFriction::Impl& R = fr();
+      DeviceNodeUpdate::Impl& U = u();
+      DeviceArray<uint64_t> old_key;  // the warm start's, kept until carried over
+      old_key.swap(R.prev_key);
+      const int64_t n_old = R.n_prev;
+      const int32_t m = bp().search(U.x.data(), U.y.data(), LayoutArrays{&N.node, &R.key, &N.start, &N.entry}, skin);
+      N.size_pairs(size_t(m));
+      R.size_pairs(size_t(m));
+      DeviceArray<double> lambda(static_cast<size_t>(m));
+      if (m) launch_kernel(carry_warm_start_kernel, blocks(m), kBlock, stream, R.key.data(), m, old_key.data(), n_old,
+                           R.prev_lambda.data(), lambda.data());
+      R.prev_lambda.swap(lambda);
+      R.prev_key.resize(size_t(m));
+      if (m) cuda_check(cudaMemcpyAsync(R.prev_key.data(), R.key.data(), size_t(m) * sizeof(uint64_t),
+                                        cudaMemcpyDeviceToDevice, stream), "copy on GPU");
+      R.n_prev = m;
+      const size_t nn = size_t(U.n);
+      cuda_check(cudaMemcpyAsync(list_x.data(), U.x.data(), nn * sizeof(double), cudaMemcpyDeviceToDevice, stream),
+                 "copy on GPU");
+      cuda_check(cudaMemcpyAsync(list_y.data(), U.y.data(), nn * sizeof(double), cudaMemcpyDeviceToDevice, stream),
+                 "copy on GPU");
+      share_arrays();  // friction's layout and pair arrays are the normal pass's again
       drop_graph();
-      settle_uploads();
+      cuda_check(cudaStreamSynchronize(stream), "GPU list rebuild");  // before the old arrays go
     }
     ++list_rebuilds;
     list_valid = true;

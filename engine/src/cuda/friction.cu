@@ -363,12 +363,18 @@ std::vector<double> warm_start_per_candidate(const std::vector<uint64_t>& key, c
 }
 
 void DeviceFriction::Impl::set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate) {
-  const size_t n = size_t(L.size());
-  n_cand = int32_t(n);
   node.upload(L.node);
   key.upload(L.key);
   start.upload(L.start);
   entry.upload(L.entry);
+  size_pairs(size_t(L.size()));
+  prev_key.upload(L.key);
+  prev_lambda.upload(warm_per_candidate);
+  n_prev = int64_t(L.size());
+}
+
+void DeviceFriction::Impl::size_pairs(size_t n) {
+  n_cand = int32_t(n);
   hit.resize(n);
   for (auto* a : {&nx, &ny, &fn, &kinv, &lambda}) a->resize(n);
   nc.resize(3 * n);
@@ -381,9 +387,6 @@ void DeviceFriction::Impl::set_candidates(const CandidateLayout& L, const std::v
   n_earlier.resize(n);
   warm.resize(n);
   earlier.resize(size_t(kEarlier) * n);
-  prev_key.upload(L.key);
-  prev_lambda.upload(warm_per_candidate);
-  n_prev = int64_t(n);
 }
 
 DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new Impl) {

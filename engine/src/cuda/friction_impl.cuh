@@ -55,6 +55,10 @@ struct DeviceFriction::Impl {
   // per candidate (NaN: none), as prev_key and prev_lambda: at the making,
   // and where the whole step rebuilds its list without remaking the stages
   void set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate);
+  // the per-candidate work arrays sized for n candidates (n_cand n); the
+  // layout's (node, key, start, entry) and the warm start's (prev_key,
+  // prev_lambda, n_prev) are the caller's
+  void size_pairs(size_t n);
 };
 
 // Per candidate of layout keys `key` (ascending), the warm start of the pair

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cuda/body_forces.hpp"
+#include "cuda/broad_phase.hpp"
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
@@ -34,6 +35,11 @@ void DeviceBodyForces::run() { no_gpu(); }
 double DeviceBodyForces::time_per_run(int) { no_gpu(); }
 std::vector<double> DeviceBodyForces::stage_times(int) { no_gpu(); }
 BodyForceFields DeviceBodyForces::fields() { no_gpu(); }
+
+struct DeviceBroadPhase::Impl {};
+DeviceBroadPhase::DeviceBroadPhase(const Model&) { no_gpu(); }
+DeviceBroadPhase::~DeviceBroadPhase() = default;
+SearchedLayout DeviceBroadPhase::search(const Model&) { no_gpu(); }
 
 struct DeviceNodeUpdate::Impl {};
 DeviceNodeUpdate::DeviceNodeUpdate(const Model&) { no_gpu(); }

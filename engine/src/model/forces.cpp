@@ -166,7 +166,7 @@ const ContactStiffness& Model::reference_contact_stiffness() {
 }
 
 void Model::build_contact_list(const std::vector<double>& x, const std::vector<double>& y) {
-  if (x.size() != nodes_.size() || y.size() != nodes_.size())
+  if (x.size() != size_t(nodes_.size()) || y.size() != size_t(nodes_.size()))
     throw std::invalid_argument("build_contact_list: " + std::to_string(x.size()) + " x and " +
                                 std::to_string(y.size()) + " y positions for " + std::to_string(nodes_.size()) +
                                 " nodes");
