@@ -58,6 +58,9 @@ def main(argv=None):
                    preset=a.preset, travel_mm=a.travel_mm, wall_s=wall, settle_time_s=float(h.attrs["settle_time"]),
                    F_m_kN_per_m=F_m / 1e3, y_I_at_F_m_mm=y_m * 1e3,
                    points_split=int(np.isfinite(h["bonds/y_I_split"][()]).sum()),
+                   # where the wall time went: the GPU's steps, the model's own (splits), the
+                   # copies to the GPU and the list rebuilds (Model.timings)
+                   step_timings=json.loads(h.attrs["step_timings"]) if "step_timings" in h.attrs else None,
                    code_version=code_version(), measured=time.strftime("%Y-%m-%d"))
     result_file.write(os.path.join(out_dir, "gpu_paper_run.json"), out)
     print(json.dumps(out), flush=True)

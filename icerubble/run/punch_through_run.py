@@ -243,7 +243,8 @@ class PunchThrough(Driver):
 
     def write(self):
         self.book_wall_time()
-        self.recorder.meta.update(wall_settle_s=self.state.wall_settle_s, wall_load_s=self.state.wall_load_s)
+        self.recorder.meta.update(wall_settle_s=self.state.wall_settle_s, wall_load_s=self.state.wall_load_s,
+                                  step_timings=json.dumps(self.model.timings()))
         self.output.write()
 
     def book_wall_time(self):

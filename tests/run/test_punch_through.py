@@ -1,6 +1,7 @@
 """The punch-through run on a tiny constructed scene (two rows of bonded
 blocks under the consolidated layer, ~700 triangles): rest state, F(y_I),
 where the bonds fail first, energy balance, checkpoint/resume, bad input."""
+import json
 import os
 import signal
 
@@ -192,6 +193,9 @@ def test_a_scheduler_signal_stops_the_run_with_a_checkpoint_it_resumes_from(mesh
         # all before the stop, the loading is both processes' share
         assert b.attrs["wall_settle_s"] == before["wall_settle_s"]
         assert b.attrs["wall_load_s"] > before["wall_load_s"]
+        # the step timings are the writing process's: its own steps, after the resume
+        timed = json.loads(b.attrs["step_timings"])
+        assert 0 < timed["steps"] < b.attrs["load_steps"] and timed["total"] > 0
 
 
 def test_a_second_ctrl_c_stops_at_once():

@@ -98,7 +98,7 @@ def test_the_key_holds_what_the_settle_reads(mesh_path):
 
 
 # root attributes of a result that name how it was made, not what it is
-HOW_MADE = {"created", "wall_settle_s", "wall_load_s", "rest_state_from", "rest_state_shared",
+HOW_MADE = {"created", "wall_settle_s", "wall_load_s", "step_timings", "rest_state_from", "rest_state_shared",
             "rest_state_code_version"}
 
 
