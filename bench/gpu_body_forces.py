@@ -23,7 +23,7 @@ import numpy as np
 
 import result_file
 
-from icerubble import parameters as P
+from icerubble import _engine, parameters as P
 from icerubble.engine import gpu
 from icerubble.code_identity import code_version, source_hash
 from icerubble.machine import processor
@@ -119,6 +119,14 @@ def main(argv=None):
         contact = gpu.ContactNormal(m)
         contact_us = 1e6 * contact.seconds_per_run(a.repeats)
         bond_us = 1e6 * gpu.BondCheck(m).seconds_per_run(a.repeats)
+        # the candidate list's search (a list rebuild): on the GPU, its wait for
+        # the count included, against the CPU's search and layout on one thread
+        m._m.prepare()
+        search_us = 1e6 * _engine.DeviceBroadPhase(m._m).seconds_per_search(m._m, a.repeats)
+        w0 = time.perf_counter()
+        for _ in range(3):
+            _engine.broad_phase_layout(m._m)
+        search_cpu_ms = 1e3 * (time.perf_counter() - w0) / 3
         m.evaluate()   # the friction's input: the forces before it, the touching pairs, the warm start
         friction = gpu.Friction(m)
         friction_us = 1e6 * friction.seconds_per_run(a.repeats)
@@ -129,7 +137,7 @@ def main(argv=None):
                           contact_candidates=contact.candidates, bond_check_us=bond_us,
                           bond_points_intact=int(m.bonds.counts["points"] - m.bonds.counts["split"]),
                           friction_us=friction_us, friction_pairs=friction_pairs,
-                          friction_colours=friction_colours)
+                          friction_colours=friction_colours, search_us=search_us, search_cpu_ms=search_cpu_ms)
         print(f"GPU {gpu.device_name()}: body-force stage {1e6 * s:.1f} us per evaluation "
               f"({m.n_triangles / s / 1e9:.2f} G triangles/s); launched one by one: "
               + ", ".join(f"{k} {v:.1f}" for k, v in parts.items()) + " us")
@@ -137,6 +145,8 @@ def main(argv=None):
               f"threads' integration part {rows[-1]['integration_ms']:.3f} ms")
         print(f"  normal contact ({contact.candidates} candidates) {contact_us:.1f} us; against {a.threads[-1]} "
               f"threads' contact forces part {rows[-1]['contact_forces_ms']:.3f} ms (friction included)")
+        print(f"  contact search (a list rebuild, laid out) {search_us:.1f} us; against the CPU's on one thread "
+              f"{search_cpu_ms:.2f} ms")
         print(f"  friction ({friction_pairs} touching pairs of {friction.candidates} candidates, in "
               f"{friction_colours} colours) {friction_us:.1f} us")
         print(f"  bond check ({out['gpu']['bond_points_intact']} intact points, all of them) {bond_us:.1f} us; "

@@ -235,6 +235,10 @@ def gpu_body_forces(d):
                       f"forces the CPU's bits) takes {g['contact_normal_us']:.1f} µs, against "
                       f"{d['cpu'][-1]['contact_forces_ms'] * 1e3:.0f} µs for the contact forces part (friction "
                       f"included) at {d['cpu'][-1]['threads']} threads."]
+        if "search_us" in g:
+            lines += ["", f"GPU: the contact search of a list rebuild (the CPU's candidates and layout, "
+                      f"tools/gpu_check.py) takes {g['search_us']:.1f} µs, its wait for the count included, "
+                      f"against {g['search_cpu_ms']:.2f} ms for the CPU's search and layout on one thread."]
         if "friction_us" in g:
             lines += ["", f"GPU: friction ({g['friction_pairs']:,} touching pairs in {g['friction_colours']} colours; "
                       f"coloured, solved and summed on the GPU with the CPU's colours and bits, tools/gpu_check.py) "

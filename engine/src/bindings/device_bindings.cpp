@@ -203,7 +203,9 @@ void bind_device(py::module_& m) {
              out["entry"] = as_array(L.entry);
              out["skin"] = L.skin;
              return out;
-           }, py::arg("model"));
+           }, py::arg("model"))
+      .def("seconds_per_search", &DeviceBroadPhase::seconds_per_search, py::arg("model"), py::arg("repeats"),
+           py::call_guard<py::gil_scoped_release>());
   m.def("broad_phase_layout", [](const Model& model) {
         // the CPU's search at the model's positions now (BroadPhase::find with
         // its solver's skin fraction), laid out as the GPU's contact stages

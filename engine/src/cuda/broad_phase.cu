@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stopwatch.hpp"
 #include "contact/friction_kernel.hpp"  // friction_pair_key
 #include "cuda/device_sort.cuh"
 #include "cuda/fixed_sums.cuh"
@@ -307,6 +308,30 @@ DeviceBroadPhase::~DeviceBroadPhase() {
   if (d.host_found) cudaFreeHost(d.host_found);
   if (d.host_grid) cudaFreeHost(d.host_grid);
   if (d.stream) cudaStreamDestroy(d.stream);
+}
+
+double DeviceBroadPhase::seconds_per_search(const Model& m, int repeats) {
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  Impl& d = *impl_;
+  const Nodes& N = m.nodes();
+  if (int32_t(N.size()) != d.n_nodes) throw std::invalid_argument("GPU broad phase: the model's nodes changed");
+  DeviceArray<double> x, y;
+  x.upload(N.x);
+  y.upload(N.y);
+  cuda_check(cudaDeviceSynchronize(), "GPU uploads");
+  DeviceArray<int32_t> node, start, entry;
+  DeviceArray<uint64_t> key;
+  double skin = 0.0;
+  const LayoutArrays out{&node, &key, &start, &entry};
+  d.search(x.data(), y.data(), out, skin);  // sizes the outputs
+  cuda_check(cudaStreamSynchronize(d.stream), "GPU broad phase");
+  double seconds = 0.0;
+  {
+    Stopwatch sw(seconds);
+    for (int k = 0; k < repeats; ++k) d.search(x.data(), y.data(), out, skin);
+    cuda_check(cudaStreamSynchronize(d.stream), "GPU broad phase");
+  }
+  return seconds / repeats;
 }
 
 SearchedLayout DeviceBroadPhase::search(const Model& m) {

@@ -33,6 +33,9 @@ class DeviceBroadPhase {
   // The search at the model's positions (copied to the GPU), its layout read
   // back. Throws std::runtime_error on a non-finite position, as the CPU's.
   SearchedLayout search(const Model& model);
+  // Mean wall time of a search at the model's positions (copied once), its
+  // wait for the count included, over `repeats` searches after one [s].
+  double seconds_per_search(const Model& model, int repeats);
 
  private:
   friend class DeviceStep;  // the whole step searches at its own positions (cuda/device_step.cu)

@@ -40,6 +40,7 @@ struct DeviceBroadPhase::Impl {};
 DeviceBroadPhase::DeviceBroadPhase(const Model&) { no_gpu(); }
 DeviceBroadPhase::~DeviceBroadPhase() = default;
 SearchedLayout DeviceBroadPhase::search(const Model&) { no_gpu(); }
+double DeviceBroadPhase::seconds_per_search(const Model&, int) { no_gpu(); }
 
 struct DeviceNodeUpdate::Impl {};
 DeviceNodeUpdate::DeviceNodeUpdate(const Model&) { no_gpu(); }
