@@ -27,6 +27,14 @@ checkpoint (run the script again). Writes bench/results/paper_peak.json.
 bench/results/paper_peak_cuda.json: the same errors, and the wall time of
 each preset's travel on the GPU (issue 28, item 3; --travel-mm 300 for the
 whole run, --only reference for the reference run never made on a CPU).
+
+A lent GPU has minutes, not the settle's hours: make the rest state where
+there is time (--settle-only, on the CPU) and carry it there (--rest PATH):
+the loadings then start from the rest state the CPU's runs started from, so
+the GPU's F^m of a preset is also checked against the CPU's (issue 28, item 2).
+
+    /usr/bin/python3 bench/paper_peak.py --settle-only             # here: writes ridge1_2mm/rest_fast.checkpoint.h5
+    python3 bench/paper_peak.py --device cuda --rest runs/bench/paper_peak/ridge1_2mm/rest_fast.checkpoint.h5
 """
 import argparse
 import json
@@ -108,7 +116,15 @@ def main(argv=None):
     ap.add_argument("--out-dir", default=os.path.join("runs", "bench", "paper_peak"))
     ap.add_argument("--device", default="cpu", choices=("cpu", "cuda"),
                     help="where the steps run (cuda: whole steps on one GPU, runs and results of their own)")
+    ap.add_argument("--settle-only", action="store_true", help="make the rest state (resumable) and stop")
+    ap.add_argument("--rest", help="load from this rest state (a --settle-only checkpoint, e.g. the CPU's carried "
+                                   "to a GPU) instead of settling here")
     a = ap.parse_args(argv)
+    if a.rest and not os.path.exists(a.rest):
+        raise SystemExit(f"paper_peak: --rest {a.rest}: no such file (make it with --settle-only)")
+    if a.rest and a.settle_only:
+        raise SystemExit("paper_peak: --rest and --settle-only exclude each other: the first loads from a rest "
+                         "state, the second makes one")
     try:
         variant_options("fast", a.device)   # a GPU that cannot run is refused here, before any work
     except ValueError as e:
@@ -118,7 +134,10 @@ def main(argv=None):
     out_dir = os.path.join(a.out_dir, f"ridge{a.ridge}_{a.travel_mm:g}mm" + ("" if a.device == "cpu" else "_" + a.device))
     os.makedirs(out_dir, exist_ok=True)
     _, mesh_path = scene_files("paper", a.ridge)   # the scene cache of every run (runs/scenes)
-    rest = rest_state(mesh_path, params, out_dir, a.settle_numerics, a.device)
+    rest = a.rest or rest_state(mesh_path, params, out_dir, a.settle_numerics, a.device)
+    if a.settle_only:
+        print(f"wrote the rest state {rest}")
+        return
     rows = []
     for name in ORDER:
         out = os.path.join(out_dir, f"{name}.h5")

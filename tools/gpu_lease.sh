@@ -9,12 +9,17 @@
 # parts after it still run; logs go to $OUT (or runs/lease).
 # The demo's CPU run (item 12's reference) runs in the background on cores of
 # its own beside the checks, which use the GPU and a few cores.
-#   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh)
+# Where a rest state of the paper scene was carried (REST, made on the CPU by
+# bench/paper_peak.py --settle-only), the last part loads the fast preset from it
+# instead (bench/paper_peak.py --rest): no settle on the lease.
+#   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh;
+#                                               and runs/bench/paper_peak/ridge1_2mm where its rest state is)
 PY=${PY:-python3}
 BUILD=${BUILD:-build-gpu}
 BUDGET=${BUDGET:-540}        # seconds for the whole script
 OUT=${OUT:-runs/lease}
 MESH=${MESH:-runs/scenes/paper_ridge1_pilemu0.3_mesh.h5}
+REST=${REST:-runs/bench/paper_peak/ridge1_2mm/rest_fast.checkpoint.h5}
 cd "$(dirname "$0")/.."
 mkdir -p "$OUT"
 t0=$(date +%s)
@@ -51,8 +56,16 @@ else status=1; fi
 echo "== bench/gpu_body_forces.py ($(left) s left)"
 timeout "$(cap 150)" "$PY" bench/gpu_body_forces.py --mesh "$MESH" --threads 1 2 4 8 16 "${triad[@]}" \
   --out "$OUT/gpu_body_forces.json" 2>&1 | tee "$OUT/gpu_body_forces.log" | grep -v "^triad"
-echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
-timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1
-echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_run.log" | tail -8
-cp runs/gpu_paper_run/*/gpu_paper_run.json "$OUT/" 2>/dev/null
+if [ -f "$REST" ]; then
+  echo "== the paper scene, fast, on the GPU from the carried rest state, to 2 mm ($(left) s left)"
+  timeout "$(cap 9999)" "$PY" bench/paper_peak.py --device cuda --rest "$REST" --only fast \
+    >"$OUT/paper_peak.log" 2>&1
+  echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_peak.log" | tail -8
+  cp bench/results/paper_peak_cuda.json "$OUT/" 2>/dev/null
+else
+  echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
+  timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1
+  echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_run.log" | tail -8
+  cp runs/gpu_paper_run/*/gpu_paper_run.json "$OUT/" 2>/dev/null
+fi
 exit $status
