@@ -36,8 +36,11 @@ namespace {
 constexpr int kBlock = 128;
 constexpr int kReduceBlock = reducing_block(128);
 constexpr int kWide = kWideBlock;
-// the extremes' per-block partials, by name
+// the extremes' per-block partials, by name, and which are maxima (the
+// largest extent and lower-left corner) and which minima (the smallest
+// lower-left corner, the first bad triangle)
 enum Extreme { e_ext, e_xmin, e_ymin, e_xmax, e_ymax, e_bad, n_extremes };
+__device__ inline bool is_max(int k) { return k == e_ext || k == e_xmax || k == e_ymax; }
 
 int blocks(int64_t n, int block = kBlock) { return int((n + block - 1) / block); }
 
@@ -78,9 +81,8 @@ __global__ void __launch_bounds__(kReduceBlock)
     }
   }
   const double v[n_extremes] = {ext, lxm, lym, lxM, lyM, bad};
-  const bool is_max[n_extremes] = {true, false, false, true, true, false};
   for (int k = 0; k < n_extremes; ++k) {
-    const double e = is_max[k] ? block_extreme<kReduceBlock, true>(v[k], shared)
+    const double e = is_max(k) ? block_extreme<kReduceBlock, true>(v[k], shared)
                                : block_extreme<kReduceBlock, false>(v[k], shared);
     if (threadIdx.x == 0) partial[size_t(k) * n_blocks + blockIdx.x] = e;
   }
@@ -93,14 +95,13 @@ __global__ void __launch_bounds__(kWide)
                 int32_t* found) {
   __shared__ double shared[kWide];
   double r[n_extremes];
-  const bool is_max[n_extremes] = {true, false, false, true, true, false};
   for (int k = 0; k < n_extremes; ++k) {
-    double e = is_max[k] ? -INFINITY : INFINITY;
+    double e = is_max(k) ? -INFINITY : INFINITY;
     for (int32_t b = threadIdx.x; b < n_blocks; b += kWide) {
       const double p = partial[size_t(k) * n_blocks + b];
-      e = is_max[k] ? fmax(e, p) : fmin(e, p);
+      e = is_max(k) ? fmax(e, p) : fmin(e, p);
     }
-    r[k] = is_max[k] ? block_extreme<kWide, true>(e, shared) : block_extreme<kWide, false>(e, shared);
+    r[k] = is_max(k) ? block_extreme<kWide, true>(e, shared) : block_extreme<kWide, false>(e, shared);
   }
   if (threadIdx.x != 0) return;
   found[1] = finite(r[e_bad]) ? int32_t(r[e_bad]) : -1;
