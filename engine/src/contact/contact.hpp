@@ -195,8 +195,8 @@ class ContactSolver {
   double skin_fraction() const { return skin_fraction_; }
   int64_t rebuilds() const { return rebuilds_; }  // broad-phase builds so far
   // The candidate list built at in's positions now, as compute_normal builds
-  // it when the list is stale: the GPU step's rebuild (cuda/device_step.cu),
-  // which tests the list on the GPU and runs no CPU step.
+  // it when the list is stale (Model::build_contact_list: the list the GPU
+  // step's stages start from after a split, cuda/device_step.cu).
   void build_list(const ContactInput& in);
   // The candidate list's validity as list_still_valid tests it (the GPU
   // step tests it on the GPU): the node positions it was built at and its

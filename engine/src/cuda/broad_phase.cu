@@ -88,11 +88,11 @@ __global__ void __launch_bounds__(kReduceBlock)
   }
 }
 
-// The partials reduced, the grid sized as the CPU sizes it; found[1] the
+// The partials reduced, the grid sized as the CPU sizes it; *first_bad the
 // first triangle with a non-finite corner (-1: none).
 __global__ void __launch_bounds__(kWide)
     grid_kernel(const double* partial, int32_t n_blocks, int32_t n, double skin_fraction, GridShape* grid,
-                int32_t* found) {
+                int32_t* first_bad) {
   __shared__ double shared[kWide];
   double r[n_extremes];
   for (int k = 0; k < n_extremes; ++k) {
@@ -104,8 +104,8 @@ __global__ void __launch_bounds__(kWide)
     r[k] = is_max(k) ? block_extreme<kWide, true>(e, shared) : block_extreme<kWide, false>(e, shared);
   }
   if (threadIdx.x != 0) return;
-  found[1] = finite(r[e_bad]) ? int32_t(r[e_bad]) : -1;
-  if (found[1] >= 0) return;
+  *first_bad = finite(r[e_bad]) ? int32_t(r[e_bad]) : -1;
+  if (*first_bad >= 0) return;
   *grid = grid_shape(n, r[e_ext], r[e_xmin], r[e_ymin], r[e_xmax], r[e_ymax], skin_fraction);
 }
 
@@ -223,7 +223,7 @@ int32_t DeviceBroadPhase::Impl::search(const double* x, const double* y, const L
   const int nb = blocks(n, kReduceBlock);
   launch_kernel(box_kernel, nb, kReduceBlock, stream, surface.data(), tri.data(), x, y, n, bx0.data(), by0.data(),
                 bx1.data(), by1.data(), partial.data(), nb);
-  launch_kernel(grid_kernel, 1, kWide, stream, partial.data(), nb, n, skin_fraction, grid.data(), found.data());
+  launch_kernel(grid_kernel, 1, kWide, stream, partial.data(), nb, n, skin_fraction, grid.data(), first_bad.data());
   launch_kernel(bin_kernel, blocks(n), kBlock, stream, grid.data(), n, bx0.data(), by0.data(), bx1.data(),
                 by1.data(), cell.data(), index.data());
   const int64_t cap = max_cells(n);
@@ -236,7 +236,7 @@ int32_t DeviceBroadPhase::Impl::search(const double* x, const double* y, const L
   exclusive_sum(scratch, counts.data(), offsets.data(), int64_t(n) + 1, stream);  // counts[n] is 0: offsets[n], all
   cuda_check(cudaMemcpyAsync(host_found, offsets.data() + n, sizeof(int32_t), cudaMemcpyDeviceToHost, stream),
              "copy from GPU");
-  cuda_check(cudaMemcpyAsync(host_found + 1, found.data() + 1, sizeof(int32_t), cudaMemcpyDeviceToHost, stream),
+  cuda_check(cudaMemcpyAsync(host_found + 1, first_bad.data(), sizeof(int32_t), cudaMemcpyDeviceToHost, stream),
              "copy from GPU");
   cuda_check(cudaMemcpyAsync(host_grid, grid.data(), sizeof(GridShape), cudaMemcpyDeviceToHost, stream),
              "copy from GPU");
@@ -298,7 +298,7 @@ DeviceBroadPhase::DeviceBroadPhase(const Model& m) : impl_(new Impl) {
   d.cell_start.resize(size_t(max_cells(int64_t(n))) + 1);
   d.counts.resize(n + 1);
   d.offsets.resize(n + 1);
-  d.found.resize(2);
+  d.first_bad.resize(1);
   cuda_check(cudaMemset(d.counts.data(), 0, d.counts.size() * sizeof(int32_t)), "memset");  // counts[n] stays 0
   cuda_check(cudaMallocHost(&d.host_found, 2 * sizeof(int32_t)), "cudaMallocHost");
   cuda_check(cudaMallocHost(&d.host_grid, sizeof(GridShape)), "cudaMallocHost");
@@ -311,15 +311,22 @@ DeviceBroadPhase::~DeviceBroadPhase() {
   if (d.stream) cudaStreamDestroy(d.stream);
 }
 
-double DeviceBroadPhase::seconds_per_search(const Model& m, int repeats) {
-  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
-  Impl& d = *impl_;
+// The model's positions on the GPU for a search on its own (the whole step
+// searches at its own), the legacy stream's copies done before the search's
+// stream reads them.
+void DeviceBroadPhase::Impl::upload_positions(const Model& m, DeviceArray<double>& x, DeviceArray<double>& y) {
   const Nodes& N = m.nodes();
-  if (int32_t(N.size()) != d.n_nodes) throw std::invalid_argument("GPU broad phase: the model's nodes changed");
-  DeviceArray<double> x, y;
+  if (int32_t(N.size()) != n_nodes) throw std::invalid_argument("GPU broad phase: the model's nodes changed");
   x.upload(N.x);
   y.upload(N.y);
   cuda_check(cudaDeviceSynchronize(), "GPU uploads");
+}
+
+double DeviceBroadPhase::seconds_per_search(const Model& m, int repeats) {
+  if (repeats < 1) throw std::invalid_argument("repeats must be at least 1");
+  Impl& d = *impl_;
+  DeviceArray<double> x, y;
+  d.upload_positions(m, x, y);
   DeviceArray<int32_t> node, start, entry;
   DeviceArray<uint64_t> key;
   double skin = 0.0;
@@ -337,12 +344,8 @@ double DeviceBroadPhase::seconds_per_search(const Model& m, int repeats) {
 
 SearchedLayout DeviceBroadPhase::search(const Model& m) {
   Impl& d = *impl_;
-  const Nodes& N = m.nodes();
-  if (int32_t(N.size()) != d.n_nodes) throw std::invalid_argument("GPU broad phase: the model's nodes changed");
   DeviceArray<double> x, y;
-  x.upload(N.x);
-  y.upload(N.y);
-  cuda_check(cudaDeviceSynchronize(), "GPU uploads");  // the legacy stream's copies, before the search's stream
+  d.upload_positions(m, x, y);
   DeviceArray<int32_t> node, start, entry;
   DeviceArray<uint64_t> key;
   SearchedLayout out;

@@ -26,7 +26,7 @@ struct DeviceBroadPhase::Impl {
   DeviceArray<double> bx0, by0, bx1, by1, partial;
   DeviceArray<GridShape> grid;
   DeviceArray<uint32_t> cell, cell_sorted;
-  DeviceArray<int32_t> index, sorted, cell_start, counts, offsets, found;
+  DeviceArray<int32_t> index, sorted, cell_start, counts, offsets, first_bad;
   DeviceArray<uint64_t> pairs, pairs_sorted;
   DeviceArray<uint32_t> entry_node, entry_node_sorted;
   DeviceArray<int32_t> entry_id;
@@ -39,6 +39,7 @@ struct DeviceBroadPhase::Impl {
   // laid out into `out`: returns the number of candidates, `skin` the
   // boxes' skin. Waits once, for the count that sizes the outputs.
   int32_t search(const double* x, const double* y, const LayoutArrays& out, double& skin);
+  void upload_positions(const Model& m, DeviceArray<double>& x, DeviceArray<double>& y);
 };
 
 }  // namespace engine

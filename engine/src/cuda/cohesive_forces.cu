@@ -57,7 +57,7 @@ __global__ void __launch_bounds__(kBlock)
 __global__ void __launch_bounds__(kBlock)
     committed_pair_kernel(const int32_t* halt, CohesivePairArrays a, CohesiveHistory h, const int32_t* open, int32_t n,
                           cohesive_law::ForceDirection dir, double dt, const double* time, double* fpx, double* fpy,
-                          double* partial, int32_t n_blocks, int32_t* any_failed) {
+                          double* partial, int32_t n_blocks) {
   if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t j = blockIdx.x * blockDim.x + threadIdx.x;
@@ -66,7 +66,7 @@ __global__ void __launch_bounds__(kBlock)
     const int32_t k = open[j];
     if (h.pair_state[k] != PairState::failed) {
       r = cohesive_pair_step(a, k, dir, dt);
-      if (commit_pair_step(h, a, k, r, *time)) *any_failed = 1;  // any lane: the same 1
+      commit_pair_step(h, a, k, r, *time);
     }
     fpx[j] = r.fpx;
     fpy[j] = r.fpy;
@@ -175,7 +175,7 @@ void DeviceCohesiveForces::Impl::launch() {
 void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x,
                                                    double* f_con_y) {
   launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, halt, a, history(), open.data(), n_open, dir, dt,
-                time, fpx.data(), fpy.data(), partial.data(), n_blocks(), any_failed.data());
+                time, fpx.data(), fpy.data(), partial.data(), n_blocks());
   launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, start.data(), entry.data(),
                 fpx.data(), fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
   launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
@@ -229,7 +229,6 @@ DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   d.y_fail.upload(st.y_fail);
   d.dn_fail.upload(st.dn_fail);
   d.dt_fail.upload(st.dt_fail);
-  d.any_failed.resize(1);
   // the crack closure's pairs: the split ones (opened or failed), ascending, by node
   d.penalty = m.contact_params().penalty;
   std::vector<int32_t> closed, start, entry;

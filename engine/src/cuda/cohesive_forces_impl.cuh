@@ -15,11 +15,10 @@ struct DeviceCohesiveForces::Impl {
       f_t_prev, d_n_prev, d_t_prev, beta, fpx, fpy, delta_m, f_coh_x, f_coh_y, partial, sums;
   DeviceArray<int32_t> pair_point, node_plus, node_minus, open, start, entry;
   DeviceArray<int8_t> failed, mode;
-  // per pair (committed steps): state, failure record; a pair failed in the step
+  // per pair (committed steps): state, failure record
   DeviceArray<PairState> pair_state;
   DeviceArray<FailureMode> pair_mode;
   DeviceArray<double> t_fail, x_fail, y_fail, dn_fail, dt_fail;
-  DeviceArray<int32_t> any_failed;
   // crack closure (FreezeBonds::apply_crack_closure): the split pairs (opened
   // or failed), ascending, and each node's of them in that order (entry 2 j:
   // closure_pair[j]'s + node, 2 j + 1: its - node)
@@ -40,8 +39,8 @@ struct DeviceCohesiveForces::Impl {
   // FreezeBonds::apply(commit) of a step starting at *time (GPU memory: a
   // batch's step reads its own) with the kernel arrays `a` (this stage's
   // pair arrays, the step's node state and forces): the pairs' forces into
-  // f_coh_x/y, their history and failures written (any_failed 1 when one
-  // failed: the caller zeroes it), the energy terms into sums (asynchronous).
+  // f_coh_x/y, their history and failures written (a pair failed before is
+  // passed over), the energy terms into sums (asynchronous).
   // Then the crack closure's forces added to f_con_x/y in the CPU's order
   // (positions a.x, a.y): the caller's contact forces after the pair kernel
   // has read a.f_con_x/y.

@@ -100,13 +100,6 @@ void DeviceContactNormal::Impl::launch() {
 }
 
 
-void DeviceContactNormal::Impl::set_candidates(const CandidateLayout& L) {
-  node.upload(L.node);
-  start.upload(L.start);
-  entry.upload(L.entry);
-  size_pairs(size_t(L.size()));
-}
-
 void DeviceContactNormal::Impl::size_pairs(size_t n) {
   n_pairs = int64_t(n);
   fx.resize(6 * n);
@@ -124,7 +117,10 @@ DeviceContactNormal::DeviceContactNormal(const Model& m) : impl_(new Impl) {
   d.penalty = m.contact_params().penalty;
   CandidateLayout L;
   lay_out_candidates(cand, m.triangles().node.data(), d.n_nodes, L);
-  d.set_candidates(L);
+  d.node.upload(L.node);
+  d.start.upload(L.start);
+  d.entry.upload(L.entry);
+  d.size_pairs(cand.size());
   d.x.upload(N.x);
   d.y.upload(N.y);
   d.f_con_x.resize(d.n_nodes);

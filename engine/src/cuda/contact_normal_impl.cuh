@@ -2,7 +2,6 @@
 // step (cuda/device_step.cu) can reach it.
 #pragma once
 #include "cuda/contact_normal.hpp"
-#include "contact/candidate_layout.hpp"
 #include "cuda/device_array.cuh"
 
 namespace engine {
@@ -31,11 +30,9 @@ struct DeviceContactNormal::Impl {
 
   // the stage's launches on `stream` (asynchronous)
   void launch();
-  // the candidates laid out (contact/candidate_layout.hpp): at the making,
-  // and where the whole step rebuilds its list without remaking the stages
-  void set_candidates(const CandidateLayout& L);
   // the per-candidate arrays sized for n candidates (n_pairs n); the layout's
-  // arrays (node, start, entry) are the caller's to fill
+  // arrays (node, start, entry) are the caller's to fill (the making's upload,
+  // or the whole step's GPU search, cuda/device_step.cu)
   void size_pairs(size_t n);
 };
 

@@ -8,11 +8,11 @@
 //
 // The candidate list stays the one the model built until a node of a surface
 // triangle has moved past its skin (the test of ContactSolver::list_still_valid,
-// made on the GPU after each update). The next step's list is then built by
-// the model's broad phase at the GPU's positions, as the CPU's next step
-// builds it, and put into the contact stages in place (rebuild_list): the
-// positions come back, the candidates' layout goes out, nothing else is made
-// again, and the step is the GPU's. Any complete list gives the same touching
+// made on the GPU after each update). The next step's list is then searched
+// on the GPU at the step's positions (cuda/broad_phase.cu: the CPU's search
+// and layout), as the CPU's next step searches it, into the contact stages'
+// arrays in place (rebuild_list): nothing else is made again, and the step
+// is the GPU's. Any complete list gives the same touching
 // pairs, so the same bits. Friction's warm start is kept per candidate
 // (NaN: did not touch in the step before) and carried to the new list by key.
 //
@@ -260,7 +260,7 @@ struct DeviceStep::Impl {
   // wall time [s]: the host steps (state to the model, its step, its next
   // list after a split) and the stages made from the model (copies included)
   double host_step_seconds = 0.0, make_seconds = 0.0;
-  int64_t remakes = 0;  // the stages made again from the model (after a host step, a failure, a re-bound)
+  int64_t remakes = 0;  // the stages made again from the model (after a host step or a re-bound)
   // the candidate list rebuilt in place (rebuild_list), and its wall time [s]
   int64_t list_rebuilds = 0;
   double list_seconds = 0.0;
@@ -770,7 +770,7 @@ struct DeviceStep::Impl {
       const Model& cm = *model;
       const size_t nodes_before = cm.nodes().size();
       model->step(1);
-      if (contact && cm.nodes().size() != nodes_before) model->build_contact_list(cm.nodes().x, cm.nodes().y);
+      if (contact && cm.nodes().size() != nodes_before) model->build_contact_list();
     }
     ++host_steps;
     time = model->time();
@@ -839,22 +839,17 @@ struct DeviceStep::Impl {
     m.restore_energy(energy);
     m.restore_clock(time, step_count);
     if (!contact) return;
-    std::vector<uint64_t> wk;
-    std::vector<double> wl;
-    warm_start(wk, wl);
-    m.set_contact_warm_start(wk, wl);
-    if (bonded) bonds_to_model(m);
-  }
-  // The friction warm start the GPU holds (the candidates that touched in the
-  // last step): their keys, ascending, and tangential forces.
-  void warm_start(std::vector<uint64_t>& wk, std::vector<double>& wl) {
     const std::vector<uint64_t> keys = fr().prev_key.download();
     const std::vector<double> prev = fr().prev_lambda.download();
+    std::vector<uint64_t> wk;
+    std::vector<double> wl;
     for (size_t c = 0; c < keys.size(); ++c)
       if (!std::isnan(prev[c])) {
         wk.push_back(keys[c]);
         wl.push_back(prev[c]);
       }
+    m.set_contact_warm_start(wk, wl);
+    if (bonded) bonds_to_model(m);
   }
 
   // The opened pairs' history, their failures, the screening flags and the

@@ -5,11 +5,11 @@
 // conditions and the force assembly of the CPU's per-node functions
 // (loads/boundary_kernel.hpp, model/assemble_kernel.hpp). A step whose bond
 // check finds a point at the criterion is taken by the model itself
-// (cuda/device_step.cu); where the candidate list is due, the model's broad
-// phase builds it at the GPU's positions and the contact stages take it in
-// place, the GPU's steps going on. Steps run
+// (cuda/device_step.cu); where the candidate list is due, the GPU searches
+// it (cuda/broad_phase.cu) and the contact stages take it in place, the
+// GPU's steps going on. Steps run
 // in batches, read back in one copy: each step's ledger sums, energies and
-// flags (an element inverted, the list must be rebuilt, a pair failed); the
+// flags (an element inverted, the list must be rebuilt, a node past reach/2); the
 // host books the ledger and guards the run; the state stays on the GPU until
 // `download`.
 // A plain C++ header (no CUDA types); in a build without CUDA every call

@@ -352,27 +352,6 @@ void DeviceFriction::Impl::launch() {
 }
 
 
-std::vector<double> warm_start_per_candidate(const std::vector<uint64_t>& key, const std::vector<uint64_t>& keys,
-                                             const std::vector<double>& forces) {
-  std::vector<double> prev(key.size(), NAN);
-  for (size_t c = 0, j = 0; c < key.size(); ++c) {
-    while (j < keys.size() && keys[j] < key[c]) ++j;
-    if (j < keys.size() && keys[j] == key[c]) prev[c] = forces[j];
-  }
-  return prev;
-}
-
-void DeviceFriction::Impl::set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate) {
-  node.upload(L.node);
-  key.upload(L.key);
-  start.upload(L.start);
-  entry.upload(L.entry);
-  size_pairs(size_t(L.size()));
-  prev_key.upload(L.key);
-  prev_lambda.upload(warm_per_candidate);
-  n_prev = int64_t(L.size());
-}
-
 void DeviceFriction::Impl::size_pairs(size_t n) {
   n_cand = int32_t(n);
   hit.resize(n);
@@ -414,11 +393,24 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.earlier_list = kEarlier;
   const std::vector<uint64_t>& wk = C.warm_start_keys();
   const std::vector<double>& wl = C.warm_start_forces();
-  d.set_candidates(L, warm_start_per_candidate(L.key, wk, wl));
-  if (warm_start == WarmStart::model_keys) {  // the model's own list instead
+  d.node.upload(L.node);
+  d.key.upload(L.key);
+  d.start.upload(L.start);
+  d.entry.upload(L.entry);
+  d.size_pairs(cand.size());
+  if (warm_start == WarmStart::model_keys) {
     d.prev_key.upload(wk);
     d.prev_lambda.upload(wl);
     d.n_prev = int64_t(wk.size());
+  } else {  // both key lists ascending: one merge
+    std::vector<double> prev(L.key.size(), NAN);
+    for (size_t c = 0, j = 0; c < L.key.size(); ++c) {
+      while (j < wk.size() && wk[j] < L.key[c]) ++j;
+      if (j < wk.size() && wk[j] == L.key[c]) prev[c] = wl[j];
+    }
+    d.prev_key.upload(L.key);
+    d.prev_lambda.upload(prev);
+    d.n_prev = int64_t(L.key.size());
   }
   d.power.resize(1);
 }

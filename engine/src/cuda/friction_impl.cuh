@@ -1,9 +1,6 @@
 // The friction stage's GPU state (cuda/friction.cu), where the whole step
 // (cuda/device_step.cu) can reach it.
 #pragma once
-#include <vector>
-
-#include "contact/candidate_layout.hpp"
 #include "cuda/device_array.cuh"
 #include "cuda/friction.hpp"
 
@@ -51,19 +48,11 @@ struct DeviceFriction::Impl {
 
   // the stage's launches on `stream` (asynchronous)
   void launch();
-  // the candidates laid out (contact/candidate_layout.hpp) with the warm start
-  // per candidate (NaN: none), as prev_key and prev_lambda: at the making,
-  // and where the whole step rebuilds its list without remaking the stages
-  void set_candidates(const CandidateLayout& L, const std::vector<double>& warm_per_candidate);
   // the per-candidate work arrays sized for n candidates (n_cand n); the
   // layout's (node, key, start, entry) and the warm start's (prev_key,
-  // prev_lambda, n_prev) are the caller's
+  // prev_lambda, n_prev) are the caller's (where the whole step's GPU search
+  // writes them, cuda/device_step.cu)
   void size_pairs(size_t n);
 };
-
-// Per candidate of layout keys `key` (ascending), the warm start of the pair
-// with that key in (keys, forces) (keys ascending), NaN where none: one merge.
-std::vector<double> warm_start_per_candidate(const std::vector<uint64_t>& key, const std::vector<uint64_t>& keys,
-                                             const std::vector<double>& forces);
 
 }  // namespace engine

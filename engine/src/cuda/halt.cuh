@@ -1,7 +1,7 @@
 // The halt word of a batch of whole steps (cuda/device_step.cu). A batch
 // launches several steps before the host reads any of them back; a step that
 // ends in an event the host must handle (a bond point at the criterion, a
-// candidate list to rebuild, a pair failed, a node past reach/2, an element
+// candidate list to rebuild, a node past reach/2, an element
 // inverted, a sum not finite) sets the word, and every later kernel of the
 // batch returns at once, so the GPU's state stays the one that step left.
 // The word changes only between kernels, so a block reads one value: the

@@ -165,16 +165,7 @@ const ContactStiffness& Model::reference_contact_stiffness() {
   return ref_stiffness_;
 }
 
-void Model::build_contact_list(const std::vector<double>& x, const std::vector<double>& y) {
-  if (x.size() != size_t(nodes_.size()) || y.size() != size_t(nodes_.size()))
-    throw std::invalid_argument("build_contact_list: " + std::to_string(x.size()) + " x and " +
-                                std::to_string(y.size()) + " y positions for " + std::to_string(nodes_.size()) +
-                                " nodes");
-  ContactInput in = contact_input();
-  in.x = x.data();
-  in.y = y.data();
-  contact_.build_list(in);
-}
+void Model::build_contact_list() { contact_.build_list(contact_input()); }
 
 void Model::compute_contact_forces() {
   contact_work_step_ = 0.0;

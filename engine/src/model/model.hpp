@@ -161,10 +161,11 @@ class Model final : public BondHost {
   // normal contact). The GPU's cohesive stage is compared from here
   // (docs/gpu.md); evaluate() or the next step computes every stage again.
   void evaluate_before_cohesive();
-  // The contact candidate list built at node positions (x, y) (n_nodes each),
-  // as the next step's contact pass would build it there: the GPU step's
-  // rebuild, which keeps the model's other state as it is.
-  void build_contact_list(const std::vector<double>& x, const std::vector<double>& y);
+  // The contact candidate list built at the current positions, as the next
+  // step's contact pass would build it (the mesh changed since the last
+  // one): the GPU step's split steps, whose stages start from it; no force
+  // is computed.
+  void build_contact_list();
   StableStep stable_step();
   void reset_energy();
   // Continue the bookkeeping of a checkpointed run (after positions/velocities are set).
