@@ -76,6 +76,14 @@ def why_unavailable():
     return ""
 
 
+def memory_counts():
+    """The GPU memory blocks of this process (engine/src/cuda/device_memory.hpp):
+    'allocations' (fresh, cudaMalloc'd), 'reuses' (from the cache of blocks
+    given back), 'waits' (device waits before a reuse), 'cached_bytes',
+    'used_bytes'; all zero in a build without the backend."""
+    return dict(_engine.device_memory_counts())
+
+
 def _require():
     """Raise RuntimeError saying why, unless the GPU backend can run here."""
     reason = why_unavailable()
@@ -504,8 +512,9 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
     the reaction equal after every call, 'gpu_steps': the steps the GPU took,
     'remade': how many times the GPU's steps were made from the model,
     'makes': Model.timings' gpu_makes, 'host_makes': the steps the model took
-    (each followed by the stages made again), 'list_rebuilds': Model.timings'
-    gpu_list_rebuilds}."""
+    (each followed by the stages made again), 'host_steps': Model.timings'
+    gpu_host_steps (the same steps, as the GPU's steps counted them),
+    'list_rebuilds': Model.timings' gpu_list_rebuilds}."""
     cpu, on_gpu = make_model(), make_model()
     on_gpu.device = "cuda"
     same, made, steps = True, 0, None
@@ -523,4 +532,5 @@ def compare_device(make_model, chunks, n, nodes=None, between=None):
                 between(m, k)
     t = on_gpu.timings()
     return dict(same=bool(same), gpu_steps=t["gpu_steps"], remade=made, makes=t["gpu_makes"],
-                host_makes=t["steps"] - t["gpu_steps"], list_rebuilds=t["gpu_list_rebuilds"])
+                host_makes=t["steps"] - t["gpu_steps"], host_steps=t["gpu_host_steps"],
+                list_rebuilds=t["gpu_list_rebuilds"])

@@ -125,7 +125,7 @@ class Model:
     def __init__(self, nodes, triangles, body, materials, node_sets=None, device="cpu"):
         self._device = check_device(device)   # before any work
         self._gpu_timings = dict(steps=0, element_steps=0, total=0.0, makes=0, make_seconds=0.0,
-                                 list_rebuilds=0, list_seconds=0.0)
+                                 list_rebuilds=0, list_seconds=0.0, host_steps=0, host_step_seconds=0.0)
         self._gpu_steps = None   # device 'cuda': the GPU's steps, kept between calls (step)
         nodes = np.asarray(nodes, dtype=float)
         if nodes.ndim != 2 or nodes.shape[1] != 2 or nodes.shape[0] < 3:
@@ -342,6 +342,7 @@ class Model:
                 steps = self._gpu_steps = gpu.Steps(self)
             host_before, remakes_before = int(steps.host_steps), int(steps.remakes)
             made_before = 0.0 if made else float(steps.make_seconds)
+            hosted_before = float(steps.host_step_seconds)
             lists_before, listed_before = int(steps.list_rebuilds), float(steps.list_seconds)
             try:
                 steps.step(int(n))
@@ -357,6 +358,8 @@ class Model:
             g["make_seconds"] += float(steps.make_seconds) - made_before
             g["list_rebuilds"] += int(steps.list_rebuilds) - lists_before
             g["list_seconds"] += float(steps.list_seconds) - listed_before
+            g["host_steps"] += int(steps.host_steps) - host_before
+            g["host_step_seconds"] += float(steps.host_step_seconds) - hosted_before
             g["element_steps"] += on_gpu * self.n_triangles
             g["total"] += time.perf_counter() - t0
         else:
@@ -509,13 +512,18 @@ class Model:
         'gpu_make_seconds' is their wall time, part of 'gpu_total';
         'gpu_list_rebuilds' counts the candidate lists rebuilt at the GPU's
         positions and put into its stages in place, 'gpu_list_seconds' their
-        wall time (part of 'gpu_total')."""
+        wall time (part of 'gpu_total'); 'gpu_host_steps' counts the steps
+        the model took itself (bond points split there), 'gpu_host_step_seconds'
+        their wall time (the state to the model, its step, its list on the split
+        mesh; part of 'gpu_total', the stages then made again in
+        'gpu_make_seconds')."""
         t = self._m.timings()
         g = self._gpu_timings
         t.update(steps=t["steps"] + g["steps"], element_steps=t["element_steps"] + g["element_steps"],
                  total=t["total"] + g["total"], gpu_steps=g["steps"], gpu_total=g["total"],
                  gpu_makes=g["makes"], gpu_make_seconds=g["make_seconds"],
-                 gpu_list_rebuilds=g["list_rebuilds"], gpu_list_seconds=g["list_seconds"])
+                 gpu_list_rebuilds=g["list_rebuilds"], gpu_list_seconds=g["list_seconds"],
+                 gpu_host_steps=g["host_steps"], gpu_host_step_seconds=g["host_step_seconds"])
         return t
 
     def sleep_counts(self):

@@ -67,6 +67,7 @@ def test_a_model_on_the_gpu_steps_as_on_the_cpu():
     # keeping its own between them; the pulled end's reaction the CPU's bits
     cmp = gpu.compare_device(pulled_bar, 7, 2000, nodes="right")
     assert cmp["same"] and cmp["gpu_steps"] > 0 and cmp["remade"] == 1, cmp
+    assert cmp["host_steps"] == cmp["host_makes"] > 0, cmp  # the splits' steps, the model's own
 
 
 @on_gpu_or_emulation

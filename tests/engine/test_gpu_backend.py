@@ -8,6 +8,7 @@ import re
 import numpy as np
 import pytest
 
+from icerubble import _engine
 from icerubble.engine import gpu
 from tests.engine.gpu_scenes import (bonded_square, driven_block, floating_blocks, landing_block_and_a_flyer,
                                      on_gpu_or_emulation, opened_square, pressed_blocks, pulled_bar, rubbing_blocks,
@@ -184,6 +185,28 @@ def test_whole_gpu_steps_of_a_bonded_bar_split_and_fail_as_the_cpus(direction):
     cmp = gpu.compare_steps(lambda: pulled_bar(direction), 14000, nodes="right")
     assert cmp["bond_counts"][0] == (5, 5), cmp  # every point split, every pair failed
     assert cmp["host_steps"] >= 1 and cmp["remakes"] == cmp["host_steps"] and cmp["ok"], cmp
+
+
+@on_gpu_or_emulation
+def test_stages_made_again_take_their_memory_from_the_cache():
+    # a host step (a split) makes every stage again: ~150 arrays on the paper
+    # mesh, whose memory is the blocks the old stages gave back, not fresh
+    # cudaMalloc'd memory (a wait for the device and a mapping each)
+    m = pulled_bar()
+    gpu.Steps(m)  # made, then gone: its blocks back in the cache
+    before = gpu.memory_counts()
+    gpu.Steps(m)
+    after = gpu.memory_counts()
+    assert after["allocations"] == before["allocations"], (before, after)
+    assert after["reuses"] > before["reuses"] and after["waits"] >= 1, (before, after)
+
+
+@on_gpu_or_emulation
+def test_a_block_size_class_holds_a_request_and_wastes_at_most_an_eighth():
+    classes = [_engine.device_size_class(b) for b in range(1, 1 << 16, 37)]
+    for b, c in zip(range(1, 1 << 16, 37), classes):
+        assert c >= b and c % 256 == 0 and (c <= 4096 or c <= b * 9 // 8 + 1), (b, c)
+    assert classes == sorted(classes)
 
 
 @on_gpu_or_emulation

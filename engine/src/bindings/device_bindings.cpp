@@ -13,6 +13,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/device_memory.hpp"
 #include "cuda/device_step.hpp"
 #include "cuda/emulation_check.hpp"
 #include "cuda/friction.hpp"
@@ -138,6 +139,19 @@ void bind_device(py::module_& m) {
   m.def("cuda_emulation_check", &cuda_emulation_check, py::arg("scene"),
         "one of the emulated runtime's self-checks (cuda/emulation/self_check.cpp): its numbers by name");
   m.def("cuda_device", &cuda_device_name, "the GPU the backend sees ('' if none)");
+  m.def("device_memory_counts", [] {
+    const DeviceMemoryCounts c = device_memory_counts();
+    py::dict d;
+    d["allocations"] = c.allocations;
+    d["reuses"] = c.reuses;
+    d["waits"] = c.waits;
+    d["cached_bytes"] = c.cached_bytes;
+    d["used_bytes"] = c.used_bytes;
+    return d;
+  }, "the GPU memory blocks of this process (cuda/device_memory.hpp): allocated fresh, reused from the cache, "
+     "device waits before a reuse, bytes cached and in use");
+  m.def("device_size_class", &device_size_class, py::arg("bytes"),
+        "the block size a request of `bytes` GPU memory is given (cuda/device_memory.hpp)");
   m.def("body_force_fields", [](const Model& model) { return as_dict(cpu_fields(model)); },
         "the CPU's body-force fields of the model's last evaluation (what DeviceBodyForces computes)");
   m.def("contact_fields", [](const Model& model) {

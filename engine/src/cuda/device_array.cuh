@@ -1,4 +1,5 @@
-// A typed array in GPU memory (plain cudaMalloc, never managed memory), and
+// A typed array in GPU memory (cudaMalloc'd blocks, kept for reuse by
+// cuda/device_memory.hpp; never managed memory), and
 // the check every CUDA call goes through: a failed call stops with what
 // failed, in words, instead of a later wrong number.
 #pragma once
@@ -9,6 +10,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "cuda/device_memory.hpp"
 
 namespace engine {
 
@@ -29,7 +32,7 @@ class DeviceArray {
   void resize(size_t n) {
     if (n == n_) return;
     release();
-    if (n) cuda_check(cudaMalloc(&p_, n * sizeof(T)), "cudaMalloc");
+    if (n) p_ = static_cast<T*>(device_take(n * sizeof(T)));
     n_ = n;
   }
   void upload(const std::vector<T>& h) {
@@ -66,7 +69,7 @@ class DeviceArray {
 
  private:
   void release() {
-    if (p_ && owner_) cudaFree(p_);
+    if (p_ && owner_) device_give(p_);
     p_ = nullptr;
     n_ = 0;
     owner_ = true;

@@ -7,6 +7,7 @@
 #include "cuda/bond_check.hpp"
 #include "cuda/cohesive_forces.hpp"
 #include "cuda/contact_normal.hpp"
+#include "cuda/device_memory.hpp"
 #include "cuda/device_step.hpp"
 #include "cuda/emulation_check.hpp"
 #include "cuda/friction.hpp"
@@ -26,6 +27,8 @@ bool cuda_built() { return false; }
 bool cuda_emulated() { return false; }
 std::map<std::string, double> cuda_emulation_check(const std::string&) { no_gpu(); }
 std::string cuda_device_name() { return ""; }
+DeviceMemoryCounts device_memory_counts() { return {}; }
+size_t device_size_class(size_t) { no_gpu(); }
 
 struct DeviceBodyForces::Impl {};
 DeviceBodyForces::DeviceBodyForces(const Model&) { no_gpu(); }

@@ -62,6 +62,7 @@ double now() {
 // a stream's work runs; blocks handed out first-fit from a free list
 constexpr size_t kArenaBytes = size_t(64) << 30;  // address space only (MAP_NORESERVE)
 constexpr size_t kAlign = 256;
+const size_t kPage = size_t(sysconf(_SC_PAGESIZE));
 size_t padded(size_t bytes) { return std::max(kAlign, (bytes + kAlign - 1) / kAlign * kAlign); }
 char* arena = nullptr;
 size_t arena_top = 0;                    // bytes handed out so far from the start
@@ -158,11 +159,32 @@ cudaError_t waited() {
 }
 // A synchronous call on the legacy stream (cudaMemcpy, cudaMemset): after the
 // blocking streams' work before it, now, and said at once.
-cudaError_t run_on_legacy_stream(const Work& w) {
+// The work opens only the device memory it names (a copy's or a fill's
+// range): opening the whole arena twice per copy cost more than the copies
+// where a stage uploads a hundred arrays.
+struct RangeAccess {
+  char* first = nullptr;
+  size_t bytes = 0;
+  RangeAccess(const void* p, size_t n) {
+    const char* c = static_cast<const char*>(p);
+    if (!arena || device_open || c < arena || c >= arena + arena_top || n == 0) return;
+    const size_t from = size_t(c - arena) / kPage * kPage;
+    const size_t to = std::min(arena_top, (size_t(c - arena) + n + kPage - 1) / kPage * kPage);
+    first = arena + from;
+    bytes = to - from;
+    mprotect(first, bytes, PROT_READ | PROT_WRITE);
+  }
+  ~RangeAccess() {
+    if (bytes) mprotect(first, bytes, PROT_NONE);
+  }
+};
+
+cudaError_t run_on_legacy_stream(const Work& w, const void* a, const void* b, size_t bytes) {
   drain(&legacy_stream);
   for (Stream* s : streams)
     if (s->blocking) drain(s);
-  DeviceAccess open;
+  RangeAccess open_a(a, bytes);
+  RangeAccess open_b(b, bytes);
   run_work(w);
   return waited();
 }
@@ -349,9 +371,14 @@ cudaError_t cudaMalloc(void** p, size_t bytes) {
   }
   used_blocks[at] = size;
   // fresh memory is not zero: every byte 0xff (doubles NaN, integers -1)
-  mprotect(arena, arena_top, PROT_READ | PROT_WRITE);
-  std::memset(arena + at, 0xff, size);
-  if (!device_open) mprotect(arena, arena_top, PROT_NONE);
+  if (device_open) {  // the new pages open as the rest
+    mprotect(arena + at / kPage * kPage, (at + size + kPage - 1) / kPage * kPage - at / kPage * kPage,
+             PROT_READ | PROT_WRITE);
+    std::memset(arena + at, 0xff, size);
+  } else {
+    RangeAccess open(arena + at, size);
+    std::memset(arena + at, 0xff, size);
+  }
   *p = arena + at;
   return cudaSuccess;
 }
@@ -380,7 +407,7 @@ cudaError_t cudaFreeHost(void* p) {
 }
 
 cudaError_t cudaMemcpy(void* dst, const void* src, size_t bytes, cudaMemcpyKind) {
-  return run_on_legacy_stream([=] { std::memcpy(dst, src, bytes); });
+  return run_on_legacy_stream([=] { std::memcpy(dst, src, bytes); }, dst, src, bytes);
 }
 
 cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, cudaMemcpyKind, cudaStream_t s) {
@@ -389,7 +416,7 @@ cudaError_t cudaMemcpyAsync(void* dst, const void* src, size_t bytes, cudaMemcpy
 }
 
 cudaError_t cudaMemset(void* p, int value, size_t bytes) {
-  return run_on_legacy_stream([=] { std::memset(p, value, bytes); });
+  return run_on_legacy_stream([=] { std::memset(p, value, bytes); }, p, nullptr, bytes);
 }
 
 cudaError_t cudaMemsetAsync(void* p, int value, size_t bytes, cudaStream_t s) {
