@@ -447,7 +447,8 @@ def compare_steps(make_model, n, nodes=None):
     to the largest of them: the GPU sums in another fixed order), 'reaction'
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
     (steps the model took itself: bond points split), 'list_rebuilds' (the
-    candidate list rebuilt in place), 'remakes' (times the GPU's stages were
+    candidate list rebuilt in place), 'cpu_list_builds' (the CPU model's
+    candidate lists built in its n steps, its first included), 'remakes' (times the GPU's stages were
     made again from the model: after
     those steps, a pair's failure, a re-bound contact reach) and 'ok'. A
     bonded model adds 'bonds': the bond state's array fields whose bits
@@ -456,7 +457,9 @@ def compare_steps(make_model, n, nodes=None):
     largest relative difference of BOND_SUMS), 'bond_counts' ((split,
     failed) on the CPU, on the GPU) and 'checks' (points evaluated: equal)."""
     cpu_model, gpu_model = make_model(), make_model()
+    builds = cpu_model._m.contact_list_builds
     cpu_model.step(n)
+    builds = cpu_model._m.contact_list_builds - builds
     steps = Steps(gpu_model)
     steps.step(n)
     out = {}
@@ -466,6 +469,7 @@ def compare_steps(make_model, n, nodes=None):
     steps.download()
     out["host_steps"] = steps.host_steps
     out["list_rebuilds"] = steps.list_rebuilds
+    out["cpu_list_builds"] = builds
     out["remakes"] = steps.remakes
 
     def state(m):

@@ -138,6 +138,8 @@ def test_the_friction_warm_start_crosses_a_list_rebuild_on_the_gpu():
     # carried over by key (dropping it at the rebuild fails this test)
     cmp = gpu.compare_steps(lambda: landing_block_and_a_flyer(np.random.default_rng(4)), 4000, nodes="slab_bottom")
     assert cmp["list_rebuilds"] >= 5 and cmp["host_steps"] == 0, cmp
+    # rebuilt where the CPU rebuilds it (its first list is the GPU's starting one)
+    assert cmp["list_rebuilds"] == cmp["cpu_list_builds"] - 1, cmp
     assert {k: cmp[k][0] for k in ("x", "y", "vx", "vy")} == {k: 0 for k in ("x", "y", "vx", "vy")}, cmp
     assert cmp["ledger"] <= gpu.ROUND_OFF and cmp["reaction"] <= gpu.ROUND_OFF and cmp["time"], cmp
 

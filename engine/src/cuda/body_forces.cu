@@ -159,7 +159,7 @@ void DeviceBodyForces::Impl::launch() {
                                 c_b.data());
   }
   mark(0);
-  cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
+  if (reset_inverted) cuda_check(cudaMemsetAsync(inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
   launch_kernel(triangle_kernel, blocks(n_tri), kBlock, stream, halt, e, w, load, damping, water, n_tri,
                 inverted.data(), partial.data());
   mark(1);

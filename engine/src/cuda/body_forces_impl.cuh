@@ -29,6 +29,10 @@ struct DeviceBodyForces::Impl {
     if (timing_stages) cuda_check(cudaEventRecord(stage_end[k], stream), "event");
   }
   DeviceArray<int32_t> inverted;
+  // the launch sets `inverted` to none first; the whole step does that where
+  // it reads the flag instead (record_step_kernel, cuda/device_step.cu): a
+  // launch fewer a step
+  bool reset_inverted = true;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
   cudaGraphExec_t graph = nullptr;

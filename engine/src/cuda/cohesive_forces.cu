@@ -79,48 +79,18 @@ __global__ void __launch_bounds__(kBlock)
   }
 }
 
-// A node's pairs in ascending order; entry e is pair (entry[e] >> 1) with the
-// + node's force where its low bit is 0 and the - node's (the opposite) where 1.
-__global__ void node_kernel(const int32_t* halt, const int32_t* start, const int32_t* entry, const double* fpx,
-                            const double* fpy, int32_t n, double* f_x, double* f_y) {
+// Each node's opened pairs' forces summed (cohesive_node_sum).
+__global__ void node_kernel(const int32_t* halt, CohesiveNodeArrays a, int32_t n) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  double sx = 0.0, sy = 0.0;
-  for (int32_t e = start[i]; e < start[i + 1]; ++e) {
-    const int32_t j = entry[e] >> 1;
-    const bool minus = entry[e] & 1;
-    sx += minus ? -fpx[j] : fpx[j];
-    sy += minus ? -fpy[j] : fpy[j];
-  }
-  f_x[i] = sx;
-  f_y[i] = sy;
+  if (i < n) cohesive_node_sum(a, i);
 }
 
-// Each node's crack-closure forces added to its contact force, its split
-// pairs in ascending order as FreezeBonds::apply_crack_closure adds them.
-__global__ void closure_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node_plus,
-                               const int32_t* node_minus, const double* fnx, const double* fny, double penalty,
-                               const int32_t* pair, const int32_t* start, const int32_t* entry, int32_t n,
-                               double* f_con_x, double* f_con_y) {
+// Each node's crack-closure forces added to its contact force (crack_closure_node).
+__global__ void closure_kernel(const int32_t* halt, CohesiveNodeArrays a, int32_t n) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n || start[i] == start[i + 1]) return;
-  double sx = f_con_x[i], sy = f_con_y[i];
-  for (int32_t e = start[i]; e < start[i + 1]; ++e) {
-    const int32_t k = pair[entry[e] >> 1];
-    double f;
-    if (!crack_closure_force(x, y, node_plus[k], node_minus[k], fnx[k], fny[k], penalty, f)) continue;
-    if (entry[e] & 1) {
-      sx -= f * fnx[k];
-      sy -= f * fny[k];
-    } else {
-      sx += f * fnx[k];
-      sy += f * fny[k];
-    }
-  }
-  f_con_x[i] = sx;
-  f_con_y[i] = sy;
+  if (i < n) crack_closure_node(a, i);
 }
 
 // Each node's pairs of the list `pairs` (ascending) in list order: node i's
@@ -160,29 +130,38 @@ CohesiveHistory DeviceCohesiveForces::Impl::history() {
           pair_mode.data(),  t_fail.data(),   x_fail.data(),   y_fail.data(),   dn_fail.data(),  dt_fail.data()};
 }
 
+CohesiveNodeArrays DeviceCohesiveForces::Impl::node_arrays(const CohesivePairArrays& a, double* at_f_con_x,
+                                                           double* at_f_con_y) {
+  return {start.data(),        entry.data(),         fpx.data(),           fpy.data(),    f_coh_x.data(),
+          f_coh_y.data(),      a.x,                  a.y,                  node_plus.data(), node_minus.data(),
+          fnx.data(),          fny.data(),           penalty,              closure_pair.data(), closure_start.data(),
+          closure_entry.data(), at_f_con_x,          at_f_con_y};
+}
+
 void DeviceCohesiveForces::Impl::launch() {
   const CohesivePairArrays a = arrays(x.data(), y.data(), vx.data(), vy.data(), f_x.data(), f_y.data(),
                                       f_con_x.data(), f_con_y.data());
   launch_kernel(pair_kernel, n_blocks(), kBlock, stream, halt, a, open.data(), n_open, dir, dt, fpx.data(), fpy.data(),
                 delta_m.data(), failed.data(), mode.data(), partial.data(), n_blocks());
-  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, start.data(), entry.data(),
-                fpx.data(), fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
+  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt,
+                node_arrays(a, f_con_x.data(), f_con_y.data()), n_nodes);
   launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
                 sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
 void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x,
-                                                   double* f_con_y) {
+                                                   double* f_con_y, bool node_pass) {
   launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, halt, a, history(), open.data(), n_open, dir, dt,
                 time, fpx.data(), fpy.data(), partial.data(), n_blocks());
-  launch_kernel(node_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, start.data(), entry.data(),
-                fpx.data(), fpy.data(), n_nodes, f_coh_x.data(), f_coh_y.data());
   launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
                 sums.data());
-  launch_kernel(closure_kernel, (n_nodes + kBlock - 1) / kBlock, kBlock, stream, halt, a.x, a.y, node_plus.data(),
-                node_minus.data(), fnx.data(), fny.data(), penalty, closure_pair.data(), closure_start.data(),
-                closure_entry.data(), n_nodes, f_con_x, f_con_y);
+  if (node_pass) {
+    const CohesiveNodeArrays na = node_arrays(a, f_con_x, f_con_y);
+    const int nb = (n_nodes + kBlock - 1) / kBlock;
+    launch_kernel(node_kernel, nb, kBlock, stream, halt, na, n_nodes);
+    launch_kernel(closure_kernel, nb, kBlock, stream, halt, na, n_nodes);
+  }
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

@@ -71,7 +71,6 @@
 #include "loads/boundary_kernel.hpp"
 #include "model/assemble_kernel.hpp"
 #include "model/model.hpp"
-#include "model/reach_kernel.hpp"
 #include "model/step_sums.hpp"
 
 namespace engine {
@@ -82,10 +81,34 @@ constexpr int kBlock = 128;
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
-__global__ void assemble_kernel(const int32_t* halt, AssembleArrays a, int32_t n) {
+// Friction's prediction of a node (friction_predict_node) from its total
+// before friction; mass null: the model has no contact.
+struct PredictArrays {
+  const double* mass;
+  const uint8_t* constrained;
+  const double *vx, *vy, *f_pre_x, *f_pre_y;
+  double dt;
+  double *imx, *imy, *wx, *wy;
+};
+
+// The step's one pass over the nodes between the pairs' kernels and
+// friction's, each node's own values only: its opened pairs' forces and its
+// crack closure (bonded), its total before friction (assemble_node), and
+// friction's prediction from that total, where each of the four was a launch
+// of its own (the stages' kernels, which their own launches still run).
+__global__ void node_pass_kernel(const int32_t* halt, bool bonded, CohesiveNodeArrays c, AssembleArrays a,
+                                 PredictArrays p, int32_t n) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n) assemble_node(a, i);
+  if (i >= n) return;
+  if (bonded) {
+    cohesive_node_sum(c, i);
+    crack_closure_node(c, i);
+  }
+  assemble_node(a, i);
+  if (p.mass)
+    friction_predict_node(p.mass[i], p.constrained[i], p.vx[i], p.vy[i], p.f_pre_x[i], p.f_pre_y[i], nullptr, nullptr,
+                          i, p.dt, p.imx[i], p.imy[i], p.wx[i], p.wy[i]);
 }
 
 // Every condition's prescribed components in one launch: entry k is node
@@ -99,27 +122,6 @@ __global__ void boundary_kernel(const int32_t* halt, BoundaryComponent cx, Bound
   if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
   if (k < n) prescribe_component(code[k] & 1 ? cy : cx, nodes[k], v_bc[code[k] >> 1], inv_dt);
-}
-
-// Whether a node of a surface triangle has moved past the skin since the
-// candidate list was built (ContactSolver::list_still_valid's test).
-__global__ void moved_kernel(const int32_t* halt, const double* x, const double* y, const double* x0, const double* y0,
-                             const int32_t* nodes, int32_t n, double skin, int32_t* moved) {
-  if (halted(halt)) return;
-  const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k >= n) return;
-  const int32_t i = nodes[k];
-  if (moved_past_skin(x[i], y[i], x0[i], y0[i], skin)) *moved = 1;  // any lane: the same 1
-}
-
-// Whether a node has moved past half the contact reach since the contact
-// step was bound (Model::guard_contact_reach's test), in the steps that test
-// it (*now, GPU memory: every kReachCheckEvery steps, as Model::advance).
-__global__ void reach_kernel(const int32_t* halt, const int64_t* now, const double* x, const double* y,
-                             const double* x0, const double* y0, int32_t n, double half, int32_t* moved) {
-  if (halted(halt) || !*now) return;
-  const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n && moved_past_reach(x[i], y[i], x0[i], y0[i], half)) *moved = 1;  // any lane: the same 1
 }
 
 // A new candidate list's warm start, per candidate (keys ascending): the
@@ -168,17 +170,19 @@ struct StepRecord {
   unsigned long long evaluated;  // bond points the next step's check evaluated
 };
 
-// Where a step's scalars are on the GPU (nullptr: the model has none of it,
-// or, reach, not checked in this step).
+// Where a step's scalars are on the GPU (nullptr: the model has none of it).
+// A flag is set to none only where a step starts afresh (reset_flags): any
+// other value is an event, which halts the batch, and every halt is followed
+// by that.
 struct StepScalars {
-  const double* update;    // n_terms, the update's sums
-  const double* elastic;   // the strain energy
+  const double* update;     // n_terms, the update's sums
+  const double* elastic;    // the strain energy
   const int32_t* inverted;  // the first inverted element, 0x7f7f7f7f if none
-  const double* contact;   // the contact energy
-  const double* power;     // the friction power
-  const int32_t* moved;    // a node past the skin
-  const int32_t* reach;    // a node past reach/2
-  const double* cohesive;  // work, stored, effective dissipation
+  const double* contact;    // the contact energy
+  const double* power;      // the friction power
+  const int32_t* moved;     // a node past the skin
+  const int32_t* reach;     // a node past reach/2 (0 in the steps that do not test it)
+  const double* cohesive;   // work, stored, effective dissipation
 };
 
 __device__ inline bool finite_sum(double v) { return fabs(v) <= DBL_MAX; }  // false for NaN too
@@ -210,13 +214,15 @@ __global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) 
   if (step_event(f)) *halt = 1;
 }
 
-// The next step's check into the step's record (nullptr: no check); a point
-// at eq 5 halts the batch.
-__global__ void record_check_kernel(int32_t* halt, const int32_t* split, const unsigned long long* evaluated,
-                                    StepRecord* r) {
+// The next step's check into the step's record (nullptr: no check), its
+// count of points evaluated set to zero again for the check after (its flag
+// is set only where a point is at eq 5, which halts the batch); a point at
+// eq 5 halts the batch.
+__global__ void record_check_kernel(int32_t* halt, int32_t* split, unsigned long long* evaluated, StepRecord* r) {
   if (halted(halt)) return;
   r->flags[f_split] = split ? *split : 0;
   r->evaluated = evaluated ? *evaluated : 0;
+  if (evaluated) *evaluated = 0;
   if (r->flags[f_split]) *halt = 1;
 }
 
@@ -241,7 +247,9 @@ struct DeviceStep::Impl {
   std::vector<BoundaryCondition> bcs;
   // the conditions' (node, component) entries for boundary_kernel
   DeviceArray<int32_t> bc_node, bc_code;
-  DeviceArray<int32_t> list_nodes, moved;  // the candidate list's test (moved_kernel)
+  // the candidate list's test (UpdateTests): the nodes of surface triangles, a node moved past the skin
+  DeviceArray<uint8_t> on_surface;
+  DeviceArray<int32_t> moved;
   DeviceArray<double> list_x, list_y;
   // the contact reach guard (finite contact_reach): where each node's move
   // is measured from, half the reach, a node moved past it
@@ -405,10 +413,7 @@ struct DeviceStep::Impl {
     std::vector<uint8_t> on(size_t(cm.nodes().size()), 0);
     for (const int32_t t : cm.surface_triangles())
       for (int k = 0; k < 3; ++k) on[size_t(cm.triangles().node[3 * size_t(t) + k])] = 1;
-    std::vector<int32_t> ids;
-    for (size_t i = 0; i < on.size(); ++i)
-      if (on[i]) ids.push_back(int32_t(i));
-    list_nodes.upload(ids);
+    on_surface.upload(on);
     list_x.upload(cm.contact().list_origin_x());
     list_y.upload(cm.contact().list_origin_y());
     skin = cm.contact().list_skin();
@@ -448,6 +453,7 @@ struct DeviceStep::Impl {
   // Every stage's kernels return once the batch's halt word is set.
   void give_halt() {
     forces->impl_->halt = halt;
+    forces->impl_->reset_inverted = false;  // record_step_kernel resets it
     u().halt = halt;
     if (normal) cn().halt = halt;
     if (friction) fr().halt = halt;
@@ -507,12 +513,29 @@ struct DeviceStep::Impl {
     R.entry.alias(N.entry);
     N.friction_pairs = {R.nc.data(), R.nt.data(), R.nx.data(), R.ny.data(), R.fn.data()};
     R.pairs_given = true;
+    R.predicted = true;  // node_pass_kernel
   }
 
   // The uploads (cudaMemcpy, on the legacy stream) done before the first
   // launch on the step's non-blocking stream, which does not wait for them:
   // a copy from pageable memory may return before its transfer has ended.
   static void settle_uploads() { cuda_check(cudaDeviceSynchronize(), "GPU uploads"); }
+
+  // The flags a step's kernels set (an element inverted, the check's split
+  // and count, a node past the skin or reach/2) to none, where a step starts
+  // afresh: after the stages are made, or after a halt (prime). A flag set
+  // halts the batch, so between halts they stay none, but for the count,
+  // which record_check_kernel sets to zero once read: a launch a step fewer
+  // for each.
+  void reset_flags() {
+    cuda_check(cudaMemsetAsync(f().inverted.data(), 0x7f, sizeof(int32_t), stream), "memset");
+    if (checking && bc().n_intact > 0) {
+      zero(bc().split);
+      zero(bc().evaluated);
+    }
+    if (contact) zero(moved);
+    if (reach_guard) zero(reach_moved);
+  }
 
   // A step's first part, which reads only the state at its start: (1) the
   // elements and (6) the water loads and gravity, gathered onto the nodes,
@@ -527,9 +550,7 @@ struct DeviceStep::Impl {
     F.launch();
     primed_check = checking && bc().n_intact > 0;
     if (!primed_check) return launch_kernel(record_check_kernel, 1, 1, stream, halt, nullptr, nullptr, r);
-    DeviceBondCheck::Impl& K = bc();
-    zero(K.split);
-    zero(K.evaluated);
+    DeviceBondCheck::Impl& K = bc();  // its flag and count zero (record_check_kernel, reset_flags)
     K.launch_screened(F.x.data(), F.y.data(), F.stress.data(), check_step_at(row));
     launch_kernel(record_check_kernel, 1, 1, stream, halt, K.split.data(), K.evaluated.data(), r);
   }
@@ -539,6 +560,7 @@ struct DeviceStep::Impl {
                                cudaMemcpyHostToDevice, stream),
                "copy to GPU");
     zero(halt_word);
+    reset_flags();
     prologue(kBatch, records.data() + kBatch);
     fetch(host_records + kBatch, records, kBatch, 1);
     cuda_check(cudaStreamSynchronize(stream), "GPU step");
@@ -665,18 +687,29 @@ struct DeviceStep::Impl {
     DeviceNodeUpdate::Impl& U = u();
     const int32_t n = U.n;
     if (contact) cn().launch();  // (3) normal contact over the candidates
-    if (bonded) {  // (5) the opened pairs' cohesive forces, history and failures; the crack closure
+    // (5) the opened pairs' cohesive forces, history and failures; each
+    // node's sums of them and its crack closure in the node pass below
+    CohesiveNodeArrays cohesive_nodes{};
+    if (bonded) {
       DeviceCohesiveForces::Impl& C = co();
       const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
-      C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data());
+      C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data(), false);
+      cohesive_nodes = C.node_arrays(a, U.f_con_x.data(), U.f_con_y.data());
     }
     // (the body forces, the contact forces with the crack closure and the
     // cohesive forces are the update's arrays already: share_arrays)
-    // the total before friction
+    // the node pass: the cohesive sums and crack closure, the total before
+    // friction, friction's prediction from it
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
-    launch_kernel(assemble_kernel, blocks(n), kBlock, stream, halt, a, n);
+    PredictArrays p{};
+    if (contact) {
+      DeviceFriction::Impl& R = fr();
+      p = PredictArrays{R.mass.data(), R.constrained.data(), R.vx.data(), R.vy.data(), R.f_pre_x.data(),
+                        R.f_pre_y.data(), R.dt, R.imx.data(), R.imy.data(), R.wx.data(), R.wy.data()};
+    }
+    launch_kernel(node_pass_kernel, blocks(n), kBlock, stream, halt, bonded, cohesive_nodes, a, p, n);
     if (contact) {  // (3b) friction, from the total before it
       DeviceFriction::Impl& R = fr();
       R.launch();  // the step's total into U.f_x, U.f_y (share_arrays)
@@ -692,25 +725,30 @@ struct DeviceStep::Impl {
     const int32_t m = int32_t(bc_node.size());
     if (m) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, cy, bc_node.data(), bc_code.data(), m,
                          boundary_at(row, 0), inv_dt);
-    U.launch();  // (7) the central difference and the ledger's sums
+    // (7) the central difference and the ledger's sums, each updated node
+    // tested against the list's skin and, in the steps the row says, the reach
     StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr, nullptr};
-    if (bonded) sc.cohesive = co().sums.data();
+    UpdateTests tests;
     if (contact) {
-      DeviceFriction::Impl& R = fr();
-      zero(moved);
-      const int32_t m = int32_t(list_nodes.size());
-      if (m) launch_kernel(moved_kernel, blocks(m), kBlock, stream, halt, U.x.data(), U.y.data(), list_x.data(),
-                           list_y.data(), list_nodes.data(), m, skin, moved.data());
+      tests.on_surface = on_surface.data();
+      tests.list_x = list_x.data();
+      tests.list_y = list_y.data();
+      tests.skin = skin;
+      tests.moved = moved.data();
       sc.contact = cn().total.data();
-      sc.power = R.power.data();
+      sc.power = fr().power.data();
       sc.moved = moved.data();
-      if (reach_guard) {  // tested in the steps the row says
-        zero(reach_moved);
-        launch_kernel(reach_kernel, blocks(n), kBlock, stream, halt, reach_now_at(row), U.x.data(), U.y.data(),
-                      reach_x.data(), reach_y.data(), n, reach_half, reach_moved.data());
+      if (reach_guard) {
+        tests.reach_now = reach_now_at(row);
+        tests.reach_x = reach_x.data();
+        tests.reach_y = reach_y.data();
+        tests.reach_half = reach_half;
+        tests.reach_moved = reach_moved.data();
         sc.reach = reach_moved.data();
       }
     }
+    U.launch(tests);
+    if (bonded) sc.cohesive = co().sums.data();
     launch_kernel(record_step_kernel, 1, 1, stream, halt, sc, r);
   }
 

@@ -332,8 +332,9 @@ void DeviceFriction::Impl::launch() {
     launch_kernel(pair_kernel, blocks(n_cand), kBlock, stream, halt, x.data(), y.data(), node.data(), n_cand, penalty,
                   hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data());
   }
-  launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, mass.data(), constrained.data(), vx.data(),
-                vy.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
+  if (!predicted)
+    launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, mass.data(), constrained.data(), vx.data(),
+                  vy.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
   launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), colour.data(),
                 lambda.data(), counts.data());
   if (n_cand)

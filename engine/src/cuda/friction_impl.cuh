@@ -41,6 +41,9 @@ struct DeviceFriction::Impl {
   // hit, nc, nt, nx, ny and fn are written by the step's normal pass (the
   // whole step: the same candidates, positions and penalty), not by launch()
   bool pairs_given = false;
+  // imx, imy, wx, wy are written by the whole step's pass over the nodes
+  // (friction_predict_node after the force assembly), not by launch()
+  bool predicted = false;
 
   FrictionPairArrays pairs() {
     return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};

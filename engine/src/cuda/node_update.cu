@@ -10,6 +10,8 @@
 #include "cuda/halt.cuh"
 #include "cuda/launch.cuh"
 #include "model/model.hpp"
+#include "contact/broad_phase.hpp"
+#include "model/reach_kernel.hpp"
 #include "model/update_kernel.hpp"
 
 namespace engine {
@@ -21,12 +23,20 @@ constexpr int kTerms = 13;  // NodeWork's fields
 constexpr int kSumThreads = kWideBlock;
 
 __global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, UpdateArrays a, int32_t n, double* partial,
-                                                        int32_t n_blocks) {
+                                                        int32_t n_blocks, UpdateTests t) {
   if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   NodeWork w{};
-  if (i < n) w = update_node(a, i);
+  if (i < n) {
+    w = update_node(a, i);
+    // any lane that finds one writes the same 1
+    if (t.moved && t.on_surface[i] && moved_past_skin(a.x[i], a.y[i], t.list_x[i], t.list_y[i], t.skin))
+      *t.moved = 1;
+    if (t.reach_moved && *t.reach_now &&
+        moved_past_reach(a.x[i], a.y[i], t.reach_x[i], t.reach_y[i], t.reach_half))
+      *t.reach_moved = 1;
+  }
   const double terms[kTerms] = {w.kinetic2_new, w.kinetic2_old, w.viscous, w.local_damping, w.contact,
                                 w.friction, w.cohesive, w.gravity, w.buoyancy, w.drag, w.boundary,
                                 w.elastic_new, w.elastic_old};
@@ -41,14 +51,14 @@ __global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, Upd
 
 int DeviceNodeUpdate::Impl::n_blocks() const { return (n + kBlock - 1) / kBlock; }
 
-void DeviceNodeUpdate::Impl::launch() {
+void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests) {
   const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
                        mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
                        f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
                        f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
                        r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
                        dt,             g,              alpha};
-  launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks());
+  launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks(), tests);
   launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
                 sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");

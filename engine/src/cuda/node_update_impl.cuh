@@ -6,6 +6,25 @@
 
 namespace engine {
 
+// What the whole step (cuda/device_step.cu) tests of each node right after
+// its update, in the update's launch instead of launches of their own: a
+// node of a surface triangle moved past the skin since the candidate list
+// was built (ContactSolver::list_still_valid's test), and, in the steps whose
+// argument row says so, a node moved past half the contact reach since the
+// contact step was bound (Model::guard_contact_reach's). Null: not tested.
+struct UpdateTests {
+  const uint8_t* on_surface = nullptr;  // per node: a node of a surface triangle
+  const double* list_x = nullptr;       // where the list was built
+  const double* list_y = nullptr;
+  double skin = 0.0;
+  int32_t* moved = nullptr;             // set to 1 by any such node
+  const int64_t* reach_now = nullptr;   // the step's row: tested in this step
+  const double* reach_x = nullptr;      // where the contact step was bound
+  const double* reach_y = nullptr;
+  double reach_half = 0.0;
+  int32_t* reach_moved = nullptr;       // set to 1 by any such node
+};
+
 struct DeviceNodeUpdate::Impl {
   int32_t n = 0;
   double dt = 0.0, g = 0.0, alpha = 0.0;
@@ -17,8 +36,9 @@ struct DeviceNodeUpdate::Impl {
 
   int n_blocks() const;  // of the update kernel
 
-  // the update and its sums on `stream` (asynchronous)
-  void launch();
+  // the update and its sums on `stream` (asynchronous), with the whole
+  // step's tests of the updated nodes
+  void launch(const UpdateTests& tests = UpdateTests{});
 };
 
 }  // namespace engine
