@@ -9,7 +9,11 @@ its parts (elements with the water loads and the node gather; contact
 detection; contact forces and friction; bonds; integration). Then, where the
 GPU backend runs: the body-force stage's time on the GPU (a CUDA graph of its
 launches, device events) against the elements part of one CPU step, and
-whether its fields equal the CPU's bits at the same state; and the node
+whether its fields equal the CPU's bits at the same state. Then (unless
+--loaded-steps 0) the same by thread count on a loaded state: the load phase
+has a few dozen touching pairs, a loaded pile ~1,000 (open_pairs_by_nudge,
+then --settle-steps so that its splits are over), where friction's serial
+sweeps are a part the elements' threads do not shrink. Then the node
 update's, the normal contact pass's and the bond check's times on the GPU,
 and last the wall time of whole GPU steps (gpu.Steps) of the load phase.
 """
@@ -82,6 +86,10 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=300)
     ap.add_argument("--warmup", type=int, default=50)
     ap.add_argument("--repeats", type=int, default=2000, help="GPU evaluations timed")
+    ap.add_argument("--loaded-steps", type=int, default=100,
+                    help="steps timed per thread count on the loaded state (0: not measured)")
+    ap.add_argument("--settle-steps", type=int, default=300,
+                    help="steps after the nudge before the loaded state is timed (its splits over)")
     ap.add_argument("--triad", help="a compiled bench/stream_triad.cpp: the memory bandwidth by thread count")
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--quick", action="store_true", help="100 steps and 200 GPU evaluations timed")
@@ -104,6 +112,23 @@ def main(argv=None):
     out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
                n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(),
                code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None)
+    if a.loaded_steps > 0:
+        loaded = load_phase_model(mesh, a.scene, a.preset, a.threads[-1])
+        loaded.step(20)
+        open_pairs_by_nudge(loaded)
+        loaded.step(a.settle_steps)
+        out["cpu_loaded"] = []
+        for k in a.threads:
+            loaded.set(threads=k)
+            loaded.step(10)
+            split = loaded.bonds.counts["split"]
+            r = dict(threads=k, **per_step(loaded, a.loaded_steps), touching_pairs=int(loaded.touching_pairs),
+                     splits=int(loaded.bonds.counts["split"] - split))
+            out["cpu_loaded"].append(r)
+            parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
+            print(f"{k:3d} threads, loaded ({r['touching_pairs']} touching pairs, {r['splits']} splits): "
+                  f"{r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+        del loaded
     if a.triad:
         text = subprocess.run([a.triad] + [str(k) for k in a.threads], capture_output=True, text=True,
                               check=True).stdout
