@@ -7,7 +7,8 @@ A wall of rows x cols square blocks (0.1 m, eight triangles each), each
 pressed 10 um into its neighbours, nudged, with random velocities of a few
 mm/s, stepped once (the warm start): thousands of touching pairs that stick
 or slip and share nodes, more than a paper-scene step has. Times the CPU's
-friction (ContactSolver.apply_friction, serial: the sweeps colour by colour)
+friction (ContactSolver.apply_friction on OpenMP's default threads: the sweeps
+colour by colour, threaded where the colours hold 256 pairs or more)
 and, where the GPU backend runs, the GPU's (the colouring in parallel rounds,
 the sweeps, the node sums; device events), and whether the GPU gives the
 CPU's colours and bits.
@@ -24,6 +25,7 @@ from icerubble import _engine, engine
 from icerubble.code_identity import code_version, source_hash
 from icerubble.engine import gpu
 from icerubble.machine import processor
+from icerubble.openmp_threads import default_threads
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "bench", "results", "gpu_friction.json")
@@ -86,11 +88,13 @@ def main(argv=None):
     m = wall(a.rows, a.cols, np.random.default_rng(1))
     cpu_ms, touching, order = cpu_friction_ms(m, max(a.repeats // 10, 3))
     colours = len(order["colour_start"]) - 1
+    threads = default_threads()   # the solver's (in.threads 0: OpenMP's default)
     out = dict(rows=a.rows, cols=a.cols, n_triangles=m.n_triangles, n_nodes=m.n_nodes, touching_pairs=touching,
-               colours=colours, cpu_ms=cpu_ms, processor=processor(), cpu_count=os.cpu_count(),
+               colours=colours, cpu_ms=cpu_ms, cpu_threads=threads, processor=processor(), cpu_count=os.cpu_count(),
                code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), gpu=None)
     print(f"wall of {a.rows} x {a.cols} blocks ({m.n_triangles:,} triangles): {touching:,} touching pairs in "
-          f"{colours} colours; CPU friction {cpu_ms:.3f} ms (one thread)", flush=True)
+          f"{colours} colours; CPU friction {cpu_ms:.3f} ms ({threads} thread{'s' if threads > 1 else ''})",
+          flush=True)
     if gpu.available():
         cmp = gpu.compare_friction(m)
         stage = gpu.Friction(m)

@@ -334,7 +334,8 @@ def deep_vs_paper(d):
 
 def gpu_friction(d):
     lines = [f"A wall of {d['rows']} × {d['cols']} pressed blocks ({d['n_triangles']:,} triangles): "
-             f"{d['touching_pairs']:,} touching pairs in {d['colours']} colours. The CPU's friction (one thread) "
+             f"{d['touching_pairs']:,} touching pairs in {d['colours']} colours. The CPU's friction "
+             f"({d.get('cpu_threads', 1)} thread{'s' if d.get('cpu_threads', 1) > 1 else ''}) "
              f"takes {fmt(d['cpu_ms'])} ms."]
     g = d.get("gpu")
     if g:
