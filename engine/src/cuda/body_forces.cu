@@ -165,7 +165,8 @@ void DeviceBodyForces::Impl::launch() {
   mark(1);
   launch_kernel(gather_kernel, blocks(n_nodes), kBlock, stream, halt, g, load, n_nodes);
   mark(2);
-  launch_kernel(energy_sum_kernel, 1, kSumThreads, stream, halt, partial.data(), blocks(n_tri), total.data());
+  if (sum_energy)
+    launch_kernel(energy_sum_kernel, 1, kSumThreads, stream, halt, partial.data(), blocks(n_tri), total.data());
   mark(3);
   cuda_check(cudaGetLastError(), "kernel launch");
 }

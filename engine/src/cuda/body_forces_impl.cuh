@@ -33,6 +33,9 @@ struct DeviceBodyForces::Impl {
   // it reads the flag instead (record_step_kernel, cuda/device_step.cu): a
   // launch fewer a step
   bool reset_inverted = true;
+  // the launch sums the strain energy (total) from the triangles' blocks'
+  // partials; the whole step sums it with the step's other sums (SumJobs)
+  bool sum_energy = true;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
   cudaGraphExec_t graph = nullptr;

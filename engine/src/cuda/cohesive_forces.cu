@@ -151,11 +151,12 @@ void DeviceCohesiveForces::Impl::launch() {
 }
 
 void DeviceCohesiveForces::Impl::launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x,
-                                                   double* f_con_y, bool node_pass) {
+                                                   double* f_con_y, bool node_pass, bool term_sums) {
   launch_kernel(committed_pair_kernel, n_blocks(), kBlock, stream, halt, a, history(), open.data(), n_open, dir, dt,
                 time, fpx.data(), fpy.data(), partial.data(), n_blocks());
-  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
-                sums.data());
+  if (term_sums)
+    launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
+                  sums.data());
   if (node_pass) {
     const CohesiveNodeArrays na = node_arrays(a, f_con_x, f_con_y);
     const int nb = (n_nodes + kBlock - 1) / kBlock;

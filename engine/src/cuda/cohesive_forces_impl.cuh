@@ -104,9 +104,10 @@ struct DeviceCohesiveForces::Impl {
   // Then the crack closure's forces added to f_con_x/y in the CPU's order
   // (positions a.x, a.y): the caller's contact forces after the pair kernel
   // has read a.f_con_x/y.
-  // node_pass false: the node part is left to the caller (node_arrays).
+  // node_pass false: the node part is left to the caller (node_arrays);
+  // term_sums false: the energy terms' sums too (partial, n_blocks()).
   void launch_committed(const CohesivePairArrays& a, const double* time, double* f_con_x, double* f_con_y,
-                        bool node_pass = true);
+                        bool node_pass = true, bool term_sums = true);
   // The node part's arrays: positions a.x, a.y, the contact forces f_con_x/y.
   CohesiveNodeArrays node_arrays(const CohesivePairArrays& a, double* f_con_x, double* f_con_y);
 };

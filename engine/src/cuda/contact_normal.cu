@@ -94,7 +94,8 @@ void DeviceContactNormal::Impl::launch() {
   }
   launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, halt, start.data(), entry.data(), hit.data(),
                 fx.data(), fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
-  launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, halt, pair_energy.data(), hit.data(), n_pairs, total.data(),
+  if (pair_sums)
+    launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, halt, pair_energy.data(), hit.data(), n_pairs, total.data(),
                 touching.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }

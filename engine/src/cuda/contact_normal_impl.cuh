@@ -25,6 +25,9 @@ struct DeviceContactNormal::Impl {
   DeviceArray<int32_t> node, start, entry, touching;
   DeviceArray<uint8_t> hit;
   FrictionPairOut friction_pairs;
+  // the launch sums the pairs' energy (total) and counts the touching ones;
+  // the whole step sums the energy with the step's other sums (SumJobs)
+  bool pair_sums = true;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
 

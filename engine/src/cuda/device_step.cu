@@ -64,6 +64,7 @@
 #include "cuda/contact_normal_impl.cuh"
 #include "cuda/friction_impl.cuh"
 #include "cuda/device_array.cuh"
+#include "cuda/fixed_sums.cuh"
 #include "cuda/node_update_impl.cuh"
 #include "cuda/stream.cuh"
 #include "cuda/halt.cuh"
@@ -453,7 +454,9 @@ struct DeviceStep::Impl {
   // Every stage's kernels return once the batch's halt word is set.
   void give_halt() {
     forces->impl_->halt = halt;
-    forces->impl_->reset_inverted = false;  // record_step_kernel resets it
+    forces->impl_->reset_inverted = false;  // reset_flags
+    forces->impl_->sum_energy = false;      // the step's sums (launch_step)
+    if (normal) cn().pair_sums = false;
     u().halt = halt;
     if (normal) cn().halt = halt;
     if (friction) fr().halt = halt;
@@ -694,7 +697,7 @@ struct DeviceStep::Impl {
       DeviceCohesiveForces::Impl& C = co();
       const CohesivePairArrays a = C.arrays(F.x.data(), F.y.data(), F.vx.data(), F.vy.data(), F.f_x.data(),
                                             F.f_y.data(), cn().f_con_x.data(), cn().f_con_y.data());
-      C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data(), false);
+      C.launch_committed(a, time_at(row), U.f_con_x.data(), U.f_con_y.data(), false, false);
       cohesive_nodes = C.node_arrays(a, U.f_con_x.data(), U.f_con_y.data());
     }
     // (the body forces, the contact forces with the crack closure and the
@@ -747,8 +750,23 @@ struct DeviceStep::Impl {
         sc.reach = reach_moved.data();
       }
     }
-    U.launch(tests);
-    if (bonded) sc.cohesive = co().sums.data();
+    U.launch(tests, false);
+    // the step's sums in one launch, a block each: the update's terms, the
+    // cohesive pairs' terms, the contact energy and the strain energy (of
+    // the triangles' pass in this step's prologue), each the stage's own
+    // additions (sum_jobs_kernel)
+    SumJobs jobs;
+    for (size_t k = 0; k < U.sums.size(); ++k)
+      jobs.add(U.partial.data() + k * size_t(U.n_blocks()), U.n_blocks(), U.sums.data() + k);
+    if (bonded) {
+      DeviceCohesiveForces::Impl& C = co();
+      for (size_t k = 0; k < C.sums.size(); ++k)
+        jobs.add(C.partial.data() + k * size_t(C.n_blocks()), C.n_blocks(), C.sums.data() + k);
+      sc.cohesive = C.sums.data();
+    }
+    if (contact) jobs.add(cn().pair_energy.data(), cn().n_pairs, cn().total.data());
+    jobs.add(F.partial.data(), int64_t(F.partial.size()), F.total.data());
+    launch_kernel(sum_jobs_kernel<kWideBlock>, jobs.n, kWideBlock, stream, halt, jobs);
     launch_kernel(record_step_kernel, 1, 1, stream, halt, sc, r);
   }
 

@@ -91,4 +91,32 @@ __global__ void __launch_bounds__(N) term_sums_kernel(const int32_t* halt, const
   if (threadIdx.x == 0) sums[blockIdx.x] = s;
 }
 
+// Sums of the form above in one launch, a block each: job b's a[0, n) added
+// by N lanes (each lane its stride-N terms in order, then the block's tree),
+// into *out. The same additions as term_sums_kernel's for one term, so the
+// same bits: the whole step (cuda/device_step.cu) sums its stages' partials
+// in one launch instead of one per stage.
+struct SumJob {
+  const double* a;
+  int64_t n;
+  double* out;
+};
+constexpr int kMaxSumJobs = 32;
+struct SumJobs {
+  SumJob job[kMaxSumJobs];
+  int32_t n = 0;
+  void add(const double* a, int64_t n_terms, double* out) { job[n++] = SumJob{a, n_terms, out}; }
+};
+
+template <int N>
+__global__ void __launch_bounds__(N) sum_jobs_kernel(const int32_t* halt, SumJobs jobs) {
+  if (halted(halt)) return;
+  __shared__ double shared[N];
+  const SumJob j = jobs.job[blockIdx.x];
+  double s = 0.0;
+  for (int64_t k = threadIdx.x; k < j.n; k += N) s += j.a[k];
+  s = block_sum<N>(s, shared);
+  if (threadIdx.x == 0) *j.out = s;
+}
+
 }  // namespace engine

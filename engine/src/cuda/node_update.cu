@@ -51,7 +51,7 @@ __global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, Upd
 
 int DeviceNodeUpdate::Impl::n_blocks() const { return (n + kBlock - 1) / kBlock; }
 
-void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests) {
+void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests, bool term_sums) {
   const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
                        mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
                        f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
@@ -59,8 +59,9 @@ void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests) {
                        r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
                        dt,             g,              alpha};
   launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks(), tests);
-  launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
-                sums.data());
+  if (term_sums)
+    launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
+                  sums.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

@@ -38,7 +38,9 @@ struct DeviceNodeUpdate::Impl {
 
   // the update and its sums on `stream` (asynchronous), with the whole
   // step's tests of the updated nodes
-  void launch(const UpdateTests& tests = UpdateTests{});
+  // (term_sums false: the terms' sums are left to the caller, partial and
+  // n_blocks(), as the whole step sums them with its other sums)
+  void launch(const UpdateTests& tests = UpdateTests{}, bool term_sums = true);
 };
 
 }  // namespace engine
