@@ -197,16 +197,21 @@ def main(argv=None):
             h0, w0 = steps.host_steps, time.perf_counter()
             hs0, ms0 = steps.host_step_seconds, steps.make_seconds
             l0, ls0 = steps.list_rebuilds, steps.list_seconds
+            gi0, gu0 = steps.graph_instantiations, steps.graph_updates
             steps.step(a.steps * 10)
             whole_us = 1e6 * (time.perf_counter() - w0) / (a.steps * 10)
             out["gpu"].update(whole_step_us=whole_us, whole_steps=a.steps * 10,
                               whole_host_steps=int(steps.host_steps - h0),
                               whole_host_step_s=steps.host_step_seconds - hs0, whole_make_s=steps.make_seconds - ms0,
-                              whole_list_rebuilds=int(steps.list_rebuilds - l0), whole_list_s=steps.list_seconds - ls0)
+                              whole_list_rebuilds=int(steps.list_rebuilds - l0), whole_list_s=steps.list_seconds - ls0,
+                              whole_graph_instantiations=int(steps.graph_instantiations - gi0),
+                              whole_graph_updates=int(steps.graph_updates - gu0))
             print(f"  whole steps {whole_us:.1f} us per step over {a.steps * 10} steps "
                   f"({steps.host_steps - h0} of them the model's own (splits), "
                   f"{steps.host_step_seconds - hs0:.2f} s; the stages made again {steps.make_seconds - ms0:.2f} s; "
-                  f"{steps.list_rebuilds - l0} candidate lists rebuilt in place, {steps.list_seconds - ls0:.2f} s); against "
+                  f"{steps.list_rebuilds - l0} candidate lists rebuilt in place, {steps.list_seconds - ls0:.2f} s; "
+                  f"graphs instantiated {steps.graph_instantiations - gi0}, updated in place "
+                  f"{steps.graph_updates - gu0}); against "
                   + ", ".join(f"{r['threads']} threads {r['ms_per_step']:.3f} ms" for r in rows))
         except Exception as e:   # the newest code: reported, the figures above kept
             out["gpu"]["whole_step_error"] = f"{type(e).__name__}: {e}"

@@ -425,6 +425,18 @@ class Steps:
         return self._d.list_rebuilds
 
     @property
+    def graph_instantiations(self):
+        """A batch's graph captured and instantiated afresh (the first, and
+        where its launches changed)."""
+        return self._d.graph_instantiations
+
+    @property
+    def graph_updates(self):
+        """A batch's graph captured again and put into the executable graph in
+        place (cudaGraphExecUpdate: the same launches, other arrays or sizes)."""
+        return self._d.graph_updates
+
+    @property
     def list_seconds(self):
         """Wall time [s] in the candidate list's rebuilds (positions from the GPU, the broad phase, the copies back)."""
         return self._d.list_seconds
@@ -448,9 +460,10 @@ def compare_steps(make_model, n, nodes=None):
     on node set `nodes` (the same, when given), 'time' (equal), 'host_steps'
     (steps the model took itself: bond points split), 'list_rebuilds' (the
     candidate list rebuilt in place), 'cpu_list_builds' (the CPU model's
-    candidate lists built in its n steps, its first included), 'remakes' (times the GPU's stages were
-    made again from the model: after
-    those steps, a pair's failure, a re-bound contact reach) and 'ok'. A
+    candidate lists built in its n steps, its first included),
+    'graph_instantiations' and 'graph_updates' (Steps'), 'remakes' (times
+    the GPU's stages were made again from the model: after those steps, a
+    re-bound contact reach) and 'ok'. A
     bonded model adds 'bonds': the bond state's array fields whose bits
     differ anywhere (a list of names; the split and failure
     records, the pairs' history, the screening flags), 'bond_sums' (the
@@ -469,6 +482,7 @@ def compare_steps(make_model, n, nodes=None):
     steps.download()
     out["host_steps"] = steps.host_steps
     out["list_rebuilds"] = steps.list_rebuilds
+    out["graph_instantiations"], out["graph_updates"] = steps.graph_instantiations, steps.graph_updates
     out["cpu_list_builds"] = builds
     out["remakes"] = steps.remakes
 

@@ -290,6 +290,8 @@ void bind_device(py::module_& m) {
       .def_property_readonly("host_step_seconds", &DeviceStep::host_step_seconds)
       .def_property_readonly("make_seconds", &DeviceStep::make_seconds)
       .def_property_readonly("list_rebuilds", &DeviceStep::list_rebuilds)
+      .def_property_readonly("graph_instantiations", &DeviceStep::graph_instantiations)
+      .def_property_readonly("graph_updates", &DeviceStep::graph_updates)
       .def_property_readonly("list_seconds", &DeviceStep::list_seconds);
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))

@@ -106,12 +106,6 @@ void device_give(void* p) {
   c.given_since_wait = true;
 }
 
-void device_release_cache() {
-  Cache& c = cache();
-  std::lock_guard<std::mutex> g(c.lock);
-  release_locked(c);
-}
-
 DeviceMemoryCounts device_memory_counts() {
   Cache& c = cache();
   std::lock_guard<std::mutex> g(c.lock);

@@ -34,9 +34,8 @@ size_t device_size_class(size_t bytes);
 // on the emulation a reused block is filled as fresh memory is (0xff), so a
 // read of memory never written is caught there too.
 void* device_take(size_t bytes);
-// `p` (from device_take) back into the cache; no wait.
+// `p` (from device_take) back into the cache; no wait. The cache gives its
+// blocks back to the device only where a cudaMalloc fails (then tries again).
 void device_give(void* p);
-// Every cached block freed (the device waited for first); what is in use stays.
-void device_release_cache();
 
 }  // namespace engine

@@ -70,6 +70,11 @@ class DeviceStep {
   // model, its step, its next list after a split), and in making the stages
   // from the model (the first making included: allocations and copies).
   double host_step_seconds() const;
+  // A batch's CUDA graph captured again (after a list rebuild or a remake):
+  // instantiated afresh, or put into the executable graph in place where its
+  // launches are the same (cudaGraphExecUpdate).
+  int64_t graph_instantiations() const;
+  int64_t graph_updates() const;
   double make_seconds() const;
   const EnergyLedger& energy() const;
 

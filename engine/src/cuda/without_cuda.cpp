@@ -94,6 +94,8 @@ double DeviceStep::time() const { no_gpu(); }
 int64_t DeviceStep::step_count() const { no_gpu(); }
 int64_t DeviceStep::host_steps() const { no_gpu(); }
 int64_t DeviceStep::remakes() const { no_gpu(); }
+int64_t DeviceStep::graph_instantiations() const { no_gpu(); }
+int64_t DeviceStep::graph_updates() const { no_gpu(); }
 double DeviceStep::host_step_seconds() const { no_gpu(); }
 double DeviceStep::make_seconds() const { no_gpu(); }
 int64_t DeviceStep::list_rebuilds() const { no_gpu(); }

@@ -497,3 +497,15 @@ cudaError_t cudaGraphExecDestroy(cudaGraphExec_t exec) {
   delete exec;
   return cudaSuccess;
 }
+// In place where the new graph has as many pieces of work (a GPU asks for
+// the same nodes, of the same kinds, in the same order; the emulation's
+// captured work does not record kinds), else refused as a GPU refuses: the
+// caller instantiates afresh.
+cudaError_t cudaGraphExecUpdate(cudaGraphExec_t exec, cudaGraph_t g, cudaGraphExecUpdateResultInfo* info) {
+  if (!exec || !g) return fail(cudaErrorInvalidValue);
+  const bool same = exec->work.size() == g->work.size();
+  if (info) *info = cudaGraphExecUpdateResultInfo{same ? 0 : 1, nullptr, nullptr};
+  if (!same) return fail(cudaErrorGraphExecUpdateFailure);
+  exec->work = g->work;
+  return cudaSuccess;
+}
