@@ -3,9 +3,10 @@
 // thread listing its chunk's touching candidates; the touching pairs are
 // sorted into (contactor, target) order and made in parallel, then scattered
 // onto the nodes serially in that order, so that the sums in fx, fy do not
-// depend on the thread count at all (a loaded pile has ~1,000 touching pairs
-// among tens of thousands of candidates: the scatter is cheap, the listing
-// and making were not: docs/gpu.md, "The CPU engine on a workstation").
+// depend on the thread count at all. A loaded pile has ~1,000 touching pairs
+// among ~40,000 candidates: the scatter is cheap; the walk over every
+// candidate that listed them was serial (no change measured on two threads
+// when it went: docs/gpu.md, "The CPU engine on a workstation").
 #include <omp.h>
 
 #include <chrono>
