@@ -16,6 +16,8 @@ then --settle-steps so that its splits are over), where friction's serial
 sweeps are a part the elements' threads do not shrink. Then the node
 update's, the normal contact pass's and the bond check's times on the GPU,
 and last the wall time of whole GPU steps (gpu.Steps) of the load phase.
+The JSON is written after the CPU's parts and again at the end ("complete"
+false until then), so a run stopped by a lease's cap keeps what it measured.
 """
 import argparse
 import os
@@ -111,7 +113,8 @@ def main(argv=None):
         print(f"{k:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
     out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
                n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(),
-               code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None)
+               code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None,
+               complete=False)
     if a.loaded_steps > 0:
         loaded = load_phase_model(mesh, a.scene, a.preset, a.threads[-1])
         loaded.step(20)
@@ -135,6 +138,7 @@ def main(argv=None):
         print(text, end="")
         out["triad_GBps"] = [dict(mb_per_array=float(mb), threads=int(k), GBps=float(g)) for mb, k, g in
                              re.findall(r"triad\s+([\d.]+) MB per array,\s+(\d+) threads:\s+([\d.]+) GB/s", text)]
+    result_file.write(a.out, out)   # the CPU's parts, kept if the GPU's are cut short
     if gpu.available():
         cmp = gpu.compare(m)
         stage = gpu.BodyForces(m)
@@ -188,6 +192,7 @@ def main(argv=None):
         m.evaluate()
         print(f"  cohesive forces ({coh._d.open_pairs} opened pairs) {out['gpu']['cohesive_us']:.1f} us; against "
               f"{a.threads[-1]} threads' bonds part {cpu_coh['bonds_ms']:.3f} ms (check and cohesive forces)")
+        result_file.write(a.out, out)   # the stages' figures, kept if the whole steps are cut short
         # whole steps on the GPU (gpu.Steps) from here: the load phase with its
         # opened pairs, the preset's contact reach; steps the model takes itself
         # (list rebuilds, splits) counted and timed with them (wall clock)
@@ -222,6 +227,7 @@ def main(argv=None):
         print(f"  as the CPU: {'yes' if cmp['ok'] else 'NO'} ({cmp})")
     else:
         print(f"GPU: {gpu.why_unavailable()}")
+    out["complete"] = True
     result_file.write(a.out, out)
 
 

@@ -207,7 +207,9 @@ def gpu_body_forces(d):
              fmt(r["elements_ms"]), fmt(r["drag_ms"]), fmt(r["contact_detection_ms"] + r["contact_forces_ms"]),
              fmt(r["integration_ms"])] for r in d["cpu"]]
     lines = [f"The {d['scene']} scene's mesh `{d['mesh']}` ({d['n_triangles']:,} triangles, {d['n_nodes']:,} nodes), "
-             f"load phase, `{d['preset']}` numerics, on {d['cpu_count']} cores:", ""]
+             f"load phase, `{d['preset']}` numerics, on {d['cpu_count']} cores"
+             + (" (the run was stopped before its end: what it measured up to then)" if d.get("complete") is False
+                else "") + ":", ""]
     lines += table(["threads", "ms per step", "speed-up", "efficiency", "elements (ms)", "of which drag",
                     "contact", "integration"], rows)
     if d.get("cpu_loaded"):
