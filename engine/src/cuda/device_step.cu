@@ -49,7 +49,6 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <map>
 #include <string>
 #include <utility>
 
@@ -110,19 +109,6 @@ __global__ void node_pass_kernel(const int32_t* halt, bool bonded, CohesiveNodeA
   if (p.mass)
     friction_predict_node(p.mass[i], p.constrained[i], p.vx[i], p.vy[i], p.f_pre_x[i], p.f_pre_y[i], nullptr, nullptr,
                           i, p.dt, p.imx[i], p.imy[i], p.wx[i], p.wy[i]);
-}
-
-// Every condition's prescribed components in one launch: entry k is node
-// nodes[k], component code[k] & 1 (x, y) at the velocity v_bc[code[k] >> 1],
-// the step's row of prescribed values at its midpoint (GPU memory: a batch's
-// step reads its own). A (node, component) is listed once, the last
-// condition's, as the CPU's loop over the conditions leaves it.
-__global__ void boundary_kernel(const int32_t* halt, BoundaryComponent cx, BoundaryComponent cy,
-                                const int32_t* nodes, const int32_t* code, int32_t n, const double* v_bc,
-                                double inv_dt) {
-  if (halted(halt)) return;
-  const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < n) prescribe_component(code[k] & 1 ? cy : cx, nodes[k], v_bc[code[k] >> 1], inv_dt);
 }
 
 // A new candidate list's warm start, per candidate (keys ascending): the
@@ -246,8 +232,9 @@ struct DeviceStep::Impl {
   double bond_work = 0.0, bond_stored = 0.0, bond_dissipation = 0.0;
   int64_t bond_checks = 0;
   std::vector<BoundaryCondition> bcs;
-  // the conditions' (node, component) entries for boundary_kernel
-  DeviceArray<int32_t> bc_node, bc_code;
+  // the conditions' value column of each node's x and y component (-1: free)
+  DeviceArray<int32_t> bc_col_x, bc_col_y;
+  bool prescribed = false;  // any component prescribed
   // the candidate list's test (UpdateTests): the nodes of surface triangles, a node moved past the skin
   DeviceArray<uint8_t> on_surface;
   DeviceArray<int32_t> moved;
@@ -438,25 +425,23 @@ struct DeviceStep::Impl {
     settle_uploads();
   }
 
-  // boundary_kernel's entries: per condition, its x then y component of each
-  // node, value column j as run_batch writes them; a (node, component) set
-  // again by a later condition (or twice in one) keeps its last entry only.
+  // The update's boundary columns (UpdateBoundary): per condition, its x
+  // then y component, value column j as run_batch writes them; a (node,
+  // component) set again by a later condition keeps the last, as the CPU's
+  // loop over the conditions leaves it.
   void list_boundary_entries() {
-    std::map<std::pair<int32_t, int>, int32_t> code_of;  // (node, component) -> its code, the last written
-    int j = 0;
+    const size_t n = size_t(static_cast<const Model&>(*model).nodes().size());
+    std::vector<int32_t> col_x(n, -1), col_y(n, -1);
+    int32_t j = 0;
     for (const BoundaryCondition& bc : bcs)
       for (int c = 0; c < 2; ++c) {
         if (!(c ? bc.y : bc.x)) continue;
-        for (const int32_t i : bc.nodes) code_of[{i, c}] = j << 1 | c;
+        for (const int32_t i : bc.nodes) (c ? col_y : col_x)[size_t(i)] = j;
         ++j;
       }
-    std::vector<int32_t> node, code;
-    for (const auto& e : code_of) {
-      node.push_back(e.first.first);
-      code.push_back(e.second);
-    }
-    bc_node.upload(node);
-    bc_code.upload(code);
+    prescribed = j > 0;
+    bc_col_x.upload(col_x);
+    bc_col_y.upload(col_y);
   }
 
   // Every stage's kernels return once the batch's halt word is set.
@@ -745,14 +730,17 @@ struct DeviceStep::Impl {
         launch_kernel(warm_start_kernel, blocks(R.n_cand), kBlock, stream, halt, R.hit.data(), R.lambda.data(),
                       R.n_cand, R.prev_lambda.data());
     }
-    // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions
-    const double inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
-    const BoundaryComponent cx{U.mass.data(), U.vx.data(), U.f_x.data(), U.v_bc_x.data(), U.r_x.data()};
-    const BoundaryComponent cy{U.mass.data(), U.vy.data(), U.f_y.data(), U.v_bc_y.data(), U.r_y.data()};
-    // the CPU sets x, then y, per node; the components are apart, so the order is moot
-    const int32_t m = int32_t(bc_node.size());
-    if (m) launch_kernel(boundary_kernel, blocks(m), kBlock, stream, halt, cx, cy, bc_node.data(), bc_code.data(), m,
-                         boundary_at(row, 0), inv_dt);
+    // the boundary conditions at the step's midpoint, as Model::apply_boundary_conditions,
+    // applied to each node in the update's launch right before its update
+    UpdateBoundary boundary;
+    if (prescribed) {
+      boundary.x = bc_col_x.data();
+      boundary.y = bc_col_y.data();
+      boundary.values = boundary_at(row, 0);
+      boundary.inv_dt = dt > 0.0 ? 1.0 / dt : 0.0;
+      boundary.cx = BoundaryComponent{U.mass.data(), U.vx.data(), U.f_x.data(), U.v_bc_x.data(), U.r_x.data()};
+      boundary.cy = BoundaryComponent{U.mass.data(), U.vy.data(), U.f_y.data(), U.v_bc_y.data(), U.r_y.data()};
+    }
     // (7) the central difference and the ledger's sums, each updated node
     // tested against the list's skin and, in the steps the row says, the reach
     StepScalars sc{U.sums.data(), F.total.data(), F.inverted.data(), nullptr, nullptr, nullptr, nullptr, nullptr};
@@ -775,7 +763,7 @@ struct DeviceStep::Impl {
         sc.reach = reach_moved.data();
       }
     }
-    U.launch(tests, false);
+    U.launch(tests, boundary, false);
     // the step's sums in one launch, a block each: the update's terms, the
     // cohesive pairs' terms, the contact energy and the strain energy (of
     // the triangles' pass in this step's prologue), each the stage's own

@@ -23,12 +23,16 @@ constexpr int kTerms = 13;  // NodeWork's fields
 constexpr int kSumThreads = kWideBlock;
 
 __global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, UpdateArrays a, int32_t n, double* partial,
-                                                        int32_t n_blocks, UpdateTests t) {
+                                                        int32_t n_blocks, UpdateTests t, UpdateBoundary b) {
   if (halted(halt)) return;
   __shared__ double shared[kBlock];
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   NodeWork w{};
   if (i < n) {
+    if (b.x) {  // the components are apart: x, then y, as the CPU sets them
+      if (b.x[i] >= 0) prescribe_component(b.cx, i, b.values[b.x[i]], b.inv_dt);
+      if (b.y[i] >= 0) prescribe_component(b.cy, i, b.values[b.y[i]], b.inv_dt);
+    }
     w = update_node(a, i);
     // any lane that finds one writes the same 1
     if (t.moved && t.on_surface[i] && moved_past_skin(a.x[i], a.y[i], t.list_x[i], t.list_y[i], t.skin))
@@ -51,14 +55,14 @@ __global__ void __launch_bounds__(kBlock) update_kernel(const int32_t* halt, Upd
 
 int DeviceNodeUpdate::Impl::n_blocks() const { return (n + kBlock - 1) / kBlock; }
 
-void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests, bool term_sums) {
+void DeviceNodeUpdate::Impl::launch(const UpdateTests& tests, const UpdateBoundary& boundary, bool term_sums) {
   const UpdateArrays a{x.data(),       y.data(),       vx.data(),       vy.data(),      mass.data(),
                        mass_phys.data(), f_x.data(),   f_y.data(),      f_pre_x.data(), f_pre_y.data(),
                        f_int_x.data(), f_int_y.data(), f_visc_x.data(), f_visc_y.data(), f_con_x.data(),
                        f_con_y.data(), f_coh_x.data(), f_coh_y.data(), f_buoy_y.data(), drag_k.data(),
                        r_x.data(),     r_y.data(),     v_bc_x.data(),   v_bc_y.data(),  constrained.data(),
                        dt,             g,              alpha};
-  launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks(), tests);
+  launch_kernel(update_kernel, n_blocks(), kBlock, stream, halt, a, n, partial.data(), n_blocks(), tests, boundary);
   if (term_sums)
     launch_kernel(term_sums_kernel<kSumThreads>, kTerms, kSumThreads, stream, halt, partial.data(), n_blocks(),
                   sums.data());

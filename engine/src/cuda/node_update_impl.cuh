@@ -3,6 +3,7 @@
 #pragma once
 #include "cuda/device_array.cuh"
 #include "cuda/node_update.hpp"
+#include "loads/boundary_kernel.hpp"
 
 namespace engine {
 
@@ -25,6 +26,19 @@ struct UpdateTests {
   int32_t* reach_moved = nullptr;       // set to 1 by any such node
 };
 
+// The whole step's boundary conditions at the step's midpoint, applied to
+// each node right before its update in the update's launch
+// (prescribe_component, Model::apply_boundary_conditions' per-node function):
+// x[i] (y[i]) the column of node i's x (y) component in the step's prescribed
+// values, -1 where it is free. Null x: none.
+struct UpdateBoundary {
+  const int32_t* x = nullptr;
+  const int32_t* y = nullptr;
+  const double* values = nullptr;  // the step's row (GPU memory)
+  double inv_dt = 0.0;
+  BoundaryComponent cx{}, cy{};
+};
+
 struct DeviceNodeUpdate::Impl {
   int32_t n = 0;
   double dt = 0.0, g = 0.0, alpha = 0.0;
@@ -37,10 +51,12 @@ struct DeviceNodeUpdate::Impl {
   int n_blocks() const;  // of the update kernel
 
   // the update and its sums on `stream` (asynchronous), with the whole
-  // step's tests of the updated nodes
+  // step's boundary conditions before each node's update and its tests of
+  // the updated nodes
   // (term_sums false: the terms' sums are left to the caller, partial and
   // n_blocks(), as the whole step sums them with its other sums)
-  void launch(const UpdateTests& tests = UpdateTests{}, bool term_sums = true);
+  void launch(const UpdateTests& tests = UpdateTests{}, const UpdateBoundary& boundary = UpdateBoundary{},
+              bool term_sums = true);
 };
 
 }  // namespace engine
