@@ -106,9 +106,7 @@ __global__ void __launch_bounds__(kSumThreads) energy_sum_kernel(const int32_t* 
                                                                  double* total) {
   if (halted(halt)) return;
   __shared__ double shared[kSumThreads];
-  double s = 0.0;
-  for (int32_t k = threadIdx.x; k < n; k += kSumThreads) s += partial[k];
-  s = block_sum<kSumThreads>(s, shared);
+  const double s = strided_block_sum<kSumThreads>(partial, n, shared);
   if (threadIdx.x == 0) *total = s;
 }
 

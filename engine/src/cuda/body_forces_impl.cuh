@@ -29,9 +29,9 @@ struct DeviceBodyForces::Impl {
     if (timing_stages) cuda_check(cudaEventRecord(stage_end[k], stream), "event");
   }
   DeviceArray<int32_t> inverted;
-  // the launch sets `inverted` to none first; the whole step does that where
-  // it reads the flag instead (record_step_kernel, cuda/device_step.cu): a
-  // launch fewer a step
+  // the launch sets `inverted` to none first; the whole step does that only
+  // where a step starts afresh (reset_flags, cuda/device_step.cu: a set flag
+  // halts the batch): a launch fewer a step
   bool reset_inverted = true;
   // the launch sums the strain energy (total) from the triangles' blocks'
   // partials; the whole step sums it with the step's other sums (SumJobs)

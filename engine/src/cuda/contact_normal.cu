@@ -96,7 +96,7 @@ void DeviceContactNormal::Impl::launch() {
                 fx.data(), fy.data(), n_nodes, f_con_x.data(), f_con_y.data());
   if (pair_sums)
     launch_kernel(pair_sums_kernel, 1, kSumThreads, stream, halt, pair_energy.data(), hit.data(), n_pairs, total.data(),
-                touching.data());
+                  touching.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 

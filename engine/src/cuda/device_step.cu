@@ -81,23 +81,13 @@ constexpr int kBlock = 128;
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
-// Friction's prediction of a node (friction_predict_node) from its total
-// before friction; mass null: the model has no contact.
-struct PredictArrays {
-  const double* mass;
-  const uint8_t* constrained;
-  const double *vx, *vy, *f_pre_x, *f_pre_y;
-  double dt;
-  double *imx, *imy, *wx, *wy;
-};
-
 // The step's one pass over the nodes between the pairs' kernels and
 // friction's, each node's own values only: its opened pairs' forces and its
 // crack closure (bonded), its total before friction (assemble_node), and
 // friction's prediction from that total, where each of the four was a launch
 // of its own (the stages' kernels, which their own launches still run).
 __global__ void node_pass_kernel(const int32_t* halt, bool bonded, CohesiveNodeArrays c, AssembleArrays a,
-                                 PredictArrays p, int32_t n) {
+                                 FrictionPredictArrays p, int32_t n) {  // p.mass null: no contact
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
@@ -106,9 +96,7 @@ __global__ void node_pass_kernel(const int32_t* halt, bool bonded, CohesiveNodeA
     crack_closure_node(c, i);
   }
   assemble_node(a, i);
-  if (p.mass)
-    friction_predict_node(p.mass[i], p.constrained[i], p.vx[i], p.vy[i], p.f_pre_x[i], p.f_pre_y[i], nullptr, nullptr,
-                          i, p.dt, p.imx[i], p.imy[i], p.wx[i], p.wy[i]);
+  if (p.mass) friction_predict(p, i);
 }
 
 // A new candidate list's warm start, per candidate (keys ascending): the
@@ -202,9 +190,8 @@ __global__ void record_step_kernel(int32_t* halt, StepScalars s, StepRecord* r) 
 }
 
 // The next step's check into the step's record (nullptr: no check), its
-// count of points evaluated set to zero again for the check after (its flag
-// is set only where a point is at eq 5, which halts the batch); a point at
-// eq 5 halts the batch.
+// count of points evaluated set to zero again for the check after; a point
+// at eq 5 halts the batch (its flag is set to none again by reset_flags).
 __global__ void record_check_kernel(int32_t* halt, int32_t* split, unsigned long long* evaluated, StepRecord* r) {
   if (halted(halt)) return;
   r->flags[f_split] = split ? *split : 0;
@@ -307,7 +294,7 @@ struct DeviceStep::Impl {
   // Every stage runs on the body-force stage's stream, destroyed with it:
   // the others forget theirs before they go.
   void release_stages() {
-    drop_graph();
+    mark_graph_stale();
     if (update) u().stream = nullptr;
     if (normal) cn().stream = nullptr;
     if (friction) fr().stream = nullptr;
@@ -324,7 +311,7 @@ struct DeviceStep::Impl {
   }
   // The batch's graph is captured again before its next replay; the
   // executable graph is kept for that capture to update in place.
-  void drop_graph() { graph_stale = true; }
+  void mark_graph_stale() { graph_stale = true; }
   void destroy_graph() {
     if (batch_graph) cudaGraphExecDestroy(batch_graph);
     batch_graph = nullptr;
@@ -447,9 +434,6 @@ struct DeviceStep::Impl {
   // Every stage's kernels return once the batch's halt word is set.
   void give_halt() {
     forces->impl_->halt = halt;
-    forces->impl_->reset_inverted = false;  // reset_flags
-    forces->impl_->sum_energy = false;      // the step's sums (launch_step)
-    if (normal) cn().pair_sums = false;
     u().halt = halt;
     if (normal) cn().halt = halt;
     if (friction) fr().halt = halt;
@@ -468,6 +452,8 @@ struct DeviceStep::Impl {
   void share_arrays() {
     DeviceBodyForces::Impl& F = f();
     DeviceNodeUpdate::Impl& U = u();
+    F.reset_inverted = false;  // reset_flags
+    F.sum_energy = false;      // the step's sums (launch_step)
     F.x.alias(U.x);
     F.y.alias(U.y);
     F.vx.alias(U.vx);
@@ -485,6 +471,7 @@ struct DeviceStep::Impl {
     if (!contact) return;  // the contact forces stay zero (make_stages)
     DeviceContactNormal::Impl& N = cn();
     DeviceFriction::Impl& R = fr();
+    N.pair_sums = false;  // the step's sums (launch_step)
     N.x.alias(U.x);
     N.y.alias(U.y);
     U.f_con_x.alias(N.f_con_x);
@@ -716,12 +703,8 @@ struct DeviceStep::Impl {
     // friction, friction's prediction from it
     const AssembleArrays a{U.f_x.data(),     U.f_y.data(),     U.f_con_x.data(), U.f_con_y.data(),
                            U.f_coh_x.data(), U.f_coh_y.data(), U.f_pre_x.data(), U.f_pre_y.data()};
-    PredictArrays p{};
-    if (contact) {
-      DeviceFriction::Impl& R = fr();
-      p = PredictArrays{R.mass.data(), R.constrained.data(), R.vx.data(), R.vy.data(), R.f_pre_x.data(),
-                        R.f_pre_y.data(), R.dt, R.imx.data(), R.imy.data(), R.wx.data(), R.wy.data()};
-    }
+    FrictionPredictArrays p{};
+    if (contact) p = fr().predict_arrays();
     launch_kernel(node_pass_kernel, blocks(n), kBlock, stream, halt, bonded, cohesive_nodes, a, p, n);
     if (contact) {  // (3b) friction, from the total before it
       DeviceFriction::Impl& R = fr();
@@ -818,7 +801,7 @@ struct DeviceStep::Impl {
       cuda_check(cudaMemcpyAsync(list_y.data(), U.y.data(), nn * sizeof(double), cudaMemcpyDeviceToDevice, stream),
                  "copy on GPU");
       share_arrays();  // friction's layout and pair arrays are the normal pass's again
-      drop_graph();
+      mark_graph_stale();
       cuda_check(cudaStreamSynchronize(stream), "GPU list rebuild");  // before the old arrays go
     }
     ++list_rebuilds;

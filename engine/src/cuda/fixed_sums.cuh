@@ -76,26 +76,31 @@ __device__ inline double block_extreme(double v, double* shared) {
   return e;
 }
 
-// Term k's per-block partial sums, partial[k * n_blocks + b], added in a
-// fixed order by one block of N lanes per term (launch with as many blocks as
-// terms): sums[k]. The second level of the per-block trees above.
+// a[0, n) added by a block's N lanes in a fixed order: each lane its terms
+// l, l + N, ... in order, then the block's tree (every lane calls it). The
+// second level of the per-block trees above: every final sum of the backend.
+template <int N>
+__device__ inline double strided_block_sum(const double* a, int64_t n, double* shared) {
+  double s = 0.0;
+  for (int64_t k = threadIdx.x; k < n; k += N) s += a[k];
+  return block_sum<N>(s, shared);
+}
+
+// Term k's per-block partial sums, partial[k * n_blocks + b], added by one
+// block of N lanes per term (launch with as many blocks as terms): sums[k].
 template <int N>
 __global__ void __launch_bounds__(N) term_sums_kernel(const int32_t* halt, const double* partial, int32_t n_blocks,
                                                       double* sums) {
   if (halted(halt)) return;
   __shared__ double shared[N];
-  const double* p = partial + size_t(blockIdx.x) * n_blocks;
-  double s = 0.0;
-  for (int32_t k = threadIdx.x; k < n_blocks; k += N) s += p[k];
-  s = block_sum<N>(s, shared);
+  const double s = strided_block_sum<N>(partial + size_t(blockIdx.x) * n_blocks, n_blocks, shared);
   if (threadIdx.x == 0) sums[blockIdx.x] = s;
 }
 
-// Sums of the form above in one launch, a block each: job b's a[0, n) added
-// by N lanes (each lane its stride-N terms in order, then the block's tree),
-// into *out. The same additions as term_sums_kernel's for one term, so the
-// same bits: the whole step (cuda/device_step.cu) sums its stages' partials
-// in one launch instead of one per stage.
+// Sums of the form above in one launch, a block each: job b's a[0, n) into
+// *out (strided_block_sum, as each stage's own sum adds them, so the same
+// bits): the whole step (cuda/device_step.cu) sums its stages' partials in
+// one launch instead of one per stage.
 struct SumJob {
   const double* a;
   int64_t n;
@@ -113,9 +118,7 @@ __global__ void __launch_bounds__(N) sum_jobs_kernel(const int32_t* halt, SumJob
   if (halted(halt)) return;
   __shared__ double shared[N];
   const SumJob j = jobs.job[blockIdx.x];
-  double s = 0.0;
-  for (int64_t k = threadIdx.x; k < j.n; k += N) s += j.a[k];
-  s = block_sum<N>(s, shared);
+  const double s = strided_block_sum<N>(j.a, j.n, shared);
   if (threadIdx.x == 0) *j.out = s;
 }
 

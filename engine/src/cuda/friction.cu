@@ -65,14 +65,10 @@ __global__ void pair_kernel(const int32_t* halt, const double* x, const double* 
   contact_resultant(r, fn[c], nx[c], ny[c]);
 }
 
-__global__ void predict_kernel(const int32_t* halt, const double* mass, const uint8_t* constrained, const double* vx,
-                               const double* vy, const double* f_pre_x, const double* f_pre_y, int32_t n, double dt,
-                               double* imx, double* imy, double* wx, double* wy) {
+__global__ void predict_kernel(const int32_t* halt, FrictionPredictArrays p, int32_t n) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  friction_predict_node(mass[i], constrained[i], vx[i], vy[i], f_pre_x[i], f_pre_y[i], nullptr, nullptr, i, dt,
-                        imx[i], imy[i], wx[i], wy[i]);
+  if (i < n) friction_predict(p, i);
 }
 
 // This lane's contiguous chunk [lo, hi) of n entries, chunks in lane order
@@ -333,8 +329,7 @@ void DeviceFriction::Impl::launch() {
                   hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data());
   }
   if (!predicted)
-    launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, mass.data(), constrained.data(), vx.data(),
-                  vy.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, dt, imx.data(), imy.data(), wx.data(), wy.data());
+    launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, predict_arrays(), n_nodes);
   launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), colour.data(),
                 lambda.data(), counts.data());
   if (n_cand)

@@ -1,10 +1,28 @@
 // The friction stage's GPU state (cuda/friction.cu), where the whole step
 // (cuda/device_step.cu) can reach it.
 #pragma once
+#include "contact/friction_kernel.hpp"
 #include "cuda/device_array.cuh"
 #include "cuda/friction.hpp"
 
 namespace engine {
+
+// Friction's prediction of a node from its total before friction (its
+// inverse masses and end-of-step velocity without friction): the stage's
+// predict kernel runs it, the whole step runs it in its node pass
+// (cuda/device_step.cu).
+struct FrictionPredictArrays {
+  const double* mass;
+  const uint8_t* constrained;
+  const double *vx, *vy, *f_pre_x, *f_pre_y;
+  double dt;
+  double *imx, *imy, *wx, *wy;
+};
+
+ICERUBBLE_HD void friction_predict(const FrictionPredictArrays& p, int32_t i) {
+  friction_predict_node(p.mass[i], p.constrained[i], p.vx[i], p.vy[i], p.f_pre_x[i], p.f_pre_y[i], nullptr, nullptr, i,
+                        p.dt, p.imx[i], p.imy[i], p.wx[i], p.wy[i]);
+}
 
 // Per candidate (index c, the CPU's pair order), what friction reads.
 struct FrictionPairArrays {
@@ -45,6 +63,10 @@ struct DeviceFriction::Impl {
   // (friction_predict_node after the force assembly), not by launch()
   bool predicted = false;
 
+  FrictionPredictArrays predict_arrays() {
+    return {mass.data(), constrained.data(), vx.data(), vy.data(), f_pre_x.data(), f_pre_y.data(), dt,
+            imx.data(),  imy.data(),         wx.data(), wy.data()};
+  }
   FrictionPairArrays pairs() {
     return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
   }

@@ -162,20 +162,23 @@ cudaError_t waited() {
 // The work opens only the device memory it names (a copy's or a fill's
 // range): opening the whole arena twice per copy cost more than the copies
 // where a stage uploads a hundred arrays.
+// The pages holding arena bytes [at, at + n) set to `prot`.
+void protect_pages(size_t at, size_t n, int prot) {
+  const size_t from = at / kPage * kPage;
+  mprotect(arena + from, (at + n + kPage - 1) / kPage * kPage - from, prot);
+}
+
 struct RangeAccess {
-  char* first = nullptr;
-  size_t bytes = 0;
+  size_t at = 0, bytes = 0;
   RangeAccess(const void* p, size_t n) {
     const char* c = static_cast<const char*>(p);
     if (!arena || device_open || c < arena || c >= arena + arena_top || n == 0) return;
-    const size_t from = size_t(c - arena) / kPage * kPage;
-    const size_t to = std::min(arena_top, (size_t(c - arena) + n + kPage - 1) / kPage * kPage);
-    first = arena + from;
-    bytes = to - from;
-    mprotect(first, bytes, PROT_READ | PROT_WRITE);
+    at = size_t(c - arena);
+    bytes = n;
+    protect_pages(at, bytes, PROT_READ | PROT_WRITE);
   }
   ~RangeAccess() {
-    if (bytes) mprotect(first, bytes, PROT_NONE);
+    if (bytes) protect_pages(at, bytes, PROT_NONE);
   }
 };
 
@@ -372,8 +375,7 @@ cudaError_t cudaMalloc(void** p, size_t bytes) {
   used_blocks[at] = size;
   // fresh memory is not zero: every byte 0xff (doubles NaN, integers -1)
   if (device_open) {  // the new pages open as the rest
-    mprotect(arena + at / kPage * kPage, (at + size + kPage - 1) / kPage * kPage - at / kPage * kPage,
-             PROT_READ | PROT_WRITE);
+    protect_pages(at, size, PROT_READ | PROT_WRITE);
     std::memset(arena + at, 0xff, size);
   } else {
     RangeAccess open(arena + at, size);
