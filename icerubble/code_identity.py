@@ -16,7 +16,10 @@ So files record source_hash() beside it, a digest of what computes:
 
 The rule (run/checkpoint.py, rigid_dem/checkpoint.py): a checkpoint is
 continued only by code of the same source_hash; any other, or one that
-records none, is refused before anything is loaded. Equal digests prove the
+records none, is refused before anything is loaded. A rest state that a new
+run loads from (restore(..., from_rest=True)) is that run's starting state,
+not a run it continues: it loads whatever code settled it, and the run names
+that code (rest_state_code_version, rest_state_source_hash). Equal digests prove the
 same computation (same machine code, same Python statements); a refusal may
 be needless (a rebuild that differs in bytes alone), never the reverse.
 """

@@ -5,6 +5,9 @@ simulated and measured records alike.
 """
 import numpy as np
 
+# numpy 2 (a GPU machine's Python) renamed trapz; Debian's numpy 1.24 has trapz only
+_trapezoid = getattr(np, "trapezoid", None) or np.trapz
+
 
 def _check_record(y, F):
     y = np.asarray(y, dtype=float)
@@ -77,7 +80,7 @@ def mean_load(y, F, y_from, y_to):
     inside = (y > y_from) & (y < y_to)
     ys = np.concatenate(([y_from], y[inside], [y_to]))
     Fs = np.concatenate(([np.interp(y_from, y, F)], F[inside], [np.interp(y_to, y, F)]))
-    return float(np.trapz(Fs, ys) / (y_to - y_from))
+    return float(_trapezoid(Fs, ys) / (y_to - y_from))
 
 
 def windowed_load(y, F, y_I, half_width):

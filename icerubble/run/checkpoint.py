@@ -39,6 +39,9 @@ def save(run, path, driver_attrs=None, shared=False):
         if run.recorder.meta.get("rest_state_shared"):   # the result names it after a resume too
             d.attrs["rest_state_shared_from"] = run.recorder.meta["rest_state_from"]
             d.attrs["rest_state_code_version"] = run.recorder.meta["rest_state_code_version"]
+        for k in ("rest_state_code_version", "rest_state_source_hash"):   # a load from another run's rest
+            if k in run.recorder.meta:
+                d.attrs[k] = run.recorder.meta[k]
         d.attrs["params"] = json.dumps(run.params)
         d.attrs["physics_version"] = PHYSICS_VERSION
         write_tree(f.create_group("engine"), run.model.checkpoint())
@@ -125,7 +128,12 @@ def restore(run, path, from_rest=False, shared=False):
             raise ValueError(f"checkpoint {path} was written by physics version {version}, this code is "
                              f"version {PHYSICS_VERSION} (settling, sleeping or forces changed): it cannot "
                              "be continued; remove it to start the run again")
-        refuse_other_code(f.attrs, path)
+        if not from_rest:
+            refuse_other_code(f.attrs, path)
+        # from_rest: another run's rest state is this run's starting state, as
+        # a mesh is, not a run this one continues, so the code that settled it
+        # may differ (a rest state made on the CPU's build, loaded on a GPU
+        # machine's own build); the run names that code beside the rest state
         saved = json.loads(d.attrs["params"])
         diff = sorted(k for k in set(saved) | set(run.params) if saved.get(k) != run.params.get(k))
         if from_rest or shared:
@@ -138,6 +146,12 @@ def restore(run, path, from_rest=False, shared=False):
         if diff:
             raise ValueError(f"checkpoint {path} was written with other parameters ({', '.join(diff)}); "
                              "remove it or run with the same parameters")
+        if from_rest:
+            run.recorder.meta.update(rest_state_code_version=_text(f.attrs.get("code_version", "")),
+                                     rest_state_source_hash=_text(f.attrs.get("source_hash", "")))
+        elif "rest_state_source_hash" in d.attrs:   # this run's own checkpoint of a load from a rest state
+            run.recorder.meta.update(rest_state_code_version=_text(d.attrs["rest_state_code_version"]),
+                                     rest_state_source_hash=_text(d.attrs["rest_state_source_hash"]))
         run.state.restore(d.attrs)   # checkpoints written before a field existed keep its default
         if "rest_state_shared_from" in d.attrs and not (from_rest or shared):
             run.rest_state = _text(d.attrs["rest_state_shared_from"])

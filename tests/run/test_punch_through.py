@@ -563,3 +563,35 @@ def test_an_indenter_held_while_settling_never_moves_and_keys_its_own_rest_state
         assert f["force/F"][0] == run.state.F_at_rest          # the record starts from the push at rest
     keys = [rest_states.settle_identity(r.params, r.scene.mesh, r.options, 1) for r in (run, free)]
     assert keys[0] != keys[1]
+
+
+def _rewrite_source_hash(path, value):
+    with h5py.File(path, "r+") as f:
+        f.attrs["source_hash"] = value
+
+
+def test_a_rest_state_made_by_other_code_starts_a_run_that_names_that_code(mesh_path, tmp_path):
+    """A rest state is a run's starting state, as its mesh is, not a run it
+    continues: one settled by other code (another build's bytes: a rest state
+    made on the CPU's build, carried to a GPU machine that builds its own)
+    starts the load, and the result names that code beside the rest state,
+    also after the load is interrupted and resumed. The load's own
+    checkpoint is continued only by the code that wrote it."""
+    base, settler, rest = rest_state_of_another_run(mesh_path, tmp_path)
+    _rewrite_source_hash(rest, "0123456789abcdef")
+    run = PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS,
+                       options=RunOptions(stop_after_steps=settler.model.step_count + 200, **base))
+    with pytest.raises(KeyboardInterrupt):
+        run.run_from_rest(rest)
+    with h5py.File(run.ckpt_path) as f:
+        assert f["driver"].attrs["rest_state_source_hash"] == "0123456789abcdef"
+        own = f.attrs["source_hash"]
+    _rewrite_source_hash(run.ckpt_path, "fedcba9876543210")
+    with pytest.raises(ValueError, match="a run continued by other code is not one run"):
+        PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**base)).run_from_rest(rest)
+    _rewrite_source_hash(run.ckpt_path, own)
+    PunchThrough(mesh_path, tmp_path / "b.h5", params=PARAMS, options=RunOptions(**base)).run_from_rest(rest)
+    with open_complete(tmp_path / "b.h5") as f:
+        assert f.attrs["rest_state_source_hash"] == "0123456789abcdef"
+        assert f.attrs["rest_state_code_version"] == f.attrs["code_version"]   # one checkout; the hash rewritten
+        assert f.attrs["source_hash"] == own
