@@ -4,12 +4,13 @@
 // if so, its contact point's shape functions and its normal force's resultant
 // with the pair kernel of contact/potential_contact_kernel.hpp (the CPU's
 // touching pairs are these, in this order). The touching candidates are
-// listed (compact_kernel), and each one's earlier touching neighbours, inverse
-// mass and warm start found in many blocks (prepare_kernel). One block colours
-// them as the CPU colours its pairs (contact/friction_order.cpp), in parallel
-// rounds: a pair takes its colour once every neighbour that comes before it
-// has one (Jones-Plassmann), which gives the greedy colouring's colours
-// exactly; it then orders them colour by colour. One block then solves the
+// listed (compact_kernel), and each one's earlier touching neighbours (a lane
+// per pair and node), inverse mass and warm start found in many blocks
+// (prepare_kernel). One block colours them as the CPU colours its pairs
+// (contact/friction_order.cpp), in parallel rounds over colours kept in its
+// shared memory: a pair takes its colour once every neighbour that comes
+// before it has one (Jones-Plassmann), which gives the greedy colouring's
+// colours exactly; it then places them colour by colour. One block then solves the
 // sweeps: the pairs of a colour share no node, so its lanes update them at
 // once and a barrier closes the colour; a pair's updates see exactly what they
 // see in the CPU's serial sweep (contact/friction.cpp), so the tangential
@@ -41,7 +42,11 @@ constexpr int kBlock = 128;
 constexpr int kSolveThreads = kWideBlock;
 constexpr int kSweeps = 4;           // contact/friction.cpp's
 constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
-constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours listed (more: walked each round)
+constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours listed per node (more: walked each round)
+// the colouring keeps its colours in shared memory up to this many touching
+// pairs (32 KB), in global memory beyond: a round then reads each earlier
+// neighbour's colour in tens of cycles, not a trip to L2
+constexpr int32_t kSharedSlots = 8192;
 
 
 // Whether candidate c touches, and its contact point and normal force's
@@ -80,7 +85,8 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 }
 
 // The touching candidates, compacted: tp[0, m) in ascending order (the CPU's
-// pair order), m in counts[2]; every candidate's colour reset (-1 touching,
+// pair order), m in counts[2], and slot_of[c] = s where tp[s] = c (touching
+// candidates only); every candidate's colour reset (-1 touching,
 // kNotTouching not) and its lambda zeroed (the node sums read every
 // candidate's). One block: a lane counts a contiguous chunk, a scan over the
 // lanes places the chunks. The kernels after it visit the m touching pairs
@@ -88,8 +94,8 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 // candidates, and a lane per candidate in one block made each colouring round
 // and each colour's sweep walk them all (bench/results/gpu_step_profile.json).
 __global__ void __launch_bounds__(kSolveThreads)
-    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* colour, double* lambda,
-                   int32_t* counts) {
+    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* slot_of, int32_t* colour,
+                   double* lambda, int32_t* counts) {
   if (halted(halt)) return;
   __shared__ int32_t scan[kSolveThreads];
   for (int32_t c = threadIdx.x; c < n; c += kSolveThreads) {
@@ -103,116 +109,136 @@ __global__ void __launch_bounds__(kSolveThreads)
   const int32_t upto = block_inclusive_scan<kSolveThreads>(own, scan);
   int32_t at = upto - own;
   for (int32_t c = lo; c < hi; ++c)
-    if (hit[c]) tp[at++] = c;
+    if (hit[c]) {
+      slot_of[c] = at;
+      tp[at++] = c;
+    }
   if (threadIdx.x == kSolveThreads - 1) counts[2] = upto;
 }
 
 // A touching candidate's neighbours are the touching candidates of the
 // entries of its six nodes (entry 6 q + k: candidate q); those coloured
 // before it (coloured_before: the priority order of the CPU's greedy
-// colouring) decide its colour. visit(q) for each of them, in the nodes'
-// entry order, until it returns false; false then. (__restrict__: what a
-// visit stores aliases none of these, so one entry's loads need not wait for
-// the last entry's store.)
+// colouring, pp its priority) decide its colour. visit(q) for each of them
+// on its node v, in the node's entry order, until it returns false; false
+// then. (__restrict__: what a visit stores aliases none of these, so one
+// entry's loads need not wait for the last entry's store.)
 template <class Visit>
-__device__ inline bool visit_earlier_neighbours(int32_t p, const int32_t* __restrict__ node,
-                                                const uint8_t* __restrict__ hit, const uint64_t* __restrict__ key,
-                                                const int32_t* __restrict__ start, const int32_t* __restrict__ entry,
-                                                Visit visit) {
-  const uint64_t pp = friction_priority(key[p]);
-  for (int k = 0; k < 6; ++k) {
-    const int32_t v = node[6 * p + k];
-    for (int32_t j = start[v]; j < start[v + 1]; ++j) {
-      const int32_t q = entry[j] / 6;
-      if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
-      if (!visit(q)) return false;
-    }
+__device__ inline bool visit_earlier_on_node(int32_t p, uint64_t pp, int32_t v, const uint8_t* __restrict__ hit,
+                                             const uint64_t* __restrict__ key, const int32_t* __restrict__ start,
+                                             const int32_t* __restrict__ entry, Visit visit) {
+  for (int32_t j = start[v]; j < start[v + 1]; ++j) {
+    const int32_t q = entry[j] / 6;
+    if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
+    if (!visit(q)) return false;
   }
   return true;
 }
 
-// Per touching pair (slot s < m, candidate p = tp[s]), what does not change
-// while it is coloured and solved: its earlier neighbours (up to kEarlier, a
-// pair sharing two nodes listed twice; n_earlier = -1 where there are more),
-// its inverse effective mass, and its warm start (NaN: none), which the CPU
-// looks up as it pushes it. A lane per slot, many blocks: each walk is a
-// chain of dependent loads, so they run side by side here, not one round and
-// one colour at a time in the single block.
-__global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* counts,
-                               const int32_t* start, const int32_t* entry, const uint64_t* prev_key,
-                               const double* prev_lambda, int64_t n_prev, double mu, const double* imx,
-                               const double* imy, int32_t listed, int32_t* earlier, int32_t* n_earlier, double* kinv,
-                               double* warm) {
+// Per touching pair (slot s < m, candidate p = tp[s]) and node k of its six,
+// what does not change while it is coloured and solved: the slots of its
+// earlier neighbours on that node (up to kEarlier, at 6 s + k; a pair sharing
+// two nodes listed on both; n_earlier[6 s + k] = -1 where there are more),
+// and, from lanes k = 0 and 1, its inverse effective mass and its warm start
+// (NaN: none), which the CPU looks up as it pushes it. A lane per (pair,
+// node), many blocks: each node's walk is a chain of dependent loads, so the
+// six run side by side, as the pairs do, not one after another in a lane.
+__global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* slot_of,
+                               const int32_t* counts, const int32_t* start, const int32_t* entry,
+                               const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu,
+                               const double* imx, const double* imy, int32_t listed, int32_t* earlier,
+                               int32_t* n_earlier, double* kinv, double* warm) {
   if (halted(halt)) return;
-  const int32_t s = blockIdx.x * blockDim.x + threadIdx.x;
+  const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
+  const int32_t s = int32_t(t / 6), k = int32_t(t % 6);
   if (s >= counts[2]) return;
   const int32_t p = tp[s];
-  int32_t* list = earlier + int64_t(kEarlier) * s;
+  int32_t* list = earlier + int64_t(kEarlier) * t;
   int32_t count = 0;
-  const bool all = visit_earlier_neighbours(p, P.node, P.hit, P.key, start, entry, [&](int32_t q) {
-    if (count == listed) return false;  // more than the list holds: the colouring walks the nodes itself
-    list[count++] = q;
-    return true;
-  });
-  n_earlier[s] = all ? count : -1;
-  const double k = friction_inverse_mass(P.node + 6 * p, P.nc + 3 * p, P.nt + 3 * p, P.nx[p], P.ny[p], imx, imy);
-  kinv[p] = k;
+  const bool all = visit_earlier_on_node(p, friction_priority(P.key[p]), P.node[6 * p + k], P.hit, P.key, start, entry,
+                                         [&](int32_t q) {
+                                           // more than the list holds: the colouring walks the node itself
+                                           if (count == listed) return false;
+                                           list[count++] = slot_of[q];
+                                           return true;
+                                         });
+  n_earlier[t] = all ? count : -1;
+  if (k > 1) return;
+  const double km = friction_inverse_mass(P.node + 6 * p, P.nc + 3 * p, P.nt + 3 * p, P.nx[p], P.ny[p], imx, imy);
+  if (k == 0) {
+    kinv[p] = km;
+    return;
+  }
   const int64_t at = find_key(prev_key, n_prev, P.key[p]);
   // NaN: a candidate that did not touch in the step before (the whole step
   // keeps the warm start per candidate, cuda/device_step.cu)
-  warm[s] = (at < 0 || k == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
+  warm[s] = (at < 0 || km == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
 }
 
-// colour[p] is -1 until p is coloured; a colour, once written, is final, so a
-// lane that reads a neighbour's colour in the round it is written sees either
-// -1 (and waits a round) or the final value. A pair takes the smallest colour
-// none of its earlier neighbours has once they all have one.
+// A slot's colour is -1 until it is coloured; a colour, once written, is
+// final, so a lane that reads a neighbour's colour in the round it is written
+// sees either -1 (and waits a round) or the final value. A pair takes the
+// smallest colour none of its earlier neighbours has once they all have one.
+// The colours are kept by slot in shared memory (up to kSharedSlots pairs;
+// slot_colour beyond), then written by candidate (colour_out) and by slot.
 __global__ void __launch_bounds__(kSolveThreads)
     colour_kernel(const int32_t* halt, const int32_t* node, const uint8_t* hit, const uint64_t* key,
-                  const int32_t* start, const int32_t* entry, const int32_t* tp, const int32_t* earlier,
-                  const int32_t* n_earlier, int32_t* colour_out, int32_t* counts, int32_t* slot_colour,
-                  int32_t* order, int32_t* colour_start) {
+                  const int32_t* start, const int32_t* entry, const int32_t* tp, const int32_t* slot_of,
+                  const int32_t* earlier, const int32_t* n_earlier, int32_t* colour_out, int32_t* counts,
+                  int32_t* slot_colour, int32_t* order, int32_t* colour_start) {
   if (halted(halt)) return;
   __shared__ int32_t most[kSolveThreads];
-  volatile int32_t* colour = colour_out;
+  __shared__ int32_t shared_colour[kSharedSlots];
   const int32_t m = counts[2];
+  volatile int32_t* colour = m <= kSharedSlots ? shared_colour : slot_colour;
+  for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) colour[s] = -1;
+  __syncthreads();
   int32_t rounds = 0;
   for (;;) {
     ++rounds;
     int waiting = 0;
     for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
+      if (colour[s] != -1) continue;
       const int32_t p = tp[s];
-      if (colour[p] != -1) continue;
-      // n_earlier -1: more than the list holds; the nodes are walked (each round)
-      const int32_t count = n_earlier[s];
-      const int32_t* list = count >= 0 ? earlier + int64_t(kEarlier) * s : nullptr;
+      const uint64_t pp = friction_priority(key[p]);
       bool ready = true;
       for (int32_t base = 0; ready; base += 64) {
         uint64_t taken = 0;
-        // an earlier neighbour's colour: false (stop) while it has none
-        const auto see = [&](int32_t q) {
-          const int32_t c = colour[q];
+        // an earlier neighbour's colour (slot e): false (stop) while it has none
+        const auto see = [&](int32_t e) {
+          const int32_t c = colour[e];
           if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
           return c >= 0;
         };
-        if (list) {
-          for (int32_t j = 0; j < count && ready; ++j) ready = see(list[j]);
-        } else {
-          ready = visit_earlier_neighbours(p, node, hit, key, start, entry, see);
+        for (int k = 0; k < 6 && ready; ++k) {
+          // n_earlier -1: more than the list holds; the node is walked (each round)
+          const int32_t count = n_earlier[6 * s + k];
+          if (count >= 0) {
+            const int32_t* list = earlier + int64_t(kEarlier) * (6 * s + k);
+            for (int32_t j = 0; j < count && ready; ++j) ready = see(list[j]);
+          } else {
+            ready = visit_earlier_on_node(p, pp, node[6 * p + k], hit, key, start, entry,
+                                          [&](int32_t q) { return see(slot_of[q]); });
+          }
         }
         if (ready && ~taken) {
-          colour[p] = base + __ffsll((long long)~taken) - 1;
+          colour[s] = base + __ffsll((long long)~taken) - 1;
           break;
         }
       }
       if (!ready) waiting = 1;
     }
     if (!__syncthreads_or(waiting)) break;
+    // every round colours the earliest pair not yet coloured, so a round past
+    // the m-th is a bug: the launch fails (an error at the host's next wait)
+    // rather than looping for ever
+    if (rounds > m) __trap();
   }
   int32_t most_own = -1;
   for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
-    const int32_t c = colour[tp[s]];
+    const int32_t c = colour[s];
     slot_colour[s] = c;
+    colour_out[tp[s]] = c;
     most_own = max(most_own, c);
   }
   most[threadIdx.x] = most_own;
@@ -226,9 +252,30 @@ __global__ void __launch_bounds__(kSolveThreads)
     counts[0] = colours;
     counts[1] = rounds;
   }
-  __syncthreads();  // `most` is the scan's buffer from here
-  // The slots colour by colour, ascending within a colour: the sweeps then
-  // visit a colour's pairs alone (a scan per colour over the lanes' chunks)
+  __syncthreads();  // `most` is the counters' buffer from here
+  // The slots colour by colour: the sweeps then visit a colour's pairs alone.
+  // Within a colour no two pairs share a node, so the sweeps' bits do not
+  // depend on the order they take within it: each slot takes its place with
+  // an atomic add on its colour's counter, a colour's places after a scan of
+  // the counts, where a scan per colour made ~24 barriers a colour.
+  if (colours <= kSolveThreads) {
+    if (int32_t(threadIdx.x) < colours) most[threadIdx.x] = 0;
+    __syncthreads();
+    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) atomicAdd(&most[slot_colour[s]], 1);
+    __syncthreads();
+    const int32_t own = int32_t(threadIdx.x) < colours ? most[threadIdx.x] : 0;  // each lane its own entry
+    const int32_t upto = block_inclusive_scan<kSolveThreads>(own, most);
+    if (int32_t(threadIdx.x) < colours) {
+      colour_start[threadIdx.x] = upto - own;
+      most[threadIdx.x] = upto - own;  // the colour's next place
+    }
+    if (int32_t(threadIdx.x) == colours - 1) colour_start[colours] = upto;
+    if (colours == 0 && threadIdx.x == 0) colour_start[0] = 0;
+    __syncthreads();
+    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) order[atomicAdd(&most[slot_colour[s]], 1)] = s;
+    return;
+  }
+  // more colours than lanes: a scan per colour over the lanes' chunks
   int32_t lo, hi;
   lane_chunk(m, lo, hi);
   int32_t base = 0;
@@ -330,15 +377,16 @@ void DeviceFriction::Impl::launch() {
   }
   if (!predicted)
     launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, predict_arrays(), n_nodes);
-  launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), colour.data(),
-                lambda.data(), counts.data());
+  launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), slot_of.data(),
+                colour.data(), lambda.data(), counts.data());
   if (n_cand)
-    launch_kernel(prepare_kernel, blocks(n_cand), kBlock, stream, halt, pairs(), tp.data(), counts.data(),
-                  start.data(), entry.data(), prev_key.data(), prev_lambda.data(), n_prev, mu, imx.data(), imy.data(),
-                  earlier_list, earlier.data(), n_earlier.data(), kinv.data(), warm.data());
+    launch_kernel(prepare_kernel, blocks(6 * int64_t(n_cand)), kBlock, stream, halt, pairs(), tp.data(),
+                  slot_of.data(), counts.data(), start.data(), entry.data(), prev_key.data(), prev_lambda.data(),
+                  n_prev, mu, imx.data(), imy.data(), earlier_list, earlier.data(), n_earlier.data(), kinv.data(),
+                  warm.data());
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, node.data(), hit.data(), key.data(), start.data(),
-                entry.data(), tp.data(), earlier.data(), n_earlier.data(), colour.data(), counts.data(),
-                slot_colour.data(), order.data(), colour_start.data());
+                entry.data(), tp.data(), slot_of.data(), earlier.data(), n_earlier.data(), colour.data(),
+                counts.data(), slot_colour.data(), order.data(), colour_start.data());
   launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
                 lambda.data(), power.data());
@@ -356,12 +404,13 @@ void DeviceFriction::Impl::size_pairs(size_t n) {
   nt.resize(3 * n);
   colour.resize(n);
   tp.resize(n);
+  slot_of.resize(n);
   slot_colour.resize(n);
   order.resize(n);
   colour_start.resize(n + 1);  // at most as many colours as touching pairs
-  n_earlier.resize(n);
+  n_earlier.resize(6 * n);
   warm.resize(n);
-  earlier.resize(size_t(kEarlier) * n);
+  earlier.resize(size_t(6 * kEarlier) * n);
 }
 
 DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new Impl) {

@@ -45,9 +45,10 @@ struct DeviceFriction::Impl {
   DeviceArray<uint8_t> constrained, hit;
   DeviceArray<int32_t> node, colour, counts, start, entry;
   // the touching pairs of a launch (compact_kernel): tp[s] the candidate of
-  // slot s; per slot its earlier neighbours (kEarlier each), their count (-1:
-  // more) and its warm start; counts = {colours, rounds, touching pairs}
-  DeviceArray<int32_t> tp, earlier, n_earlier;
+  // slot s, slot_of[tp[s]] = s; per slot and node (6 s + k) the slots of its
+  // earlier neighbours there (kEarlier each) and their count (-1: more); per
+  // slot its warm start; counts = {colours, rounds, touching pairs}
+  DeviceArray<int32_t> tp, slot_of, earlier, n_earlier;
   // after the colouring: each slot's colour, the slots colour by colour
   // (order), and where colour c starts in it (colour_start[c], c <= colours)
   DeviceArray<int32_t> slot_colour, order, colour_start;

@@ -94,6 +94,7 @@ extern dim3 block_dim, grid_dim;
 void launch(cudaStream_t stream, dim3 grid, dim3 block, std::function<void()> lane);
 void syncthreads();
 int syncthreads_or(int predicate);
+[[noreturn]] void trap();
 }  // namespace cuda_emu
 
 #define threadIdx (::cuda_emu::thread_idx)
@@ -104,6 +105,12 @@ int syncthreads_or(int predicate);
 inline void __syncthreads() { cuda_emu::syncthreads(); }
 inline int __syncthreads_or(int predicate) { return cuda_emu::syncthreads_or(predicate); }
 inline int __ffsll(long long x) { return __builtin_ffsll(x); }
+// a kernel's assertion: the emulation stops with the message a GPU's launch error stands for
+void trap();
+[[noreturn]] inline void __trap() {
+  cuda_emu::trap();
+  __builtin_unreachable();
+}
 // CUDA's isnan, unqualified in device code (friction.cu)
 using std::isnan;
 // the lanes run one at a time: a read-modify-write is atomic

@@ -311,6 +311,12 @@ int syncthreads_or(int predicate) {
   return block.or_result;
 }
 
+void trap() {
+  fputs("GPU emulation: a kernel called __trap() (on a GPU the launch fails with an error at the next wait)\n",
+        stderr);
+  abort();
+}
+
 }  // namespace cuda_emu
 
 using namespace cuda_emu;
