@@ -11,7 +11,10 @@
 # its own beside the checks, which use the GPU and a few cores.
 # Where a rest state of the paper scene was carried (REST, made on the CPU by
 # bench/paper_peak.py --settle-only), the last part loads the fast preset from it
-# instead (bench/paper_peak.py --rest): no settle on the lease.
+# instead (bench/paper_peak.py --rest) to TRAVEL mm (1: ~410 s on an H200 at
+# code 4d0a7ef): no settle on the lease. Its run file comes back too, so the
+# run is kept where its summary fails. At most 8 files come back from $OUT:
+# this writes 8 (the build's log stays on the machine, its tail printed if it fails).
 #   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh;
 #                                               and runs/bench/paper_peak/ridge1_2mm where its rest state is)
 PY=${PY:-python3}
@@ -20,6 +23,7 @@ BUDGET=${BUDGET:-540}        # seconds for the whole script
 OUT=${OUT:-runs/lease}
 MESH=${MESH:-runs/scenes/paper_ridge1_pilemu0.3_mesh.h5}
 REST=${REST:-runs/bench/paper_peak/ridge1_2mm/rest_fast.checkpoint.h5}
+TRAVEL=${TRAVEL:-1}
 cd "$(dirname "$0")/.."
 mkdir -p "$OUT"
 t0=$(date +%s)
@@ -30,7 +34,7 @@ export PYTHONUNBUFFERED=1 PATH="$PATH:/usr/local/cuda/bin" PYTHONPATH="$PWD${PYT
 echo "== machine"; nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm --format=csv
 nproc; command -v nvcc && nvcc --version | tail -2
 echo "== build ($(left) s left)"
-PY="$PY" tools/gpu_build.sh "$BUILD" "$OUT/build.log" "$(cap 300)" || exit 1
+PY="$PY" tools/gpu_build.sh "$BUILD" /tmp/gpu_build.log "$(cap 300)" || exit 1
 echo "built in $(( $(date +%s) - t0 )) s"
 "$PY" -c "from icerubble.engine import gpu; print('gpu available:', gpu.available(), gpu.why_unavailable() if not gpu.available() else gpu.device_name())"
 triad=()
@@ -57,11 +61,12 @@ echo "== bench/gpu_body_forces.py ($(left) s left)"
 timeout "$(cap 150)" "$PY" bench/gpu_body_forces.py --mesh "$MESH" --threads 1 2 4 8 16 "${triad[@]}" \
   --out "$OUT/gpu_body_forces.json" 2>&1 | tee "$OUT/gpu_body_forces.log" | grep -v "^triad"
 if [ -f "$REST" ]; then
-  echo "== the paper scene, fast, on the GPU from the carried rest state, to 2 mm ($(left) s left)"
-  timeout "$(cap 9999)" "$PY" bench/paper_peak.py --device cuda --rest "$REST" --only fast \
+  echo "== the paper scene, fast, on the GPU from the carried rest state, to $TRAVEL mm ($(left) s left)"
+  timeout "$(cap 9999)" "$PY" bench/paper_peak.py --device cuda --rest "$REST" --only fast --travel-mm "$TRAVEL" \
     >"$OUT/paper_peak.log" 2>&1
   echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_peak.log" | tail -8
   cp bench/results/paper_peak_cuda.json "$OUT/" 2>/dev/null
+  cp "runs/bench/paper_peak/ridge1_${TRAVEL}mm_cuda/fast.h5" "$OUT/paper_fast_cuda.h5" 2>/dev/null
 else
   echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
   timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1

@@ -101,6 +101,18 @@ def test_the_gpu_friction_is_the_cpus(seed, earlier_list):
 
 
 @on_gpu_or_emulation
+def test_the_gpu_friction_of_more_pairs_than_shared_memory_holds_is_the_cpus():
+    # ~10,800 touching pairs: more than the colouring keeps in shared memory
+    # (kSharedSlots, cuda/friction.cu), so its colours are kept in global memory
+    from tests.engine.test_contact_threads import pressed_wall
+    cmp = gpu.compare_friction(pressed_wall(1))
+    assert cmp["pairs"][0] > 8192 and cmp["pairs"][0] == cmp["pairs"][1], cmp["pairs"]
+    assert cmp["colours"][0] == cmp["colours"][1] and cmp["colour"] == 0
+    assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
+    assert cmp["power_rel"] <= gpu.ROUND_OFF
+
+
+@on_gpu_or_emulation
 def test_a_friction_list_length_out_of_range_is_refused():
     stage = gpu.Friction(rubbing_blocks(np.random.default_rng(3)))
     with pytest.raises(ValueError, match="earlier_list=17: valid values are 0 to 16"):
