@@ -296,6 +296,39 @@ __global__ void __launch_bounds__(kSolveThreads)
   if (threadIdx.x == 0) colour_start[colours] = base;
 }
 
+// A touching pair's values that the sweeps read and do not change (its
+// nodes, where it touches, its normal and normal force, its inverse mass),
+// held by the lane that solves it through every pass, and its tangential
+// force as it goes: a pass then loads its nodes' velocities alone, where it
+// loaded the slot, the candidate and then these, one after another.
+struct HeldPair {
+  int32_t i;  // the candidate
+  int32_t node[6];
+  double nc[3], nt[3], nx, ny, fn, kinv, warm, lambda;
+};
+
+__device__ inline void hold_pair(const FrictionPairArrays& P, int32_t i, const double* kinv, double warm,
+                                 HeldPair& h) {
+  h.i = i;
+  for (int k = 0; k < 6; ++k) h.node[k] = P.node[6 * i + k];
+  for (int k = 0; k < 3; ++k) {
+    h.nc[k] = P.nc[3 * i + k];
+    h.nt[k] = P.nt[3 * i + k];
+  }
+  h.nx = P.nx[i];
+  h.ny = P.ny[i];
+  h.fn = P.fn[i];
+  h.kinv = kinv[i];
+  h.warm = warm;
+  h.lambda = 0.0;  // as compact_kernel left lambda[i]
+}
+
+// The sweeps, colour by colour with a barrier closing each colour. The
+// pairs in colour order (order[j], j < m) are shared among the lanes by j
+// modulo the block's size, so a lane solves pair j = its index in every
+// pass of that pair's colour and holds it (HeldPair) where m <= the block's
+// lanes: the load phase of a pile (~80-1,300 touching pairs); its further
+// pairs are read from memory each pass, as all of them were.
 __global__ void __launch_bounds__(kSolveThreads)
     solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* order,
                  const int32_t* colour_start, const int32_t* counts, const double* warm, double mu, double dt,
@@ -303,10 +336,30 @@ __global__ void __launch_bounds__(kSolveThreads)
                  double* power) {
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
+  __shared__ int32_t starts[kSolveThreads + 1];
   const int32_t colours = counts[0], m = counts[2];
+  const int32_t* cs = colour_start;
+  if (colours <= kSolveThreads) {  // the colours' bounds, read every pass: from shared memory
+    for (int32_t c = threadIdx.x; c <= colours; c += kSolveThreads) starts[c] = colour_start[c];
+    __syncthreads();
+    cs = starts;
+  }
+  const int32_t own = threadIdx.x;
+  HeldPair h;
+  if (own < m) hold_pair(P, tp[order[own]], kinv, warm[order[own]], h);
+  // this lane's first pair at or after a (j = its index modulo the block's size)
+  const auto first = [&](int32_t a) {
+    return a + int32_t((threadIdx.x + kSolveThreads - uint32_t(a) % kSolveThreads) % kSolveThreads);
+  };
   // the warm start, colour by colour as the CPU pushes it
   for (int32_t c = 0; c < colours; ++c) {
-    for (int32_t j = colour_start[c] + threadIdx.x; j < colour_start[c + 1]; j += kSolveThreads) {
+    for (int32_t j = first(cs[c]); j < cs[c + 1]; j += kSolveThreads) {
+      if (j == own) {
+        if (isnan(h.warm)) continue;
+        h.lambda = h.warm;
+        friction_push(h.node, h.nc, h.nt, h.nx, h.ny, h.warm, dt, imx, imy, wx, wy);
+        continue;
+      }
       const int32_t s = order[j], i = tp[s];
       if (isnan(warm[s])) continue;
       lambda[i] = warm[s];
@@ -316,7 +369,14 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (int32_t c = 0; c < colours; ++c) {
-      for (int32_t j = colour_start[c] + threadIdx.x; j < colour_start[c + 1]; j += kSolveThreads) {
+      for (int32_t j = first(cs[c]); j < cs[c + 1]; j += kSolveThreads) {
+        if (j == own) {
+          if (h.kinv == 0.0 || h.fn == 0.0) continue;
+          const double d =
+              friction_update(h.node, h.nc, h.nt, h.nx, h.ny, mu * h.fn, h.kinv, dt, wx, wy, h.lambda);
+          if (d != 0.0) friction_push(h.node, h.nc, h.nt, h.nx, h.ny, d, dt, imx, imy, wx, wy);
+          continue;
+        }
         const int32_t i = tp[order[j]];
         if (kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
         const int32_t* node = P.node + 6 * i;
@@ -328,6 +388,8 @@ __global__ void __launch_bounds__(kSolveThreads)
       __syncthreads();
     }
   }
+  if (own < m) lambda[h.i] = h.lambda;
+  __syncthreads();  // every held force is in lambda before the power reads it by slot
   // the power with the velocities the nodes will move with, summed in a fixed tree
   double p = 0.0;
   for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
