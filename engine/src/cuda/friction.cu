@@ -192,6 +192,18 @@ __global__ void __launch_bounds__(kSolveThreads)
   const int32_t m = counts[2];
   volatile int32_t* colour = m <= kSharedSlots ? shared_colour : slot_colour;
   for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) colour[s] = -1;
+  // The lane's first slot (its only one where m <= the block's lanes) keeps
+  // its way through its earlier neighbours from round to round: the colours
+  // below 64 seen so far (a colour, once written, is final) and the node and
+  // list entry it waits on, so a round reads the one colour it waits for,
+  // where it read the lists again from their start
+  const int32_t s0 = threadIdx.x;
+  int32_t p0 = 0, at_k = 0, at_j = 0;
+  uint64_t pp0 = 0, seen0 = 0;
+  if (s0 < m) {
+    p0 = tp[s0];
+    pp0 = friction_priority(key[p0]);
+  }
   __syncthreads();
   int32_t rounds = 0;
   for (;;) {
@@ -199,6 +211,44 @@ __global__ void __launch_bounds__(kSolveThreads)
     int waiting = 0;
     for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
       if (colour[s] != -1) continue;
+      if (s == s0) {
+        bool ready = true;
+        while (at_k < 6 && ready) {
+          const int32_t count = n_earlier[6 * s + at_k];
+          if (count >= 0) {
+            const int32_t* list = earlier + int64_t(kEarlier) * (6 * s + at_k);
+            for (; at_j < count; ++at_j) {
+              const int32_t c = colour[list[at_j]];
+              if (c < 0) {
+                ready = false;
+                break;
+              }
+              if (c < 64) seen0 |= uint64_t(1) << c;
+            }
+          } else {  // more than the list holds: the node walked whole until all there have a colour
+            uint64_t t = 0;
+            ready = visit_earlier_on_node(p0, pp0, node[6 * p0 + at_k], hit, key, start, entry, [&](int32_t q) {
+              const int32_t c = colour[slot_of[q]];
+              if (c >= 0 && c < 64) t |= uint64_t(1) << c;
+              return c >= 0;
+            });
+            if (ready) seen0 |= t;
+          }
+          if (ready) {
+            ++at_k;
+            at_j = 0;
+          }
+        }
+        if (!ready) {
+          waiting = 1;
+          continue;
+        }
+        if (~seen0) {
+          colour[s] = __ffsll((long long)~seen0) - 1;
+          continue;
+        }
+        // colours 0-63 all taken: the scan below finds its colour from 64 up
+      }
       const int32_t p = tp[s];
       const uint64_t pp = friction_priority(key[p]);
       bool ready = true;
