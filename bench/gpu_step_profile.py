@@ -92,7 +92,9 @@ def main(argv=None):
     if a.inner:
         inner(a.mesh, STATES[a.inner], a.steps)
         return
-    out = dict(mesh=os.path.basename(a.mesh), steps_profiled=a.steps, measured=time.strftime("%Y-%m-%d"), states={})
+    from icerubble.code_identity import code_version, source_hash
+    out = dict(mesh=os.path.basename(a.mesh), steps_profiled=a.steps, measured=time.strftime("%Y-%m-%d"),
+               code_version=code_version(), source_hash=source_hash(), states={})
     if a.summarize:
         out["device"] = a.device_name
         for item in a.summarize:

@@ -298,7 +298,8 @@ def split_step(d):
 
 
 def gpu_step_profile(d):
-    lines = [f"Whole GPU steps of `{d['mesh']}` in the load phase on {d['device']}, each kernel's duration "
+    code = f" (code {d['code_version']})" if "code_version" in d else ""
+    lines = [f"Whole GPU steps of `{d['mesh']}` in the load phase on {d['device']}{code}, each kernel's duration "
              f"(Nsight Compute's hardware timer), per step:", ""]
     states = list(d["states"])
     names = []
