@@ -342,8 +342,8 @@ def compare_friction(model, earlier_list=None):
     the largest node speed), 'pairs' (touching: CPU, GPU), 'colours' (CPU, GPU), 'colour' (pairs
     the GPU's colouring put in another colour than the CPU's), 'rounds' (the
     GPU colouring's parallel rounds) and 'ok'. earlier_list: how many of a
-    pair's earlier neighbours the GPU's colouring keeps listed (None: its
-    default; fewer makes more pairs walk their nodes, to test that walk)."""
+    pair's earlier neighbours on each node the GPU's colouring keeps listed
+    (None: its default; fewer makes more nodes walked, to test that walk)."""
     model.evaluate()
     cpu = _engine.friction_fields(model._m)
     stage = Friction(model)

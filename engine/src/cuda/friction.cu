@@ -140,7 +140,7 @@ __device__ inline bool visit_earlier_on_node(int32_t p, uint64_t pp, int32_t v, 
 // earlier neighbours on that node (up to kEarlier, at 6 s + k; a pair sharing
 // two nodes listed on both; n_earlier[6 s + k] = -1 where there are more),
 // and, from lanes k = 0 and 1, its inverse effective mass and its warm start
-// (NaN: none), which the CPU looks up as it pushes it. A lane per (pair,
+// (NaN: none; both by candidate), which the CPU looks up as it pushes it. A lane per (pair,
 // node), many blocks: each node's walk is a chain of dependent loads, so the
 // six run side by side, as the pairs do, not one after another in a lane.
 __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* slot_of,
@@ -172,7 +172,7 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
   const int64_t at = find_key(prev_key, n_prev, P.key[p]);
   // NaN: a candidate that did not touch in the step before (the whole step
   // keeps the warm start per candidate, cuda/device_step.cu)
-  warm[s] = (at < 0 || km == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
+  warm[p] = (at < 0 || km == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
 }
 
 // A slot's colour is -1 until it is coloured; a colour, once written, is
@@ -322,7 +322,7 @@ __global__ void __launch_bounds__(kSolveThreads)
     if (int32_t(threadIdx.x) == colours - 1) colour_start[colours] = upto;
     if (colours == 0 && threadIdx.x == 0) colour_start[0] = 0;
     __syncthreads();
-    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) order[atomicAdd(&most[slot_colour[s]], 1)] = s;
+    for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) order[atomicAdd(&most[slot_colour[s]], 1)] = tp[s];
     return;
   }
   // more colours than lanes: a scan per colour over the lanes' chunks
@@ -335,7 +335,7 @@ __global__ void __launch_bounds__(kSolveThreads)
     const int32_t upto = block_inclusive_scan<kSolveThreads>(own, most);
     int32_t at = base + upto - own;
     for (int32_t s = lo; s < hi; ++s)
-      if (slot_colour[s] == c) order[at++] = s;
+      if (slot_colour[s] == c) order[at++] = tp[s];
     if (threadIdx.x == 0) colour_start[c] = base;
     // the colour's total: the last lane's, read through the buffer after the scan
     if (threadIdx.x == kSolveThreads - 1) most[0] = upto;
@@ -374,7 +374,7 @@ __device__ inline void hold_pair(const FrictionPairArrays& P, int32_t i, const d
 }
 
 // The sweeps, colour by colour with a barrier closing each colour. The
-// pairs in colour order (order[j], j < m) are shared among the lanes by j
+// pairs in colour order (order[j], j < m: their candidates) are shared among the lanes by j
 // modulo the block's size, so a lane solves pair j = its index in every
 // pass of that pair's colour and holds it (HeldPair) where m <= the block's
 // lanes: the load phase of a pile (~80-1,300 touching pairs); its further
@@ -396,7 +396,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   const int32_t own = threadIdx.x;
   HeldPair h;
-  if (own < m) hold_pair(P, tp[order[own]], kinv, warm[order[own]], h);
+  if (own < m) hold_pair(P, order[own], kinv, warm[order[own]], h);
   // this lane's first pair at or after a (j = its index modulo the block's size)
   const auto first = [&](int32_t a) {
     return a + int32_t((threadIdx.x + kSolveThreads - uint32_t(a) % kSolveThreads) % kSolveThreads);
@@ -410,10 +410,10 @@ __global__ void __launch_bounds__(kSolveThreads)
         friction_push(h.node, h.nc, h.nt, h.nx, h.ny, h.warm, dt, imx, imy, wx, wy);
         continue;
       }
-      const int32_t s = order[j], i = tp[s];
-      if (isnan(warm[s])) continue;
-      lambda[i] = warm[s];
-      friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], warm[s], dt, imx, imy, wx, wy);
+      const int32_t i = order[j];
+      if (isnan(warm[i])) continue;
+      lambda[i] = warm[i];
+      friction_push(P.node + 6 * i, P.nc + 3 * i, P.nt + 3 * i, P.nx[i], P.ny[i], warm[i], dt, imx, imy, wx, wy);
     }
     __syncthreads();
   }
@@ -427,7 +427,7 @@ __global__ void __launch_bounds__(kSolveThreads)
           if (d != 0.0) friction_push(h.node, h.nc, h.nt, h.nx, h.ny, d, dt, imx, imy, wx, wy);
           continue;
         }
-        const int32_t i = tp[order[j]];
+        const int32_t i = order[j];
         if (kinv[i] == 0.0 || P.fn[i] == 0.0) continue;
         const int32_t* node = P.node + 6 * i;
         const double* nc = P.nc + 3 * i;

@@ -43,9 +43,10 @@ class DeviceFriction {
   double time_per_run(int repeats);  // [s], device events
   FrictionFields fields();
   int32_t candidates() const;
-  // How many of a touching pair's earlier neighbours the colouring keeps in a
-  // list (0 to the most, kEarlier in friction.cu); a pair with more walks its
-  // nodes each round. Fewer only to test that walk: the colours are the same.
+  // How many of a touching pair's earlier neighbours on each of its nodes the
+  // colouring keeps in a list (0 to the most, kEarlier in friction.cu); a node
+  // with more is walked each round. Fewer only to test that walk: the colours
+  // are the same.
   void set_earlier_list(int32_t n);
 
  private:

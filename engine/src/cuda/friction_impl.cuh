@@ -47,13 +47,13 @@ struct DeviceFriction::Impl {
   // the touching pairs of a launch (compact_kernel): tp[s] the candidate of
   // slot s, slot_of[tp[s]] = s; per slot and node (6 s + k) the slots of its
   // earlier neighbours there (kEarlier each) and their count (-1: more); per
-  // slot its warm start; counts = {colours, rounds, touching pairs}
+  // candidate its warm start; counts = {colours, rounds, touching pairs}
   DeviceArray<int32_t> tp, slot_of, earlier, n_earlier;
-  // after the colouring: each slot's colour, the slots colour by colour
-  // (order), and where colour c starts in it (colour_start[c], c <= colours)
+  // after the colouring: each slot's colour, the touching candidates colour
+  // by colour (order), and where colour c starts in it (colour_start[c], c <= colours)
   DeviceArray<int32_t> slot_colour, order, colour_start;
   DeviceArray<double> warm;
-  int32_t earlier_list = 0;  // kept in a list per pair (DeviceFriction::set_earlier_list)
+  int32_t earlier_list = 0;  // kept in a list per pair and node (DeviceFriction::set_earlier_list)
   DeviceArray<uint64_t> key, prev_key;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
