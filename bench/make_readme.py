@@ -113,10 +113,26 @@ def paper_peak(d):
              f"from one rest state settled "
              f"with `{rest['numerics']}` ({rest['settle_time_s']:.3f} s simulated, indenter force at rest "
              f"{rest['F_at_rest_N_per_m']:.1f} N/m); errors against `{d['reference']}`."]
-            + [""] + table(["preset", "step", "F^m", "y_I at F^m", "mean F 0.1-0.5 / 0.5-1 / 1-"
-                            f"{d['travel_mm']:g} mm",
+            + [""] + table(["preset", "step", "F^m", "y_I at F^m", "mean F " + " / ".join(
+                                k[len("F_mean_"):-len("mm_kN_per_m")].replace("_", "-") for k in means) + " mm",
                             "bond points failed", "load steps", "load time", "time per step",
-                            "energy residual", "F^m error"], rows))
+                            "energy residual", "F^m error"], rows)
+            + paper_peak_against(d))
+
+
+def paper_peak_against(d):
+    """The same load on the other device from the same rest state
+    (bench/paper_peak.py --against), where one was given."""
+    if "against" not in d:
+        return []
+    g = d["against"]
+    return ["", f"The same `{g['preset']}` load from the same rest state run elsewhere ({g['processor']}, code "
+                f"{g['code_version']}, {g['created'][:10]}): F^m {g['F_m_kN_per_m']:.2f} kN/m at "
+                f"{g['y_I_peak_mm']:.2f} mm ({pct(g['F_m_rel_diff'])} and {g['y_I_peak_diff_mm']:.3f} mm from "
+                f"the run above), {g['n_failed']} bond points failed, {g['load_steps']:,} load steps in "
+                f"{g['wall_load_s'] / 3600:.2f} h ({g['wall_load_s'] / g['load_steps'] * 1e3:.2f} ms a step); "
+                f"the two force records part by at most {100 * g['largest_F_diff_of_peak']:.1f} % of the peak "
+                f"({'the same' if g['same_samples'] else 'other'} sample travels)."]
 
 
 def paper_run_cost(cost, peak):

@@ -39,6 +39,7 @@ the GPU's F^m of a preset is also checked against the CPU's (issue 28, item 2).
 import argparse
 import json
 import os
+import time
 
 import h5py
 import numpy as np
@@ -96,6 +97,8 @@ def measures(path, travel_mm):
                added_mass_fraction_end=float(r.attrs.get("added_mass_fraction_end", np.nan)),
                wall_load_s=float(r.attrs.get("wall_load_s", np.nan)))
     for a, b in ((0.1, 0.5), (0.5, 1.0), (1.0, travel_mm)):   # the plateau at the peak, and after
+        if b <= a:   # a load to 1 mm or less has no window after it
+            continue
         try:
             out[f"F_mean_{a:g}_{b:g}mm_kN_per_m"] = float(loads.mean_load(y, F, a * 1e-3, b * 1e-3)) / 1e3
         except ValueError:
@@ -105,6 +108,29 @@ def measures(path, travel_mm):
         e = f["energy"]
         out["energy_residual_rel"] = float(abs(e["residual"][-1]) / max(abs(e["work_boundary"][-1]), 1e-30))
     return out
+
+
+def against(path, rows, rest, travel_mm):
+    """The run in `path` (the same preset's load from the same rest state,
+    on the other device) against this device's run of that preset: its
+    measures, where it was made, and how far the two force records part."""
+    with h5py.File(path, "r") as f:
+        came_from, numerics = str(f.attrs.get("rest_state_from", "")), str(f.attrs.get("numerics", ""))
+        made = {k: str(f.attrs.get(k, "")) for k in ("code_version", "processor", "created", "engine_build")}
+    if os.path.basename(came_from) != os.path.basename(rest):
+        raise SystemExit(f"paper_peak: --against {path} was loaded from the rest state {came_from!r}, not {rest!r}")
+    mine = next((r for r in rows if r["name"] == numerics), None)
+    if mine is None:
+        raise SystemExit(f"paper_peak: --against {path} ran the preset {numerics!r}, which this run did not")
+    m = measures(path, travel_mm)
+    a, b = results.load(mine["file"]), results.load(path)
+    n = min(len(a.force_F), len(b.force_F))
+    same_y = bool(np.array_equal(np.asarray(a.force_y)[:n], np.asarray(b.force_y)[:n]))
+    dF = np.abs(np.asarray(a.force_F)[:n] - np.asarray(b.force_F)[:n])
+    return dict(file=path, preset=numerics, **made, **m, same_samples=same_y,
+                F_m_rel_diff=abs(m["F_m_kN_per_m"] - mine["F_m_kN_per_m"]) / mine["F_m_kN_per_m"],
+                y_I_peak_diff_mm=abs(m["y_I_peak_mm"] - mine["y_I_peak_mm"]),
+                largest_F_diff_of_peak=float(dF.max() / max(np.max(a.force_F), 1e-300)))
 
 
 def main(argv=None):
@@ -119,7 +145,12 @@ def main(argv=None):
     ap.add_argument("--settle-only", action="store_true", help="make the rest state (resumable) and stop")
     ap.add_argument("--rest", help="load from this rest state (a --settle-only checkpoint, e.g. the CPU's carried "
                                    "to a GPU) instead of settling here")
+    ap.add_argument("--against", metavar="RUN_H5",
+                    help="the same load of the same preset from the same rest state on the other device (e.g. the "
+                         "CPU's run beside a GPU's): its F^m and its force record's largest difference are added")
     a = ap.parse_args(argv)
+    if a.against and not os.path.exists(a.against):
+        raise SystemExit(f"paper_peak: --against {a.against}: no such file")
     if a.rest and not os.path.exists(a.rest):
         raise SystemExit(f"paper_peak: --rest {a.rest}: no such file (make it with --settle-only)")
     if a.rest and a.settle_only:
@@ -161,9 +192,12 @@ def main(argv=None):
                           F_at_rest_N_per_m=float(d["F_at_rest"]), dt=json.loads(d["params"])["dt"])
     out_json = OUT_JSON if a.device == "cpu" else OUT_JSON.replace(".json", f"_{a.device}.json")
     os.makedirs(os.path.dirname(out_json), exist_ok=True)
+    result = dict(ridge=a.ridge, travel_mm=a.travel_mm, rest_state=rest_attrs, reference=ref["name"],
+                  device=a.device, measured=time.strftime("%Y-%m-%d"), runs=rows)
+    if a.against:
+        result["against"] = against(a.against, rows, rest, a.travel_mm)
     with open(out_json, "w") as f:
-        json.dump(dict(ridge=a.ridge, travel_mm=a.travel_mm, rest_state=rest_attrs, reference=ref["name"],
-                       device=a.device, runs=rows), f, indent=1, default=float)
+        json.dump(result, f, indent=1, default=float)
     print(f"wrote {out_json} (errors against {ref['name']})")
     for r in rows:
         means = "  ".join(f"{k[7:-8]} {100 * v:5.2f} %" for k, v in r.items()

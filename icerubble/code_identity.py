@@ -72,8 +72,10 @@ def source_hash():
     return h.hexdigest()[:16]
 
 
+@functools.lru_cache(maxsize=None)
 def code_version():
-    """Package version plus the git commit of the checkout, if there is one:
+    """Package version plus the git commit of the checkout, if there is one,
+    once per process (as source_hash; both taken as the engine is loaded):
     for people to read; whether two codes compute alike is source_hash's
     (above)."""
     here = os.path.dirname(os.path.abspath(__file__))

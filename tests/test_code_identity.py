@@ -25,3 +25,17 @@ def test_any_statement_is_other_code():
 
 def test_the_source_hash_is_stable_within_a_process():
     assert source_hash() == source_hash() and len(source_hash()) == 16
+
+
+def test_the_code_identity_is_taken_as_the_engine_is_loaded():
+    # a run's files say which code computed them: taken as the compiled module
+    # is loaded, not at its first write, when a rebuild of the checkout during
+    # the run may have replaced the module file on disk (a CPU run of
+    # 2026-11-30 recorded a later build's hash and commit that way)
+    import subprocess
+    import sys
+    out = subprocess.run([sys.executable, "-c", "import icerubble.engine\n"
+                          "from icerubble import code_identity as c\n"
+                          "print(c.source_hash.cache_info().currsize, c.code_version.cache_info().currsize)"],
+                         capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["1", "1"]

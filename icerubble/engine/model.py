@@ -32,10 +32,17 @@ import numpy as np
 # run with threads=1.
 
 from icerubble import _engine  # noqa: E402
+from icerubble import code_identity  # noqa: E402
 from icerubble.openmp_threads import default_threads  # noqa: E402
 from icerubble import parameters as P  # noqa: E402
 
 from .bond_pairs import bond_pairs  # noqa: E402
+
+# Which code computes is fixed as the compiled module is loaded: a checkout
+# rebuilt while a run goes on (its module file replaced on disk) does not
+# change what the run's files say computed them (code_identity)
+code_identity.source_hash()
+code_identity.code_version()
 
 InstabilityError = _engine.InstabilityError
 # Where a model's steps run (Model(device=...), a study table's device
