@@ -32,7 +32,7 @@ import result_file
 from icerubble import _engine, parameters as P
 from icerubble.engine import gpu
 from icerubble.code_identity import code_version, source_hash
-from icerubble.machine import processor
+from icerubble.machine import cpu_topology, processor
 from icerubble.files.mesh_file import read_mesh
 from icerubble.run.presets import NUMERICS, scene
 from icerubble.run.scene_cache import scene_files
@@ -112,7 +112,7 @@ def main(argv=None):
         parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
         print(f"{k:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
     out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
-               n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(),
+               n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(), cpu_topology=cpu_topology(),
                code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None,
                complete=False)
     if a.loaded_steps > 0:

@@ -216,6 +216,18 @@ def time_vs_error(d):
             + ["", "A bar's wave:", ""] + table(["cells", "h (m)", "wave speed error"], wave))
 
 
+def cores_said(d):
+    """The machine's processors as the result records them: logical
+    processors only (cpu_count) before the topology was recorded."""
+    t = d.get("cpu_topology")
+    if not t:
+        return f"{d['cpu_count']} cores"
+    place = (f", OMP_PLACES={t['omp_places']} OMP_PROC_BIND={t['omp_proc_bind']}"
+             if t["omp_places"] or t["omp_proc_bind"] else "")
+    return (f"{t['logical']} logical processors on {t['cores']} cores as /proc/cpuinfo lists them "
+            f"({t['threads_per_core']:g} a core{place})")
+
+
 def gpu_body_forces(d):
     base = d["cpu"][0]
     rows = [[r["threads"], fmt(r["ms_per_step"]), f"{base['ms_per_step'] / r['ms_per_step']:.2f}",
@@ -223,7 +235,7 @@ def gpu_body_forces(d):
              fmt(r["elements_ms"]), fmt(r["drag_ms"]), fmt(r["contact_detection_ms"] + r["contact_forces_ms"]),
              fmt(r["integration_ms"])] for r in d["cpu"]]
     lines = [f"The {d['scene']} scene's mesh `{d['mesh']}` ({d['n_triangles']:,} triangles, {d['n_nodes']:,} nodes), "
-             f"load phase, `{d['preset']}` numerics, on {d['cpu_count']} cores"
+             f"load phase, `{d['preset']}` numerics, on {cores_said(d)}"
              + (" (the run was stopped before its end: what it measured up to then)" if d.get("complete") is False
                 else "") + ":", ""]
     lines += table(["threads", "ms per step", "speed-up", "efficiency", "elements (ms)", "of which drag",

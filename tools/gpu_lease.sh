@@ -33,6 +33,8 @@ cap() { local c=$1 l; l=$(left); [ "$l" -lt "$c" ] && c=$l; [ "$c" -lt 1 ] && c=
 export PYTHONUNBUFFERED=1 PATH="$PATH:/usr/local/cuda/bin" PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}"
 echo "== machine"; nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm,clocks.max.sm --format=csv
 nproc; command -v nvcc && nvcc --version | tail -2
+# two threads on one core read as poor scaling (the lease of 2026-11-30: 1.33x on 2 threads)
+command -v lscpu >/dev/null && lscpu | grep -E "^(Thread|Core|Socket|NUMA node\(s\)|Model name)" 
 echo "== build ($(left) s left)"
 PY="$PY" tools/gpu_build.sh "$BUILD" /tmp/gpu_build.log "$(cap 300)" || exit 1
 echo "built in $(( $(date +%s) - t0 )) s"
