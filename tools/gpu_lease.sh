@@ -69,6 +69,9 @@ if [ -f "$REST" ]; then
   echo "exit $? after $(( $(date +%s) - t0 )) s"; grep -v "^\s*$" "$OUT/paper_peak.log" | tail -8
   cp bench/results/paper_peak_cuda.json "$OUT/" 2>/dev/null
   cp "runs/bench/paper_peak/ridge1_${TRAVEL}mm_cuda/fast.h5" "$OUT/paper_fast_cuda.h5" 2>/dev/null
+  # a run the cap stopped left its checkpoint (in place of the two files above): a later lease
+  # carrying it back to that folder resumes it, where its build is byte for byte this one's
+  cp "runs/bench/paper_peak/ridge1_${TRAVEL}mm_cuda/fast.checkpoint.h5" "$OUT/" 2>/dev/null
 else
   echo "== the paper scene on the GPU, fast, to 20 mm ($(left) s left)"
   timeout "$(cap 9999)" "$PY" bench/gpu_paper_run.py --device cuda --preset fast --travel-mm 20 >"$OUT/paper_run.log" 2>&1
