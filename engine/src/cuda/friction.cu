@@ -41,7 +41,6 @@ namespace {
 constexpr int kBlock = 128;
 constexpr int kSolveThreads = kWideBlock;
 constexpr int kSweeps = 4;           // contact/friction.cpp's
-constexpr int32_t kNotTouching = -2; // a candidate's colour when it does not touch
 constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours listed per node (more: walked each round)
 // the colouring keeps its colours in shared memory up to this many touching
 // pairs (32 KB), in global memory beyond: a round then reads each earlier
@@ -85,23 +84,18 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 }
 
 // The touching candidates, compacted: tp[0, m) in ascending order (the CPU's
-// pair order), m in counts[2], and slot_of[c] = s where tp[s] = c (touching
-// candidates only); every candidate's colour reset (-1 touching,
-// kNotTouching not) and its lambda zeroed (the node sums read every
-// candidate's). One block: a lane counts a contiguous chunk, a scan over the
-// lanes places the chunks. The kernels after it visit the m touching pairs
+// pair order), m in counts[2], and slot_of[c] = s where tp[s] = c, and
+// lambda zeroed, for the touching candidates only: what the kernels after it
+// read of the others is their hit flag alone. One block: a lane counts a
+// contiguous chunk, a scan over the lanes places the chunks. The kernels after it visit the m touching pairs
 // alone: a step of the paper mesh has ~80-3,000 touching pairs among ~15,000
 // candidates, and a lane per candidate in one block made each colouring round
 // and each colour's sweep walk them all (bench/results/gpu_step_profile.json).
 __global__ void __launch_bounds__(kSolveThreads)
-    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* slot_of, int32_t* colour,
-                   double* lambda, int32_t* counts) {
+    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* slot_of, double* lambda,
+                   int32_t* counts) {
   if (halted(halt)) return;
   __shared__ int32_t scan[kSolveThreads];
-  for (int32_t c = threadIdx.x; c < n; c += kSolveThreads) {
-    colour[c] = hit[c] ? -1 : kNotTouching;
-    lambda[c] = 0.0;
-  }
   int32_t lo, hi;
   lane_chunk(n, lo, hi);
   int32_t own = 0;
@@ -111,6 +105,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   for (int32_t c = lo; c < hi; ++c)
     if (hit[c]) {
       slot_of[c] = at;
+      lambda[c] = 0.0;
       tp[at++] = c;
     }
   if (threadIdx.x == kSolveThreads - 1) counts[2] = upto;
@@ -463,8 +458,9 @@ __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const in
   double sx = f_pre_x[i], sy = f_pre_y[i];
   for (int32_t j = start[i]; j < start[i + 1]; ++j) {
     const int32_t e = entry[j], p = e / 6, k = e % 6;
+    if (!P.hit[p]) continue;  // a candidate that does not touch has none (its lambda is not set)
     const double lam = lambda[p];
-    if (lam == 0.0) continue;  // a candidate that does not touch has none
+    if (lam == 0.0) continue;
     const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
     if (k < 3) {
       sx += P.nc[3 * p + k] * tx;
@@ -490,7 +486,7 @@ void DeviceFriction::Impl::launch() {
   if (!predicted)
     launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, predict_arrays(), n_nodes);
   launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), slot_of.data(),
-                colour.data(), lambda.data(), counts.data());
+                lambda.data(), counts.data());
   if (n_cand)
     launch_kernel(prepare_kernel, blocks(6 * int64_t(n_cand)), kBlock, stream, halt, pairs(), tp.data(),
                   slot_of.data(), counts.data(), start.data(), entry.data(), prev_key.data(), prev_lambda.data(),
