@@ -38,8 +38,8 @@ def save(run, path, driver_attrs=None, shared=False):
             d.attrs[k] = v
         if run.recorder.meta.get("rest_state_shared"):   # the result names it after a resume too
             d.attrs["rest_state_shared_from"] = run.recorder.meta["rest_state_from"]
-            d.attrs["rest_state_code_version"] = run.recorder.meta["rest_state_code_version"]
-        for k in ("rest_state_code_version", "rest_state_source_hash"):   # a load from another run's rest
+        # the code that settled a shared rest state or another run's rest state this run loaded from
+        for k in ("rest_state_code_version", "rest_state_source_hash"):
             if k in run.recorder.meta:
                 d.attrs[k] = run.recorder.meta[k]
         d.attrs["params"] = json.dumps(run.params)

@@ -130,6 +130,37 @@ __device__ inline bool visit_earlier_on_node(int32_t p, uint64_t pp, int32_t v, 
   return true;
 }
 
+// What the colouring reads of the pairs' earlier neighbours: prepare_kernel's
+// lists (by slot), and the layout to walk a node whose list overflowed.
+struct EarlierNeighbours {
+  const int32_t* node;
+  const uint8_t* hit;
+  const uint64_t* key;
+  const int32_t *start, *entry, *slot_of, *earlier, *n_earlier;
+};
+
+// Slot s's (candidate p's, priority pp's) earlier neighbours from its node k
+// and that node's list entry j on (a walked node: from its start), each
+// one's slot given to see(e) until it returns false: false then, k and j
+// left where it stopped; true once all have been seen.
+template <class See>
+__device__ inline bool see_earlier(const EarlierNeighbours& E, int32_t s, int32_t p, uint64_t pp, int32_t& k,
+                                   int32_t& j, See see) {
+  for (; k < 6; ++k, j = 0) {
+    // n_earlier -1: more than the list holds; the node is walked (each time)
+    const int32_t count = E.n_earlier[6 * s + k];
+    if (count >= 0) {
+      const int32_t* list = E.earlier + int64_t(kEarlier) * (6 * s + k);
+      for (; j < count; ++j)
+        if (!see(list[j])) return false;
+    } else if (!visit_earlier_on_node(p, pp, E.node[6 * p + k], E.hit, E.key, E.start, E.entry,
+                                      [&](int32_t q) { return see(E.slot_of[q]); })) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Per touching pair (slot s < m, candidate p = tp[s]) and node k of its six,
 // what does not change while it is coloured and solved: the slots of its
 // earlier neighbours on that node (up to kEarlier, at 6 s + k; a pair sharing
@@ -177,9 +208,7 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 // The colours are kept by slot in shared memory (up to kSharedSlots pairs;
 // slot_colour beyond), then written by candidate (colour_out) and by slot.
 __global__ void __launch_bounds__(kSolveThreads)
-    colour_kernel(const int32_t* halt, const int32_t* node, const uint8_t* hit, const uint64_t* key,
-                  const int32_t* start, const int32_t* entry, const int32_t* tp, const int32_t* slot_of,
-                  const int32_t* earlier, const int32_t* n_earlier, int32_t* colour_out, int32_t* counts,
+    colour_kernel(const int32_t* halt, EarlierNeighbours E, const int32_t* tp, int32_t* colour_out, int32_t* counts,
                   int32_t* slot_colour, int32_t* order, int32_t* colour_start) {
   if (halted(halt)) return;
   __shared__ int32_t most[kSolveThreads];
@@ -197,7 +226,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   uint64_t pp0 = 0, seen0 = 0;
   if (s0 < m) {
     p0 = tp[s0];
-    pp0 = friction_priority(key[p0]);
+    pp0 = friction_priority(E.key[p0]);
   }
   __syncthreads();
   int32_t rounds = 0;
@@ -207,33 +236,12 @@ __global__ void __launch_bounds__(kSolveThreads)
     for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
       if (colour[s] != -1) continue;
       if (s == s0) {
-        bool ready = true;
-        while (at_k < 6 && ready) {
-          const int32_t count = n_earlier[6 * s + at_k];
-          if (count >= 0) {
-            const int32_t* list = earlier + int64_t(kEarlier) * (6 * s + at_k);
-            for (; at_j < count; ++at_j) {
-              const int32_t c = colour[list[at_j]];
-              if (c < 0) {
-                ready = false;
-                break;
-              }
-              if (c < 64) seen0 |= uint64_t(1) << c;
-            }
-          } else {  // more than the list holds: the node walked whole until all there have a colour
-            uint64_t t = 0;
-            ready = visit_earlier_on_node(p0, pp0, node[6 * p0 + at_k], hit, key, start, entry, [&](int32_t q) {
-              const int32_t c = colour[slot_of[q]];
-              if (c >= 0 && c < 64) t |= uint64_t(1) << c;
-              return c >= 0;
-            });
-            if (ready) seen0 |= t;
-          }
-          if (ready) {
-            ++at_k;
-            at_j = 0;
-          }
-        }
+        // a colour, once written, is final: the bits seen stay right
+        const bool ready = see_earlier(E, s, p0, pp0, at_k, at_j, [&](int32_t e) {
+          const int32_t c = colour[e];
+          if (c >= 0 && c < 64) seen0 |= uint64_t(1) << c;
+          return c >= 0;
+        });
         if (!ready) {
           waiting = 1;
           continue;
@@ -245,27 +253,17 @@ __global__ void __launch_bounds__(kSolveThreads)
         // colours 0-63 all taken: the scan below finds its colour from 64 up
       }
       const int32_t p = tp[s];
-      const uint64_t pp = friction_priority(key[p]);
+      const uint64_t pp = friction_priority(E.key[p]);
       bool ready = true;
       for (int32_t base = 0; ready; base += 64) {
         uint64_t taken = 0;
+        int32_t k = 0, j = 0;
         // an earlier neighbour's colour (slot e): false (stop) while it has none
-        const auto see = [&](int32_t e) {
+        ready = see_earlier(E, s, p, pp, k, j, [&](int32_t e) {
           const int32_t c = colour[e];
           if (c >= base && c < base + 64) taken |= uint64_t(1) << (c - base);
           return c >= 0;
-        };
-        for (int k = 0; k < 6 && ready; ++k) {
-          // n_earlier -1: more than the list holds; the node is walked (each round)
-          const int32_t count = n_earlier[6 * s + k];
-          if (count >= 0) {
-            const int32_t* list = earlier + int64_t(kEarlier) * (6 * s + k);
-            for (int32_t j = 0; j < count && ready; ++j) ready = see(list[j]);
-          } else {
-            ready = visit_earlier_on_node(p, pp, node[6 * p + k], hit, key, start, entry,
-                                          [&](int32_t q) { return see(slot_of[q]); });
-          }
-        }
+        });
         if (ready && ~taken) {
           colour[s] = base + __ffsll((long long)~taken) - 1;
           break;
@@ -492,9 +490,10 @@ void DeviceFriction::Impl::launch() {
                   slot_of.data(), counts.data(), start.data(), entry.data(), prev_key.data(), prev_lambda.data(),
                   n_prev, mu, imx.data(), imy.data(), earlier_list, earlier.data(), n_earlier.data(), kinv.data(),
                   warm.data());
-  launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, node.data(), hit.data(), key.data(), start.data(),
-                entry.data(), tp.data(), slot_of.data(), earlier.data(), n_earlier.data(), colour.data(),
-                counts.data(), slot_colour.data(), order.data(), colour_start.data());
+  const EarlierNeighbours E{node.data(),    hit.data(),     key.data(),     start.data(),
+                            entry.data(),   slot_of.data(), earlier.data(), n_earlier.data()};
+  launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, E, tp.data(), colour.data(), counts.data(),
+                slot_colour.data(), order.data(), colour_start.data());
   launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
                 lambda.data(), power.data());

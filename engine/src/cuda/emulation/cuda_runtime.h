@@ -106,7 +106,6 @@ inline void __syncthreads() { cuda_emu::syncthreads(); }
 inline int __syncthreads_or(int predicate) { return cuda_emu::syncthreads_or(predicate); }
 inline int __ffsll(long long x) { return __builtin_ffsll(x); }
 // a kernel's assertion: the emulation stops with the message a GPU's launch error stands for
-void trap();
 [[noreturn]] inline void __trap() {
   cuda_emu::trap();
   __builtin_unreachable();
