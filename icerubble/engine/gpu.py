@@ -341,7 +341,9 @@ def compare_friction(model, earlier_list=None):
     (summed in another order: relative to the power's scale, sum |lambda| times
     the largest node speed), 'pairs' (touching: CPU, GPU), 'colours' (CPU, GPU), 'colour' (pairs
     the GPU's colouring put in another colour than the CPU's), 'rounds' (the
-    GPU colouring's parallel rounds) and 'ok'. earlier_list: how many of a
+    GPU colouring's parallel rounds), 'again' (a second run from the same
+    state gives the same bits), 'colourings' (made by the two runs: the
+    second keeps the first's) and 'ok'. earlier_list: how many of a
     pair's earlier neighbours on each node the GPU's colouring keeps listed
     (None: its default; fewer makes more nodes walked, to test that walk)."""
     model.evaluate()
@@ -351,6 +353,10 @@ def compare_friction(model, earlier_list=None):
         stage._d.set_earlier_list(int(earlier_list))
     stage.run()
     gpu = stage.fields()
+    # run again from the same state: the touching pairs are the colouring's,
+    # which is kept, and the forces are the same bits
+    stage.run()
+    again = stage.fields()
     free_x = (cpu["constrained"] & 1) == 0
     free_y = (cpu["constrained"] & 2) == 0
     out = differences(dict(lambda_=cpu["lambda"], f_x=cpu["f_x"][free_x], f_y=cpu["f_y"][free_y]),
@@ -365,7 +371,10 @@ def compare_friction(model, earlier_list=None):
     out["power_rel"] = abs(gpu["power"] - cpu["power"]) / scale
     out["pairs"] = (len(cpu["lambda"]), len(gpu["lambda"]))
     out["colours"] = (int(cpu["colours"]), int(gpu["colours"]))
+    out["colourings"] = int(again["colourings"])
+    out["again"] = all(np.array_equal(gpu[k], again[k]) for k in ("lambda", "f_x", "f_y", "colour", "power"))
     out["ok"] = (all(out[k][0] == 0 for k in ("lambda", "f_x", "f_y")) and out["power_rel"] <= ROUND_OFF
+                 and out["again"] and out["colourings"] == 1
                  and out["pairs"][0] == out["pairs"][1] and out["colours"][0] == out["colours"][1]
                  and out["colour"] == 0)
     return out
@@ -431,6 +440,12 @@ class Steps:
         return self._d.graph_instantiations
 
     @property
+    def colourings(self):
+        """Times friction coloured its touching pairs: a step whose touching
+        pairs are those of the colouring before keeps it (cuda/friction.cu)."""
+        return self._d.colourings
+
+    @property
     def graph_updates(self):
         """A batch's graph captured again and put into the executable graph in
         place (cudaGraphExecUpdate: the same launches, other arrays or sizes)."""
@@ -485,6 +500,7 @@ def compare_steps(make_model, n, nodes=None):
     out["graph_instantiations"], out["graph_updates"] = steps.graph_instantiations, steps.graph_updates
     out["cpu_list_builds"] = builds
     out["remakes"] = steps.remakes
+    out["colourings"] = steps.colourings
 
     def state(m):
         xy, v = m.positions, m.velocities

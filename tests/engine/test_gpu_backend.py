@@ -98,6 +98,8 @@ def test_the_gpu_friction_is_the_cpus(seed, earlier_list):
     assert cmp["colour"] == 0  # the GPU's parallel colouring is the CPU's greedy one
     assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
     assert cmp["power_rel"] <= gpu.ROUND_OFF
+    # a second run with the same touching pairs keeps the colouring, same bits
+    assert cmp["again"] and cmp["colourings"] == 1, cmp
 
 
 @on_gpu_or_emulation
@@ -110,6 +112,7 @@ def test_the_gpu_friction_of_more_pairs_than_shared_memory_holds_is_the_cpus():
     assert cmp["colours"][0] == cmp["colours"][1] and cmp["colour"] == 0
     assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
     assert cmp["power_rel"] <= gpu.ROUND_OFF
+    assert cmp["again"] and cmp["colourings"] == 1, cmp
 
 
 @on_gpu_or_emulation
@@ -150,6 +153,9 @@ def test_the_friction_warm_start_crosses_a_list_rebuild_on_the_gpu():
     # carried over by key (dropping it at the rebuild fails this test)
     cmp = gpu.compare_steps(lambda: landing_block_and_a_flyer(np.random.default_rng(4)), 4000, nodes="slab_bottom")
     assert cmp["list_rebuilds"] >= 5 and cmp["host_steps"] == 0, cmp
+    # the resting block's touching pairs stay for many steps, and the colouring
+    # with them: coloured again after a change of them or a rebuild only
+    assert cmp["list_rebuilds"] < cmp["colourings"] < 4000 // 4, cmp
     # rebuilt where the CPU rebuilds it (its first list is the GPU's starting one)
     assert cmp["list_rebuilds"] == cmp["cpu_list_builds"] - 1, cmp
     # each rebuild's graph captured again; the launches stay the same, so on

@@ -272,6 +272,7 @@ void bind_device(py::module_& m) {
         out["colour"] = as_array(f.colour);
         out["colours"] = f.colours;
         out["rounds"] = f.rounds;
+        out["colourings"] = f.colourings;
         return out;
       });
   py::class_<DeviceStep>(m, "DeviceStep")
@@ -292,6 +293,7 @@ void bind_device(py::module_& m) {
       .def_property_readonly("list_rebuilds", &DeviceStep::list_rebuilds)
       .def_property_readonly("graph_instantiations", &DeviceStep::graph_instantiations)
       .def_property_readonly("graph_updates", &DeviceStep::graph_updates)
+      .def_property_readonly("colourings", &DeviceStep::colourings)
       .def_property_readonly("list_seconds", &DeviceStep::list_seconds);
   py::class_<DeviceNodeUpdate>(m, "DeviceNodeUpdate")
       .def(py::init<const Model&>(), py::arg("model"))

@@ -272,6 +272,11 @@ struct DeviceStep::Impl {
   bool graph_stale = false;
   // captures put into the executable graph in place, and instantiated afresh
   int64_t graph_updates = 0, graph_instantiations = 0;
+  // friction's colourings made by the stages released so far (their own count goes with them)
+  int64_t colourings_before = 0;
+  int64_t colourings() const {
+    return colourings_before + (friction ? int64_t(friction->impl_->counts.download()[c_colourings]) : 0);
+  }
 
   DeviceBodyForces::Impl& f() { return *forces->impl_; }
   DeviceNodeUpdate::Impl& u() { return *update->impl_; }
@@ -354,6 +359,7 @@ struct DeviceStep::Impl {
     Stopwatch sw(make_seconds);
     const Model& cm = *model;
     ++remakes;
+    colourings_before = colourings();  // (not in release_stages: the destructor's must not throw)
     release_stages();
     // the boundary conditions: a node split off a held or driven node is held or driven too
     bcs = cm.boundary_conditions();
@@ -787,6 +793,7 @@ struct DeviceStep::Impl {
       const int32_t m = bp().search(U.x.data(), U.y.data(), LayoutArrays{&N.node, &R.key, &N.start, &N.entry}, skin);
       N.size_pairs(size_t(m));
       R.size_pairs(size_t(m));
+      R.forget_colouring();
       DeviceArray<double> lambda(static_cast<size_t>(m));
       if (m) launch_kernel(carry_warm_start_kernel, blocks(m), kBlock, stream, R.key.data(), m, old_key.data(), n_old,
                            R.prev_lambda.data(), lambda.data());
@@ -994,6 +1001,7 @@ double DeviceStep::list_seconds() const { return impl_->list_seconds; }
 int64_t DeviceStep::remakes() const { return impl_->remakes - 1; }  // the first making is not a remake
 int64_t DeviceStep::graph_instantiations() const { return impl_->graph_instantiations; }
 int64_t DeviceStep::graph_updates() const { return impl_->graph_updates; }
+int64_t DeviceStep::colourings() const { return impl_->colourings(); }
 const EnergyLedger& DeviceStep::energy() const { return impl_->energy; }
 
 }  // namespace engine

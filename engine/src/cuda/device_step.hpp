@@ -75,6 +75,10 @@ class DeviceStep {
   // launches are the same (cudaGraphExecUpdate).
   int64_t graph_instantiations() const;
   int64_t graph_updates() const;
+  // Times friction coloured its touching pairs since this was made: a step
+  // whose touching pairs are those of the colouring before keeps it
+  // (cuda/friction.cu), so fewer than the steps with contact.
+  int64_t colourings() const;
   double make_seconds() const;
   const EnergyLedger& energy() const;
 

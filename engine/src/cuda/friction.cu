@@ -84,31 +84,43 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 }
 
 // The touching candidates, compacted: tp[0, m) in ascending order (the CPU's
-// pair order), m in counts[2], and slot_of[c] = s where tp[s] = c, and
+// pair order), m in counts[c_touching], and slot_of[c] = s where tp[s] = c, and
 // lambda zeroed, for the touching candidates only: what the kernels after it
 // read of the others is their hit flag alone. One block: a lane counts a
 // contiguous chunk, a scan over the lanes places the chunks. The kernels after it visit the m touching pairs
 // alone: a step of the paper mesh has ~80-3,000 touching pairs among ~15,000
 // candidates, and a lane per candidate in one block made each colouring round
 // and each colour's sweep walk them all (bench/results/gpu_step_profile.json).
+// It also says whether these are the touching pairs of the colouring kept
+// from a step before (coloured_tp, counts[c_coloured]; c_same): the colours
+// are then that colouring's, which prepare_kernel and colour_kernel leave as
+// they are (the touching set of a pile in the load phase changes once in
+// hundreds of steps; the colouring was the step's largest kernel).
 __global__ void __launch_bounds__(kSolveThreads)
-    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, int32_t* tp, int32_t* slot_of, double* lambda,
-                   int32_t* counts) {
+    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, const int32_t* coloured_tp, int32_t* tp,
+                   int32_t* slot_of, double* lambda, int32_t* counts) {
   if (halted(halt)) return;
   __shared__ int32_t scan[kSolveThreads];
+  const int32_t kept = counts[c_coloured];  // -1: no colouring kept
   int32_t lo, hi;
   lane_chunk(n, lo, hi);
   int32_t own = 0;
   for (int32_t c = lo; c < hi; ++c) own += hit[c] ? 1 : 0;
   const int32_t upto = block_inclusive_scan<kSolveThreads>(own, scan);
   int32_t at = upto - own;
+  int differs = 0;
   for (int32_t c = lo; c < hi; ++c)
     if (hit[c]) {
       slot_of[c] = at;
       lambda[c] = 0.0;
+      differs |= at >= kept || coloured_tp[at] != c;
       tp[at++] = c;
     }
-  if (threadIdx.x == kSolveThreads - 1) counts[2] = upto;
+  differs = __syncthreads_or(differs);
+  if (threadIdx.x == kSolveThreads - 1) {
+    counts[c_touching] = upto;
+    counts[c_same] = !differs && upto == kept;
+  }
 }
 
 // A touching candidate's neighbours are the touching candidates of the
@@ -177,18 +189,21 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
   if (halted(halt)) return;
   const int64_t t = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
   const int32_t s = int32_t(t / 6), k = int32_t(t % 6);
-  if (s >= counts[2]) return;
+  if (s >= counts[c_touching]) return;
   const int32_t p = tp[s];
+  // the colouring kept (compact_kernel): its lists are not read again
+  const bool listing = !counts[c_same];
+  if (!listing && k > 1) return;
   int32_t* list = earlier + int64_t(kEarlier) * t;
   int32_t count = 0;
-  const bool all = visit_earlier_on_node(p, friction_priority(P.key[p]), P.node[6 * p + k], P.hit, P.key, start, entry,
+  const bool all = !listing || visit_earlier_on_node(p, friction_priority(P.key[p]), P.node[6 * p + k], P.hit, P.key, start, entry,
                                          [&](int32_t q) {
                                            // more than the list holds: the colouring walks the node itself
                                            if (count == listed) return false;
                                            list[count++] = slot_of[q];
                                            return true;
                                          });
-  n_earlier[t] = all ? count : -1;
+  if (listing) n_earlier[t] = all ? count : -1;
   if (k > 1) return;
   const double km = friction_inverse_mass(P.node + 6 * p, P.nc + 3 * p, P.nt + 3 * p, P.nx[p], P.ny[p], imx, imy);
   if (k == 0) {
@@ -207,13 +222,16 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 // smallest colour none of its earlier neighbours has once they all have one.
 // The colours are kept by slot in shared memory (up to kSharedSlots pairs;
 // slot_colour beyond), then written by candidate (colour_out) and by slot.
+// Where the touching pairs are those of the colouring kept (counts[c_same]),
+// its outputs stand and nothing is done; otherwise the new colouring's pairs
+// are kept with it (coloured_tp, counts[c_coloured]).
 __global__ void __launch_bounds__(kSolveThreads)
     colour_kernel(const int32_t* halt, EarlierNeighbours E, const int32_t* tp, int32_t* colour_out, int32_t* counts,
-                  int32_t* slot_colour, int32_t* order, int32_t* colour_start) {
-  if (halted(halt)) return;
+                  int32_t* slot_colour, int32_t* order, int32_t* colour_start, int32_t* coloured_tp) {
+  if (halted(halt) || counts[c_same]) return;
   __shared__ int32_t most[kSolveThreads];
   __shared__ int32_t shared_colour[kSharedSlots];
-  const int32_t m = counts[2];
+  const int32_t m = counts[c_touching];
   volatile int32_t* colour = m <= kSharedSlots ? shared_colour : slot_colour;
   for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) colour[s] = -1;
   // The lane's first slot (its only one where m <= the block's lanes) keeps
@@ -282,6 +300,7 @@ __global__ void __launch_bounds__(kSolveThreads)
     const int32_t c = colour[s];
     slot_colour[s] = c;
     colour_out[tp[s]] = c;
+    coloured_tp[s] = tp[s];
     most_own = max(most_own, c);
   }
   most[threadIdx.x] = most_own;
@@ -292,8 +311,10 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   const int32_t colours = most[0] + 1;
   if (threadIdx.x == 0) {
-    counts[0] = colours;
-    counts[1] = rounds;
+    counts[c_colours] = colours;
+    counts[c_rounds] = rounds;
+    counts[c_coloured] = m;
+    ++counts[c_colourings];
   }
   __syncthreads();  // `most` is the counters' buffer from here
   // The slots colour by colour: the sweeps then visit a colour's pairs alone.
@@ -380,7 +401,7 @@ __global__ void __launch_bounds__(kSolveThreads)
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
   __shared__ int32_t starts[kSolveThreads + 1];
-  const int32_t colours = counts[0], m = counts[2];
+  const int32_t colours = counts[c_colours], m = counts[c_touching];
   const int32_t* cs = colour_start;
   if (colours <= kSolveThreads) {  // the colours' bounds, read every pass: from shared memory
     for (int32_t c = threadIdx.x; c <= colours; c += kSolveThreads) starts[c] = colour_start[c];
@@ -483,8 +504,8 @@ void DeviceFriction::Impl::launch() {
   }
   if (!predicted)
     launch_kernel(predict_kernel, blocks(n_nodes), kBlock, stream, halt, predict_arrays(), n_nodes);
-  launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, tp.data(), slot_of.data(),
-                lambda.data(), counts.data());
+  launch_kernel(compact_kernel, 1, kSolveThreads, stream, halt, hit.data(), n_cand, coloured_tp.data(), tp.data(),
+                slot_of.data(), lambda.data(), counts.data());
   if (n_cand)
     launch_kernel(prepare_kernel, blocks(6 * int64_t(n_cand)), kBlock, stream, halt, pairs(), tp.data(),
                   slot_of.data(), counts.data(), start.data(), entry.data(), prev_key.data(), prev_lambda.data(),
@@ -493,7 +514,7 @@ void DeviceFriction::Impl::launch() {
   const EarlierNeighbours E{node.data(),    hit.data(),     key.data(),     start.data(),
                             entry.data(),   slot_of.data(), earlier.data(), n_earlier.data()};
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, E, tp.data(), colour.data(), counts.data(),
-                slot_colour.data(), order.data(), colour_start.data());
+                slot_colour.data(), order.data(), colour_start.data(), coloured_tp.data());
   launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
                 lambda.data(), power.data());
@@ -513,6 +534,7 @@ void DeviceFriction::Impl::size_pairs(size_t n) {
   tp.resize(n);
   slot_of.resize(n);
   slot_colour.resize(n);
+  coloured_tp.resize(n);
   order.resize(n);
   colour_start.resize(n + 1);  // at most as many colours as touching pairs
   n_earlier.resize(6 * n);
@@ -541,7 +563,9 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.f_pre_x.upload(N.f_pre_x);
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
-  d.counts.resize(3);
+  std::vector<int32_t> counts(n_friction_counts, 0);
+  counts[c_coloured] = -1;  // no colouring kept
+  d.counts.upload(counts);
   d.earlier_list = kEarlier;
   const std::vector<uint64_t>& wk = C.warm_start_keys();
   const std::vector<double>& wl = C.warm_start_forces();
@@ -565,6 +589,11 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
     d.n_prev = int64_t(L.key.size());
   }
   d.power.resize(1);
+}
+
+void DeviceFriction::Impl::forget_colouring() {
+  // -1 in every byte: the int32 -1
+  cuda_check(cudaMemsetAsync(counts.data() + c_coloured, 0xff, sizeof(int32_t), stream), "memset");
 }
 
 DeviceFriction::~DeviceFriction() {
@@ -604,8 +633,9 @@ FrictionFields DeviceFriction::fields() {
   }
   f.power = d.power.download()[0];
   const std::vector<int32_t> counts = d.counts.download();
-  f.colours = counts[0];
-  f.rounds = counts[1];
+  f.colours = counts[c_colours];
+  f.rounds = counts[c_rounds];
+  f.colourings = counts[c_colourings];
   return f;
 }
 

@@ -22,6 +22,8 @@ struct FrictionFields {
   std::vector<int32_t> colour;   // the sweeps' colour per touching pair, coloured on the GPU
   int32_t colours = 0;
   int32_t rounds = 0;            // the colouring's parallel rounds
+  int32_t colourings = 0;        // colourings made by the runs so far (a run whose touching pairs are the
+                                 // last colouring's keeps it)
 };
 
 class DeviceFriction {

@@ -36,6 +36,13 @@ struct FrictionPairArrays {
   const uint64_t* key;
 };
 
+// What the friction kernels leave in `counts` for the kernels after them and
+// for the host: the colours and the colouring's rounds, the touching pairs
+// (m), the touching pairs of the colouring kept (-1: none kept; its pairs in
+// coloured_tp), whether this launch's touching pairs are those (1: the kept
+// colouring is used), and how many colourings were made.
+enum FrictionCount : int32_t { c_colours, c_rounds, c_touching, c_coloured, c_same, c_colourings, n_friction_counts };
+
 struct DeviceFriction::Impl {
   int32_t n_nodes = 0, n_cand = 0;
   int64_t n_prev = 0;
@@ -47,8 +54,10 @@ struct DeviceFriction::Impl {
   // the touching pairs of a launch (compact_kernel): tp[s] the candidate of
   // slot s, slot_of[tp[s]] = s; per slot and node (6 s + k) the slots of its
   // earlier neighbours there (kEarlier each) and their count (-1: more); per
-  // candidate its warm start; counts = {colours, rounds, touching pairs}
+  // candidate its warm start; counts: FrictionCount
   DeviceArray<int32_t> tp, slot_of, earlier, n_earlier;
+  // the touching pairs (tp) of the colouring kept (FrictionCount c_coloured)
+  DeviceArray<int32_t> coloured_tp;
   // after the colouring: each slot's colour, the touching candidates colour
   // by colour (order), and where colour c starts in it (colour_start[c], c <= colours)
   DeviceArray<int32_t> slot_colour, order, colour_start;
@@ -79,6 +88,9 @@ struct DeviceFriction::Impl {
   // prev_lambda, n_prev) are the caller's (where the whole step's GPU search
   // writes them, cuda/device_step.cu)
   void size_pairs(size_t n);
+  // The colouring kept is not reused: the candidates were searched again
+  // (their indices name other pairs), on `stream`.
+  void forget_colouring();
 };
 
 }  // namespace engine

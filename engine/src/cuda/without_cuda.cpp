@@ -99,6 +99,7 @@ int64_t DeviceStep::graph_updates() const { no_gpu(); }
 double DeviceStep::host_step_seconds() const { no_gpu(); }
 double DeviceStep::make_seconds() const { no_gpu(); }
 int64_t DeviceStep::list_rebuilds() const { no_gpu(); }
+int64_t DeviceStep::colourings() const { no_gpu(); }
 double DeviceStep::list_seconds() const { no_gpu(); }
 const EnergyLedger& DeviceStep::energy() const { no_gpu(); }
 
