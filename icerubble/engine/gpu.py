@@ -331,7 +331,7 @@ class Friction(_Stage):
         return self._d.candidates
 
 
-def compare_friction(model, earlier_list=None):
+def compare_friction(model, earlier_list=None, shared_nodes=None):
     """Evaluate `model` on the CPU (which leaves the friction's warm start as
     it was), then solve the same friction on the GPU from the same candidate
     list and warm start (the GPU finds the touching pairs itself).
@@ -343,14 +343,20 @@ def compare_friction(model, earlier_list=None):
     the GPU's colouring put in another colour than the CPU's), 'rounds' (the
     GPU colouring's parallel rounds), 'again' (a second run from the same
     state gives the same bits), 'colourings' (made by the two runs: the
-    second keeps the first's) and 'ok'. earlier_list: how many of a
+    second keeps the first's), 'local_nodes' and 'ok'. earlier_list: how many of a
     pair's earlier neighbours on each node the GPU's colouring keeps listed
-    (None: its default; fewer makes more nodes walked, to test that walk)."""
+    (None: its default; fewer makes more nodes walked, to test that walk).
+    shared_nodes: how many of the touching pairs' nodes the sweeps may keep in
+    shared memory (None: its default; fewer than they have: the sweeps read
+    the nodes' arrays, to test that path); 'local_nodes' says how many they
+    kept (-1: none)."""
     model.evaluate()
     cpu = _engine.friction_fields(model._m)
     stage = Friction(model)
     if earlier_list is not None:
         stage._d.set_earlier_list(int(earlier_list))
+    if shared_nodes is not None:
+        stage._d.set_shared_nodes(int(shared_nodes))
     stage.run()
     gpu = stage.fields()
     # run again from the same state: the touching pairs are the colouring's,
@@ -372,6 +378,7 @@ def compare_friction(model, earlier_list=None):
     out["pairs"] = (len(cpu["lambda"]), len(gpu["lambda"]))
     out["colours"] = (int(cpu["colours"]), int(gpu["colours"]))
     out["colourings"] = int(again["colourings"])
+    out["local_nodes"] = int(gpu["local_nodes"])
     out["again"] = all(np.array_equal(gpu[k], again[k]) for k in ("lambda", "f_x", "f_y", "colour", "power"))
     out["ok"] = (all(out[k][0] == 0 for k in ("lambda", "f_x", "f_y")) and out["power_rel"] <= ROUND_OFF
                  and out["again"] and out["colourings"] == 1

@@ -88,11 +88,17 @@ def test_the_gpu_cohesive_forces_are_the_cpus(direction):
 
 @on_gpu_or_emulation
 @pytest.mark.parametrize("seed", [3, 8])
-@pytest.mark.parametrize("earlier_list", [None, 1, 0])
-def test_the_gpu_friction_is_the_cpus(seed, earlier_list):
+@pytest.mark.parametrize("earlier_list,shared_nodes", [(None, None), (1, None), (0, None), (None, 0)])
+def test_the_gpu_friction_is_the_cpus(seed, earlier_list, shared_nodes):
     # earlier_list: the colouring's list of a pair's earlier neighbours, as
-    # built (None), or so short that some (1) or all (0) pairs walk their nodes
-    cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)), earlier_list=earlier_list)
+    # built (None), or so short that some (1) or all (0) pairs walk their nodes;
+    # shared_nodes 0: the sweeps read the nodes' arrays, not shared memory
+    cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)), earlier_list=earlier_list,
+                               shared_nodes=shared_nodes)
+    # (~90 pairs: the sweeps keep their nodes in shared memory on a GPU, whose
+    # block holds them all, unless told not to; the emulation's 32 lanes do not)
+    if shared_nodes == 0:
+        assert cmp["local_nodes"] == -1, cmp
     assert cmp["pairs"][0] > 10 and cmp["pairs"][0] == cmp["pairs"][1]   # the GPU finds the CPU's touching pairs
     assert cmp["colours"][0] > 1 and cmp["colours"][0] == cmp["colours"][1]
     assert cmp["colour"] == 0  # the GPU's parallel colouring is the CPU's greedy one
@@ -113,6 +119,23 @@ def test_the_gpu_friction_of_more_pairs_than_shared_memory_holds_is_the_cpus():
     assert (cmp["lambda"][0], cmp["f_x"][0], cmp["f_y"][0]) == (0, 0, 0)
     assert cmp["power_rel"] <= gpu.ROUND_OFF
     assert cmp["again"] and cmp["colourings"] == 1, cmp
+    assert cmp["local_nodes"] == -1, cmp  # more pairs than the sweeps' block holds: the nodes' arrays
+
+
+@on_gpu_or_emulation
+def test_the_gpu_friction_of_pairs_held_in_the_sweeps_lanes_is_the_cpus():
+    # a block landed on a slab: ~20 touching pairs, each held by a lane of the
+    # sweeps' block through every pass (HeldPair: the pairs at most the block's
+    # lanes, 32 on the emulation, 1,024 on a GPU), their nodes' velocities and
+    # inverse masses in shared memory; then allowed one node fewer than they
+    # have, so the held pairs read the nodes' arrays
+    model = landing_block_and_a_flyer(np.random.default_rng(3))
+    model.step(1000)
+    cmp = gpu.compare_friction(model)
+    n = cmp["local_nodes"]
+    assert 0 < cmp["pairs"][0] <= 32 and n > 0 and cmp["ok"], cmp
+    fewer = gpu.compare_friction(model, shared_nodes=n - 1)
+    assert fewer["local_nodes"] == -1 and fewer["ok"], fewer
 
 
 @on_gpu_or_emulation
@@ -120,6 +143,8 @@ def test_a_friction_list_length_out_of_range_is_refused():
     stage = gpu.Friction(rubbing_blocks(np.random.default_rng(3)))
     with pytest.raises(ValueError, match="earlier_list=17: valid values are 0 to 16"):
         stage._d.set_earlier_list(17)
+    with pytest.raises(ValueError, match="shared_nodes=-1: valid values are 0 to 1024"):
+        stage._d.set_shared_nodes(-1)
 
 
 @on_gpu_or_emulation

@@ -262,6 +262,7 @@ void bind_device(py::module_& m) {
            py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("candidates", &DeviceFriction::candidates)
       .def("set_earlier_list", &DeviceFriction::set_earlier_list, py::arg("n"))
+      .def("set_shared_nodes", &DeviceFriction::set_shared_nodes, py::arg("n"))
       .def("fields", [](DeviceFriction& d) {
         const FrictionFields f = d.fields();
         py::dict out;
@@ -273,6 +274,7 @@ void bind_device(py::module_& m) {
         out["colours"] = f.colours;
         out["rounds"] = f.rounds;
         out["colourings"] = f.colourings;
+        out["local_nodes"] = f.local_nodes;
         return out;
       });
   py::class_<DeviceStep>(m, "DeviceStep")

@@ -46,6 +46,12 @@ constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours lis
 // pairs (32 KB), in global memory beyond: a round then reads each earlier
 // neighbour's colour in tens of cycles, not a trip to L2
 constexpr int32_t kSharedSlots = 8192;
+// the sweeps keep the velocities and inverse masses of the touching pairs'
+// nodes in shared memory where they are at most this many (32 KB) and the
+// pairs at most the block's lanes (all held, HeldPair): a pass then reads
+// and writes them there, where each read went to the L2 cache after the
+// colour before had written them
+constexpr int32_t kSharedNodes = 1024;
 
 
 // Whether candidate c touches, and its contact point and normal force's
@@ -216,6 +222,48 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
   warm[p] = (at < 0 || km == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
 }
 
+// The touching pairs' nodes numbered in the order of their first (slot,
+// node), so the same for the same pairs (not in the order lanes reach them),
+// into L, and their count in counts[c_local]; -1 there where they are more
+// than L.most or the pairs more than the block's lanes (then the sweeps read
+// the nodes' arrays). `scan`: the block's buffer of kSolveThreads.
+__device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp, int32_t m, const LocalNodes& L,
+                                          int32_t* counts, int32_t* scan) {
+  if (m > kSolveThreads) {
+    if (threadIdx.x == 0) counts[c_local] = -1;
+    return;
+  }
+  const int32_t n6 = 6 * m;
+  for (int32_t t = threadIdx.x; t < n6; t += kSolveThreads) atomicMin(&L.first_of[node[6 * tp[t / 6] + t % 6]], t);
+  __syncthreads();
+  int32_t lo, hi;
+  lane_chunk(n6, lo, hi);
+  int32_t own = 0;
+  for (int32_t t = lo; t < hi; ++t) own += L.first_of[node[6 * tp[t / 6] + t % 6]] == t ? 1 : 0;
+  const int32_t upto = block_inclusive_scan<kSolveThreads>(own, scan);
+  if (threadIdx.x == kSolveThreads - 1) scan[0] = upto;  // the total, for every lane
+  __syncthreads();
+  const int32_t n_local = scan[0];
+  const bool fits = n_local <= L.most;
+  int32_t at = upto - own;
+  for (int32_t t = lo; t < hi; ++t) {
+    const int32_t v = node[6 * tp[t / 6] + t % 6];
+    if (L.first_of[v] != t) continue;
+    if (fits) L.node[at] = v;
+    L.node6[t] = at++;
+  }
+  __syncthreads();
+  // a (slot, node) takes its node's number from that node's first; the first's own entry is read as it is
+  for (int32_t t = threadIdx.x; t < n6; t += kSolveThreads) {
+    const int32_t f = L.first_of[node[6 * tp[t / 6] + t % 6]];
+    if (f != t) L.node6[t] = L.node6[f];
+  }
+  __syncthreads();
+  for (int32_t t = threadIdx.x; t < n6; t += kSolveThreads) L.first_of[node[6 * tp[t / 6] + t % 6]] = INT32_MAX;
+  if (threadIdx.x == 0) counts[c_local] = fits ? n_local : -1;
+  __syncthreads();  // `scan` is the caller's again
+}
+
 // A slot's colour is -1 until it is coloured; a colour, once written, is
 // final, so a lane that reads a neighbour's colour in the round it is written
 // sees either -1 (and waits a round) or the final value. A pair takes the
@@ -227,7 +275,8 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 // are kept with it (coloured_tp, counts[c_coloured]).
 __global__ void __launch_bounds__(kSolveThreads)
     colour_kernel(const int32_t* halt, EarlierNeighbours E, const int32_t* tp, int32_t* colour_out, int32_t* counts,
-                  int32_t* slot_colour, int32_t* order, int32_t* colour_start, int32_t* coloured_tp) {
+                  int32_t* slot_colour, int32_t* order, int32_t* colour_start, int32_t* coloured_tp,
+                  LocalNodes L) {
   if (halted(halt) || counts[c_same]) return;
   __shared__ int32_t most[kSolveThreads];
   __shared__ int32_t shared_colour[kSharedSlots];
@@ -317,6 +366,7 @@ __global__ void __launch_bounds__(kSolveThreads)
     ++counts[c_colourings];
   }
   __syncthreads();  // `most` is the counters' buffer from here
+  number_local_nodes(E.node, tp, m, L, counts, most);
   // The slots colour by colour: the sweeps then visit a colour's pairs alone.
   // Within a colour no two pairs share a node, so the sweeps' bits do not
   // depend on the order they take within it: each slot takes its place with
@@ -372,9 +422,10 @@ struct HeldPair {
 };
 
 __device__ inline void hold_pair(const FrictionPairArrays& P, int32_t i, const double* kinv, double warm,
-                                 HeldPair& h) {
+                                 const int32_t* node6, HeldPair& h) {
   h.i = i;
-  for (int k = 0; k < 6; ++k) h.node[k] = P.node[6 * i + k];
+  // node6: the pair's nodes' local numbers (solve_kernel's shared arrays), else the mesh's
+  for (int k = 0; k < 6; ++k) h.node[k] = node6 ? node6[k] : P.node[6 * i + k];
   for (int k = 0; k < 3; ++k) {
     h.nc[k] = P.nc[3 * i + k];
     h.nt[k] = P.nt[3 * i + k];
@@ -397,11 +448,29 @@ __global__ void __launch_bounds__(kSolveThreads)
     solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* order,
                  const int32_t* colour_start, const int32_t* counts, const double* warm, double mu, double dt,
                  const double* imx, const double* imy, double* wx, double* wy, const double* kinv, double* lambda,
-                 double* power) {
+                 double* power, LocalNodes L, const int32_t* slot_of) {
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
   __shared__ int32_t starts[kSolveThreads + 1];
+  __shared__ double local_wx[kSharedNodes], local_wy[kSharedNodes], local_imx[kSharedNodes], local_imy[kSharedNodes];
   const int32_t colours = counts[c_colours], m = counts[c_touching];
+  // the touching pairs' nodes in shared memory (number_local_nodes: every pair held)
+  const int32_t n_local = counts[c_local];
+  const bool local = n_local >= 0;
+  if (local) {
+    for (int32_t a = threadIdx.x; a < n_local; a += kSolveThreads) {
+      const int32_t v = L.node[a];
+      local_wx[a] = wx[v];
+      local_wy[a] = wy[v];
+      local_imx[a] = imx[v];
+      local_imy[a] = imy[v];
+    }
+  }
+  // what the held pairs' passes read and write: the same values, by local number or by node
+  double* const vx = local ? local_wx : wx;
+  double* const vy = local ? local_wy : wy;
+  const double* const ix = local ? local_imx : imx;
+  const double* const iy = local ? local_imy : imy;
   const int32_t* cs = colour_start;
   if (colours <= kSolveThreads) {  // the colours' bounds, read every pass: from shared memory
     for (int32_t c = threadIdx.x; c <= colours; c += kSolveThreads) starts[c] = colour_start[c];
@@ -410,7 +479,11 @@ __global__ void __launch_bounds__(kSolveThreads)
   }
   const int32_t own = threadIdx.x;
   HeldPair h;
-  if (own < m) hold_pair(P, order[own], kinv, warm[order[own]], h);
+  if (own < m) {
+    const int32_t i = order[own];
+    hold_pair(P, i, kinv, warm[i], local ? L.node6 + 6 * slot_of[i] : nullptr, h);
+  }
+  __syncthreads();  // the shared nodes loaded
   // this lane's first pair at or after a (j = its index modulo the block's size)
   const auto first = [&](int32_t a) {
     return a + int32_t((threadIdx.x + kSolveThreads - uint32_t(a) % kSolveThreads) % kSolveThreads);
@@ -421,7 +494,7 @@ __global__ void __launch_bounds__(kSolveThreads)
       if (j == own) {
         if (isnan(h.warm)) continue;
         h.lambda = h.warm;
-        friction_push(h.node, h.nc, h.nt, h.nx, h.ny, h.warm, dt, imx, imy, wx, wy);
+        friction_push(h.node, h.nc, h.nt, h.nx, h.ny, h.warm, dt, ix, iy, vx, vy);
         continue;
       }
       const int32_t i = order[j];
@@ -437,8 +510,8 @@ __global__ void __launch_bounds__(kSolveThreads)
         if (j == own) {
           if (h.kinv == 0.0 || h.fn == 0.0) continue;
           const double d =
-              friction_update(h.node, h.nc, h.nt, h.nx, h.ny, mu * h.fn, h.kinv, dt, wx, wy, h.lambda);
-          if (d != 0.0) friction_push(h.node, h.nc, h.nt, h.nx, h.ny, d, dt, imx, imy, wx, wy);
+              friction_update(h.node, h.nc, h.nt, h.nx, h.ny, mu * h.fn, h.kinv, dt, vx, vy, h.lambda);
+          if (d != 0.0) friction_push(h.node, h.nc, h.nt, h.nx, h.ny, d, dt, ix, iy, vx, vy);
           continue;
         }
         const int32_t i = order[j];
@@ -453,6 +526,12 @@ __global__ void __launch_bounds__(kSolveThreads)
     }
   }
   if (own < m) lambda[h.i] = h.lambda;
+  if (local) {  // the velocities back to the nodes (the power reads them there)
+    for (int32_t a = threadIdx.x; a < n_local; a += kSolveThreads) {
+      wx[L.node[a]] = local_wx[a];
+      wy[L.node[a]] = local_wy[a];
+    }
+  }
   __syncthreads();  // every held force is in lambda before the power reads it by slot
   // the power with the velocities the nodes will move with, summed in a fixed tree
   double p = 0.0;
@@ -495,6 +574,7 @@ __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const in
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
+
 }  // namespace
 
 void DeviceFriction::Impl::launch() {
@@ -514,10 +594,10 @@ void DeviceFriction::Impl::launch() {
   const EarlierNeighbours E{node.data(),    hit.data(),     key.data(),     start.data(),
                             entry.data(),   slot_of.data(), earlier.data(), n_earlier.data()};
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, E, tp.data(), colour.data(), counts.data(),
-                slot_colour.data(), order.data(), colour_start.data(), coloured_tp.data());
+                slot_colour.data(), order.data(), colour_start.data(), coloured_tp.data(), local_nodes());
   launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
-                lambda.data(), power.data());
+                lambda.data(), power.data(), local_nodes(), slot_of.data());
   launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(), lambda.data(),
                 f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
@@ -538,6 +618,7 @@ void DeviceFriction::Impl::size_pairs(size_t n) {
   order.resize(n);
   colour_start.resize(n + 1);  // at most as many colours as touching pairs
   n_earlier.resize(6 * n);
+  local_node6.resize(6 * n);
   warm.resize(n);
   earlier.resize(size_t(6 * kEarlier) * n);
 }
@@ -563,6 +644,9 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.f_pre_x.upload(N.f_pre_x);
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
+  d.first_of.upload(std::vector<int32_t>(size_t(d.n_nodes), INT32_MAX));  // number_local_nodes' between colourings
+  d.local_node.resize(size_t(kSharedNodes));
+  d.shared_nodes = kSharedNodes;
   std::vector<int32_t> counts(n_friction_counts, 0);
   counts[c_coloured] = -1;  // no colouring kept
   d.counts.upload(counts);
@@ -611,6 +695,14 @@ void DeviceFriction::set_earlier_list(int32_t n) {
   impl_->earlier_list = n;
 }
 
+void DeviceFriction::set_shared_nodes(int32_t n) {
+  if (n < 0 || n > kSharedNodes)
+    throw std::invalid_argument("shared_nodes=" + std::to_string(n) + ": valid values are 0 to " +
+                                std::to_string(kSharedNodes));
+  impl_->shared_nodes = n;
+  impl_->forget_colouring();  // the nodes are numbered with the colouring
+}
+
 double DeviceFriction::time_per_run(int repeats) {
   Impl& d = *impl_;
   return mean_launch_seconds(d.stream, repeats, [&] { d.launch(); });
@@ -636,6 +728,7 @@ FrictionFields DeviceFriction::fields() {
   f.colours = counts[c_colours];
   f.rounds = counts[c_rounds];
   f.colourings = counts[c_colourings];
+  f.local_nodes = counts[c_local];
   return f;
 }
 

@@ -24,6 +24,7 @@ struct FrictionFields {
   int32_t rounds = 0;            // the colouring's parallel rounds
   int32_t colourings = 0;        // colourings made by the runs so far (a run whose touching pairs are the
                                  // last colouring's keeps it)
+  int32_t local_nodes = 0;       // the touching pairs' nodes the sweeps kept in shared memory (-1: none)
 };
 
 class DeviceFriction {
@@ -50,6 +51,10 @@ class DeviceFriction {
   // with more is walked each round. Fewer only to test that walk: the colours
   // are the same.
   void set_earlier_list(int32_t n);
+  // How many of the touching pairs' nodes the sweeps may keep in shared
+  // memory (0 to the most, kSharedNodes in friction.cu; more: they read the
+  // nodes' arrays). Fewer only to test that path: the forces are the same.
+  void set_shared_nodes(int32_t n);
 
  private:
   friend class DeviceStep;  // the whole step runs the stage on its state (cuda/device_step.cu)

@@ -40,8 +40,23 @@ struct FrictionPairArrays {
 // for the host: the colours and the colouring's rounds, the touching pairs
 // (m), the touching pairs of the colouring kept (-1: none kept; its pairs in
 // coloured_tp), whether this launch's touching pairs are those (1: the kept
-// colouring is used), and how many colourings were made.
-enum FrictionCount : int32_t { c_colours, c_rounds, c_touching, c_coloured, c_same, c_colourings, n_friction_counts };
+// colouring is used), how many colourings were made, and how many nodes the
+// touching pairs have where the sweeps keep them in shared memory (-1: they
+// do not; made with the colouring).
+enum FrictionCount : int32_t {
+  c_colours, c_rounds, c_touching, c_coloured, c_same, c_colourings, c_local, n_friction_counts
+};
+
+// What the sweeps read of the touching pairs' nodes in shared memory
+// (friction.cu's solve_kernel): each such node's local index, by the pair's slot and node
+// (node6[6 s + k]), and the nodes in local order (node); first_of[v], the
+// first (slot, node) of node v, is INT32_MAX between colourings.
+struct LocalNodes {
+  int32_t* first_of;  // per node of the mesh
+  int32_t* node;      // per local index
+  int32_t* node6;     // per touching pair's (slot, node)
+  int32_t most;       // at most this many (kSharedNodes or fewer: DeviceFriction::set_shared_nodes)
+};
 
 struct DeviceFriction::Impl {
   int32_t n_nodes = 0, n_cand = 0;
@@ -58,6 +73,10 @@ struct DeviceFriction::Impl {
   DeviceArray<int32_t> tp, slot_of, earlier, n_earlier;
   // the touching pairs (tp) of the colouring kept (FrictionCount c_coloured)
   DeviceArray<int32_t> coloured_tp;
+  // the touching pairs' nodes numbered for the sweeps' shared memory
+  // (LocalNodes): per mesh node, per local number, per (slot, node)
+  DeviceArray<int32_t> first_of, local_node, local_node6;
+  int32_t shared_nodes = 0;  // at most this many (DeviceFriction::set_shared_nodes)
   // after the colouring: each slot's colour, the touching candidates colour
   // by colour (order), and where colour c starts in it (colour_start[c], c <= colours)
   DeviceArray<int32_t> slot_colour, order, colour_start;
@@ -77,6 +96,7 @@ struct DeviceFriction::Impl {
     return {mass.data(), constrained.data(), vx.data(), vy.data(), f_pre_x.data(), f_pre_y.data(), dt,
             imx.data(),  imy.data(),         wx.data(), wy.data()};
   }
+  LocalNodes local_nodes() { return {first_of.data(), local_node.data(), local_node6.data(), shared_nodes}; }
   FrictionPairArrays pairs() {
     return {node.data(), hit.data(), nc.data(), nt.data(), nx.data(), ny.data(), fn.data(), key.data()};
   }

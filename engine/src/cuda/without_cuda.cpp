@@ -83,6 +83,7 @@ double DeviceFriction::time_per_run(int) { no_gpu(); }
 FrictionFields DeviceFriction::fields() { no_gpu(); }
 int32_t DeviceFriction::candidates() const { no_gpu(); }
 void DeviceFriction::set_earlier_list(int32_t) { no_gpu(); }
+void DeviceFriction::set_shared_nodes(int32_t) { no_gpu(); }
 
 struct DeviceStep::Impl {};
 DeviceStep::DeviceStep(Model&) { no_gpu(); }
