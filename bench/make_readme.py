@@ -491,7 +491,17 @@ def force_direction_friction(d):
     return lines
 
 
-FORMATS = {"demo_reference.json": demo_reference, "paper_cost.json": paper_cost, "paper_peak.json": paper_peak,
+def touching_churn(d):
+    rows = [[f"{w['load_steps_before']:,}", f"{w['points_split']:,}", w["steps"],
+             f"{w['touching_min']:,}-{w['touching_max']:,}", f"{w['steps_changed']:,}",
+             " / ".join(fmt(q) for q in w["steps_between_changes_p10_p50_p90"])] for w in d["windows"]]
+    return ([f"The paper scene (ridge {d['ridge']}, `{d['preset']}`) loaded from `{d['rest_state']}`:"
+             ""] + [""] + table(["load steps before", "points split", "steps", "touching pairs",
+                                 "steps where they changed", "steps between changes (10th / 50th / 90th pct)"],
+                                rows))
+
+
+FORMATS = {"demo_reference.json": demo_reference, "touching_churn.json": touching_churn, "paper_cost.json": paper_cost, "paper_peak.json": paper_peak,
            "paper_peak_cuda.json": paper_peak,
            "runtime_vs_error.json": runtime_vs_error, "sleeping_wide.json": sleeping,
            "rigid_cost.json": rigid_cost, "bonds.json": bonds, "collision.json": collision,

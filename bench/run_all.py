@@ -17,6 +17,8 @@ LONG = {"paper_peak.py": "the paper scene's cohesive peak under each preset: ~0.
                          "and `balanced`, ~5 h for `paper`, after a ~0.5 h settle",
         "force_direction.py": "it measures finished runs of the paper-depth study (--measure RESULT.h5 ...), "
                               "each ~30-60 min on one core",
+        "touching_churn.py": "it loads the paper scene from paper_peak.py's rest state (made first with its "
+                             "--settle-only) for ~25 min on 2 cores",
         "gpu_paper_run.py": "a punch-through timed whole on a device (--device cuda on a GPU machine: "
                             "tools/gpu_lease.sh runs it; hours on a CPU)"}
 # The GPU backend's benchmarks, run where a GPU is visible (make gpu-check runs

@@ -503,6 +503,7 @@ struct DeviceStep::Impl {
     N.friction_pairs = {R.nc.data(), R.nt.data(), R.nx.data(), R.ny.data(), R.fn.data()};
     R.pairs_given = true;
     R.predicted = true;  // node_pass_kernel
+    R.totals_given = true;  // node_pass_kernel's assemble_node: f_x = f_pre
   }
 
   // The uploads (cudaMemcpy, on the legacy stream) done before the first

@@ -18,6 +18,7 @@
 // the CPU's order.
 #include "cuda/friction.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -100,8 +101,9 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 // It also says whether these are the touching pairs of the colouring kept
 // from a step before (coloured_tp, counts[c_coloured]; c_same): the colours
 // are then that colouring's, which prepare_kernel and colour_kernel leave as
-// they are (the touching set of a pile in the load phase changes once in
-// hundreds of steps; the colouring was the step's largest kernel).
+// they are (the paper pile's touching set changed 4 times in the first 3,000
+// steps of its load, but every step or two once points had split: a comparison
+// here costs nothing where it does not pay; docs/gpu.md).
 __global__ void __launch_bounds__(kSolveThreads)
     compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, const int32_t* coloured_tp, int32_t* tp,
                    int32_t* slot_of, double* lambda, int32_t* counts) {
@@ -224,15 +226,13 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 
 // The touching pairs' nodes numbered in the order of their first (slot,
 // node), so the same for the same pairs (not in the order lanes reach them),
-// into L, and their count in counts[c_local]; -1 there where they are more
-// than L.most or the pairs more than the block's lanes (then the sweeps read
-// the nodes' arrays). `scan`: the block's buffer of kSolveThreads.
+// into L, and their count in counts[c_nodes] (the node sums visit them,
+// apply_touched_kernel); again in counts[c_local] where the sweeps keep them
+// in shared memory, -1 there where they are more than L.most or the pairs
+// more than the block's lanes (the sweeps then read the nodes' arrays).
+// `scan`: the block's buffer of kSolveThreads.
 __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp, int32_t m, const LocalNodes& L,
                                           int32_t* counts, int32_t* scan) {
-  if (m > kSolveThreads) {
-    if (threadIdx.x == 0) counts[c_local] = -1;
-    return;
-  }
   const int32_t n6 = 6 * m;
   for (int32_t t = threadIdx.x; t < n6; t += kSolveThreads) atomicMin(&L.first_of[node[6 * tp[t / 6] + t % 6]], t);
   __syncthreads();
@@ -244,12 +244,12 @@ __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp
   if (threadIdx.x == kSolveThreads - 1) scan[0] = upto;  // the total, for every lane
   __syncthreads();
   const int32_t n_local = scan[0];
-  const bool fits = n_local <= L.most;
+  const bool fits = m <= kSolveThreads && n_local <= L.most;
   int32_t at = upto - own;
   for (int32_t t = lo; t < hi; ++t) {
     const int32_t v = node[6 * tp[t / 6] + t % 6];
     if (L.first_of[v] != t) continue;
-    if (fits) L.node[at] = v;
+    L.node[at] = v;
     L.node6[t] = at++;
   }
   __syncthreads();
@@ -260,7 +260,10 @@ __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp
   }
   __syncthreads();
   for (int32_t t = threadIdx.x; t < n6; t += kSolveThreads) L.first_of[node[6 * tp[t / 6] + t % 6]] = INT32_MAX;
-  if (threadIdx.x == 0) counts[c_local] = fits ? n_local : -1;
+  if (threadIdx.x == 0) {
+    counts[c_nodes] = n_local;
+    counts[c_local] = fits ? n_local : -1;
+  }
   __syncthreads();  // `scan` is the caller's again
 }
 
@@ -572,7 +575,43 @@ __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const in
   f_y[i] = sy;
 }
 
+// apply_kernel for the touching pairs' nodes alone (number_local_nodes),
+// where f_x, f_y hold the total before friction already (the whole step:
+// every other node's sum is that total, as apply_kernel leaves it): the same
+// sums, a few hundred nodes in the load phase where apply_kernel visited all
+// ~50,000 of the paper mesh and their candidates. A fixed grid of lanes steps
+// through them.
+__global__ void apply_touched_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* start,
+                                     const int32_t* entry, const double* lambda, const double* f_pre_x,
+                                     const double* f_pre_y, const int32_t* touched, const int32_t* counts,
+                                     double* f_x, double* f_y) {
+  if (halted(halt)) return;
+  const int32_t n = counts[c_nodes];
+  for (int32_t a = blockIdx.x * blockDim.x + threadIdx.x; a < n; a += gridDim.x * blockDim.x) {
+    const int32_t i = touched[a];
+    double sx = f_pre_x[i], sy = f_pre_y[i];
+    for (int32_t j = start[i]; j < start[i + 1]; ++j) {
+      const int32_t e = entry[j], p = e / 6, k = e % 6;
+      if (!P.hit[p]) continue;
+      const double lam = lambda[p];
+      if (lam == 0.0) continue;
+      const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
+      if (k < 3) {
+        sx += P.nc[3 * p + k] * tx;
+        sy += P.nc[3 * p + k] * ty;
+      } else {
+        sx -= P.nt[3 * p + k - 3] * tx;
+        sy -= P.nt[3 * p + k - 3] * ty;
+      }
+    }
+    f_x[i] = sx;
+    f_y[i] = sy;
+  }
+}
+
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
+// apply_touched_kernel's grid (its lanes step through the touching pairs' nodes)
+constexpr int kTouchedBlocks = 32;
 
 
 }  // namespace
@@ -598,8 +637,13 @@ void DeviceFriction::Impl::launch() {
   launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
                 lambda.data(), power.data(), local_nodes(), slot_of.data());
-  launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(), lambda.data(),
-                f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
+  if (totals_given)
+    launch_kernel(apply_touched_kernel, kTouchedBlocks, kBlock, stream, halt, pairs(), start.data(), entry.data(),
+                  lambda.data(), f_pre_x.data(), f_pre_y.data(), local_node.data(), counts.data(), f_x.data(),
+                  f_y.data());
+  else
+    launch_kernel(apply_kernel, blocks(n_nodes), kBlock, stream, halt, pairs(), start.data(), entry.data(),
+                  lambda.data(), f_pre_x.data(), f_pre_y.data(), n_nodes, f_x.data(), f_y.data());
   cuda_check(cudaGetLastError(), "kernel launch");
 }
 
@@ -619,6 +663,7 @@ void DeviceFriction::Impl::size_pairs(size_t n) {
   colour_start.resize(n + 1);  // at most as many colours as touching pairs
   n_earlier.resize(6 * n);
   local_node6.resize(6 * n);
+  local_node.resize(std::max(6 * n, size_t(kSharedNodes)));
   warm.resize(n);
   earlier.resize(size_t(6 * kEarlier) * n);
 }
@@ -645,7 +690,6 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
   d.first_of.upload(std::vector<int32_t>(size_t(d.n_nodes), INT32_MAX));  // number_local_nodes' between colourings
-  d.local_node.resize(size_t(kSharedNodes));
   d.shared_nodes = kSharedNodes;
   std::vector<int32_t> counts(n_friction_counts, 0);
   counts[c_coloured] = -1;  // no colouring kept

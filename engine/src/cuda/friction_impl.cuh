@@ -40,11 +40,11 @@ struct FrictionPairArrays {
 // for the host: the colours and the colouring's rounds, the touching pairs
 // (m), the touching pairs of the colouring kept (-1: none kept; its pairs in
 // coloured_tp), whether this launch's touching pairs are those (1: the kept
-// colouring is used), how many colourings were made, and how many nodes the
-// touching pairs have where the sweeps keep them in shared memory (-1: they
-// do not; made with the colouring).
+// colouring is used), how many colourings were made, how many nodes the
+// touching pairs have, and that count again where the sweeps keep them in
+// shared memory (-1: they do not); the last two made with the colouring.
 enum FrictionCount : int32_t {
-  c_colours, c_rounds, c_touching, c_coloured, c_same, c_colourings, c_local, n_friction_counts
+  c_colours, c_rounds, c_touching, c_coloured, c_same, c_colourings, c_nodes, c_local, n_friction_counts
 };
 
 // What the sweeps read of the touching pairs' nodes in shared memory
@@ -53,7 +53,7 @@ enum FrictionCount : int32_t {
 // first (slot, node) of node v, is INT32_MAX between colourings.
 struct LocalNodes {
   int32_t* first_of;  // per node of the mesh
-  int32_t* node;      // per local index
+  int32_t* node;      // per local index (room for every touching pair's six)
   int32_t* node6;     // per touching pair's (slot, node)
   int32_t most;       // at most this many (kSharedNodes or fewer: DeviceFriction::set_shared_nodes)
 };
@@ -91,6 +91,9 @@ struct DeviceFriction::Impl {
   // imx, imy, wx, wy are written by the whole step's pass over the nodes
   // (friction_predict_node after the force assembly), not by launch()
   bool predicted = false;
+  // f_x, f_y hold f_pre_x, f_pre_y already (the whole step's assembly writes
+  // both), so friction adds to the touching pairs' nodes alone
+  bool totals_given = false;
 
   FrictionPredictArrays predict_arrays() {
     return {mass.data(), constrained.data(), vx.data(), vy.data(), f_pre_x.data(), f_pre_y.data(), dt,
