@@ -9,7 +9,10 @@ duration read from the hardware's timer. Writes bench/results/gpu_step_profile.j
 Two states: the load phase as it starts (few touching pairs, no opened bond
 pair) and after every node is nudged by up to 0.1 mm (~2,800 points split, as
 bench/gpu_body_forces.py's cohesive measurement), whose opened pairs bring
-many faces into touch. Also:
+many faces into touch. Each state's `run` says how many of the profiled
+steps coloured friction's touching pairs (a step whose pairs are those of
+the step before keeps its colouring: its colouring kernels then take no
+time). Also:
     --summarize NAME=CSV ... : the JSON from ncu CSV files made before
 """
 import argparse
@@ -41,7 +44,7 @@ def inner(mesh, opened, steps):
         open_pairs_by_nudge(m)
     s = gpu.Steps(m)
     s.step(700)   # past the splits' host steps and a graph's capture
-    h0 = s.host_steps
+    h0, c0 = s.host_steps, s.colourings
     try:   # the driver's profiler switch: ncu --profile-from-start off profiles what is between
         cuda = ctypes.CDLL("libcuda.so.1")
     except OSError:   # no driver (the CPU emulation): the steps run unprofiled
@@ -52,13 +55,18 @@ def inner(mesh, opened, steps):
     s.step(steps)
     if cuda:
         cuda.cuProfilerStop()
+    # colourings: friction colours only where the touching pairs changed since
+    # the step before (docs/gpu.md), so its kernels' time depends on how many
     print(json.dumps(dict(steps=steps, host_steps=s.host_steps - h0, wall_us_per_step=1e6 * (time.perf_counter() - t0) / steps,
-                          opened_pairs=int(m.bonds.counts["split"]))), flush=True)
+                          opened_pairs=int(m.bonds.counts["split"]), colourings=s.colourings - c0)), flush=True)
 
 
 def summarize(path, steps):
     """Each kernel's mean duration [µs] and launches per step from an ncu --csv file."""
-    rows = [r for r in csv.reader(open(path)) if len(r) > 10]
+    lines = open(path).read().splitlines()
+    # the profiled run's own line (inner): its steps' host steps and colourings
+    run = [json.loads(x) for x in lines if x.startswith('{"steps"')]
+    rows = [r for r in csv.reader(lines) if len(r) > 10]
     head = rows[0]
     k, v = head.index("Kernel Name"), head.index("Metric Value")
     d = collections.defaultdict(list)
@@ -77,7 +85,10 @@ def summarize(path, steps):
         kernels.append(dict(kernel=name, mean_us=sum(x) / len(x), launches_per_step=per_step,
                             us_per_step=per_step * sum(x) / len(x)))
     kernels.sort(key=lambda r: -r["us_per_step"])
-    return dict(kernels=kernels, us_per_step=sum(r["us_per_step"] for r in kernels))
+    out = dict(kernels=kernels, us_per_step=sum(r["us_per_step"] for r in kernels))
+    if run:
+        out["run"] = run[-1]
+    return out
 
 
 def main(argv=None):
