@@ -101,9 +101,9 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 // It also says whether these are the touching pairs of the colouring kept
 // from a step before (coloured_tp, counts[c_coloured]; c_same): the colours
 // are then that colouring's, which prepare_kernel and colour_kernel leave as
-// they are (the paper pile's touching set changed 4 times in the first 3,000
-// steps of its load, but every step or two once points had split: a comparison
-// here costs nothing where it does not pay; docs/gpu.md).
+// they are (a pile's touching set seldom changes at the start of its load,
+// every step or two once points have split, bench/touching_churn.py: a
+// comparison here costs little where it does not pay).
 __global__ void __launch_bounds__(kSolveThreads)
     compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, const int32_t* coloured_tp, int32_t* tp,
                    int32_t* slot_of, double* lambda, int32_t* counts) {
