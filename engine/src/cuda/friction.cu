@@ -138,14 +138,30 @@ __global__ void __launch_bounds__(kSolveThreads)
 // on its node v, in the node's entry order, until it returns false; false
 // then. (__restrict__: what a visit stores aliases none of these, so one
 // entry's loads need not wait for the last entry's store.)
+// The entries are read kWalkBatch at a time, each batch's candidates' flags
+// and keys loaded together before any is looked at: one entry after another,
+// each entry's loads waited for the last one's (entry, then its flag and
+// key), and a node has tens of entries (prepare_kernel's time was its
+// longest walk's).
+constexpr int kWalkBatch = 4;
 template <class Visit>
 __device__ inline bool visit_earlier_on_node(int32_t p, uint64_t pp, int32_t v, const uint8_t* __restrict__ hit,
                                              const uint64_t* __restrict__ key, const int32_t* __restrict__ start,
                                              const int32_t* __restrict__ entry, Visit visit) {
-  for (int32_t j = start[v]; j < start[v + 1]; ++j) {
-    const int32_t q = entry[j] / 6;
-    if (q == p || !hit[q] || !coloured_before(friction_priority(key[q]), q, pp, p)) continue;
-    if (!visit(q)) return false;
+  const int32_t end = start[v + 1];
+  for (int32_t j0 = start[v]; j0 < end; j0 += kWalkBatch) {
+    int32_t q[kWalkBatch];
+    bool touching[kWalkBatch];
+    uint64_t kq[kWalkBatch];
+    for (int u = 0; u < kWalkBatch; ++u) q[u] = j0 + u < end ? entry[j0 + u] / 6 : -1;
+    for (int u = 0; u < kWalkBatch; ++u) {
+      touching[u] = q[u] >= 0 && hit[q[u]];
+      kq[u] = q[u] >= 0 ? key[q[u]] : 0;
+    }
+    for (int u = 0; u < kWalkBatch; ++u) {
+      if (!touching[u] || q[u] == p || !coloured_before(friction_priority(kq[u]), q[u], pp, p)) continue;
+      if (!visit(q[u])) return false;
+    }
   }
   return true;
 }
