@@ -22,19 +22,59 @@ namespace {
 constexpr int kBlock = 128;
 constexpr int kSumThreads = kWideBlock;
 
-__global__ void pair_kernel(const int32_t* halt, const double* x, const double* y, const int32_t* node, int64_t n,
-                            double s, double* fx, double* fy, uint8_t* hit, double* energy, FrictionPairOut out) {
+// A pair's contact is a long chain of dependent steps in one lane (the
+// overlap's three clips, then two clips per sub-triangle for six), and a
+// step's few touching pairs among thousands of candidates leave the GPU
+// little else to run meanwhile: the kernel took as long as one pair's chain
+// (35 us a step of the paper mesh at the lease of 2026-11-30). So a group of
+// kPairLanes lanes takes a candidate: its first lane tests the boxes and
+// finds the overlap, six lanes then take a sub-term each (the owner's
+// sub-triangle: the target's three, then the contactor's), and the first
+// lane adds them in potential_term's order and finishes the pair: the CPU's
+// potential_contact_pair, bit for bit, a chain a third as long.
+constexpr int kPairLanes = 8;  // six sub-terms; a group of eight stays within a warp
+constexpr int kPairsPerBlock = kBlock / kPairLanes;
+
+__global__ void __launch_bounds__(kBlock) pair_kernel(const int32_t* halt, const double* x, const double* y,
+                                                      const int32_t* node, int64_t n, double s, double* fx,
+                                                      double* fy, uint8_t* hit, double* energy,
+                                                      FrictionPairOut out) {
   if (halted(halt)) return;
-  const int64_t p = int64_t(blockIdx.x) * blockDim.x + threadIdx.x;
-  if (p >= n) return;
-  const int32_t* v = node + 6 * p;  // the contactor's nodes, then the target's
-  const double xa[3] = {x[v[0]], x[v[1]], x[v[2]]}, ya[3] = {y[v[0]], y[v[1]], y[v[2]]};
-  const double xb[3] = {x[v[3]], x[v[4]], x[v[5]]}, yb[3] = {y[v[3]], y[v[4]], y[v[5]]};
+  __shared__ contact_kernel::Overlap overlap[kPairsPerBlock];
+  __shared__ contact_kernel::SubTerm term[kPairsPerBlock][6];
+  __shared__ bool touching[kPairsPerBlock];
+  const int g = int(threadIdx.x) / kPairLanes, j = int(threadIdx.x) % kPairLanes;
+  const int64_t p = int64_t(blockIdx.x) * kPairsPerBlock + g;
+  const bool mine = p < n;
+  if (j == 0) {
+    bool h = false;
+    if (mine) {
+      const int32_t* v = node + 6 * p;  // the contactor's nodes, then the target's
+      const double xa[3] = {x[v[0]], x[v[1]], x[v[2]]}, ya[3] = {y[v[0]], y[v[1]], y[v[2]]};
+      const double xb[3] = {x[v[3]], x[v[4]], x[v[5]]}, yb[3] = {y[v[3]], y[v[4]], y[v[5]]};
+      // (contact_candidate's two steps)
+      h = !boxes_apart(xa, ya, xb, yb) && contact_kernel::overlap_of(xa, ya, xb, yb, overlap[g]);
+      hit[p] = h ? 1 : 0;
+      if (!h) energy[p] = 0.0;
+    }
+    touching[g] = h;
+  }
+  __syncthreads();
+  const bool h = touching[g];
+  const contact_kernel::Overlap& o = overlap[g];
+  if (h && j < 6) contact_kernel::sub_term(j < 3 ? o.t : o.c, j < 3 ? o.c : o.t, o.ov, s, j % 3, term[g][j]);
+  __syncthreads();  // every lane: a barrier some lanes had left is undefined
+  if (!h || j != 0) return;
+  // potential_contact_pair's sums: the contactor in the target's phi, then the target in the contactor's
+  double fcx[3] = {0, 0, 0}, fcy[3] = {0, 0, 0}, ftx[3] = {0, 0, 0}, fty[3] = {0, 0, 0};
+  double e = 0.0;
+  for (int i = 0; i < 3; ++i) contact_kernel::add_sub_term(term[g][i], e, ftx, fty, fcx, fcy);
+  double e2 = 0.0;
+  for (int i = 3; i < 6; ++i) contact_kernel::add_sub_term(term[g][i], e2, fcx, fcy, ftx, fty);
+  e += e2;
   PairContact r;
-  const bool h = contact_candidate(xa, ya, xb, yb, s, r);
-  hit[p] = h ? 1 : 0;
-  energy[p] = h ? r.energy : 0.0;
-  if (!h) return;
+  contact_kernel::finish_pair(o, fcx, fcy, ftx, fty, e, r);
+  energy[p] = r.energy;
   for (int k = 0; k < 6; ++k) {
     fx[6 * p + k] = r.fx[k];
     fy[6 * p + k] = r.fy[k];
@@ -89,7 +129,8 @@ int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
 
 void DeviceContactNormal::Impl::launch() {
   if (n_pairs) {
-    launch_kernel(pair_kernel, blocks(n_pairs), kBlock, stream, halt, x.data(), y.data(), node.data(), n_pairs, penalty,
+    launch_kernel(pair_kernel, int((n_pairs + kPairsPerBlock - 1) / kPairsPerBlock), kBlock, stream, halt, x.data(),
+                  y.data(), node.data(), n_pairs, penalty,
                   fx.data(), fy.data(), hit.data(), pair_energy.data(), friction_pairs);
   }
   launch_kernel(node_sum_kernel, blocks(n_nodes), kBlock, stream, halt, start.data(), entry.data(), hit.data(),
