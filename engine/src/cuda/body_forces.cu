@@ -98,7 +98,7 @@ __global__ void __launch_bounds__(kBlock) triangle_kernel(const int32_t* halt, C
 __global__ void gather_kernel(const int32_t* halt, GatherArrays g, CornerFields load, int32_t n_nodes) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < n_nodes) gather_node_loads(g, load, i);
+  if (i < n_nodes) gather_node_loads<4>(g, load, i);  // four corners read at a time (gather_kernel.hpp)
 }
 
 // The partial sums in a fixed order: lane l takes partials l, l + kSumThreads, ...

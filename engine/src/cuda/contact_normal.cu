@@ -89,17 +89,33 @@ __global__ void __launch_bounds__(kBlock) pair_kernel(const int32_t* halt, const
 
 // Node i's normal contact force: its entries (6 p + k) in the CPU's order,
 // the touching ones only (the CPU adds nothing for the others).
+// Four entries at a time, their flags and forces read together before any is
+// added (in entry order: the same sums): one entry after another, each
+// entry's loads waited for the last one's.
+constexpr int kSumBatch = 4;
 __global__ void node_sum_kernel(const int32_t* halt, const int32_t* start, const int32_t* entry, const uint8_t* hit,
                                 const double* fx, const double* fy, int32_t n_nodes, double* f_con_x, double* f_con_y) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n_nodes) return;
   double sx = 0.0, sy = 0.0;
-  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-    const int32_t e = entry[j];
-    if (!hit[e / 6]) continue;
-    sx += fx[e];
-    sy += fy[e];
+  const int32_t end = start[i + 1];
+  for (int32_t j0 = start[i]; j0 < end; j0 += kSumBatch) {
+    int32_t e[kSumBatch];
+    bool h[kSumBatch];
+    double vx[kSumBatch], vy[kSumBatch];
+    for (int u = 0; u < kSumBatch; ++u) e[u] = j0 + u < end ? entry[j0 + u] : -1;
+    // a candidate that does not touch has stale forces: read, never added
+    for (int u = 0; u < kSumBatch; ++u) {
+      h[u] = e[u] >= 0 && hit[e[u] / 6];
+      vx[u] = e[u] >= 0 ? fx[e[u]] : 0.0;
+      vy[u] = e[u] >= 0 ? fy[e[u]] : 0.0;
+    }
+    for (int u = 0; u < kSumBatch; ++u)
+      if (h[u]) {
+        sx += vx[u];
+        sy += vy[u];
+      }
   }
   f_con_x[i] = sx;
   f_con_y[i] = sy;

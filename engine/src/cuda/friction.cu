@@ -566,6 +566,41 @@ __global__ void __launch_bounds__(kSolveThreads)
 // Node i's force with its pairs' friction added in the CPU's order: pairs
 // ascending, a pair's corners as the CPU visits them (contactor's j, then
 // target's j, j = 0, 1, 2); entry 6 c + k names candidate c's node slot k.
+// Four entries at a time, what each adds read before any is added (in entry
+// order: the same sums), where each entry's loads waited for the last one's.
+constexpr int kApplyBatch = 4;
+__device__ inline void add_node_friction(const FrictionPairArrays& P, const int32_t* start, const int32_t* entry,
+                                         const double* lambda, int32_t i, double& sx, double& sy) {
+  const int32_t end = start[i + 1];
+  for (int32_t j0 = start[i]; j0 < end; j0 += kApplyBatch) {
+    int32_t p[kApplyBatch], k[kApplyBatch];
+    double lam[kApplyBatch], tx[kApplyBatch], ty[kApplyBatch], w[kApplyBatch];
+    for (int u = 0; u < kApplyBatch; ++u) {
+      const int32_t e = j0 + u < end ? entry[j0 + u] : -1;
+      p[u] = e >= 0 ? e / 6 : -1;
+      k[u] = e % 6;
+    }
+    for (int u = 0; u < kApplyBatch; ++u) {
+      // a candidate that does not touch has none (its lambda is not set): 0 here, never added
+      lam[u] = p[u] >= 0 && P.hit[p[u]] ? lambda[p[u]] : 0.0;
+      if (lam[u] == 0.0) continue;
+      tx[u] = -P.ny[p[u]] * lam[u];
+      ty[u] = P.nx[p[u]] * lam[u];
+      w[u] = k[u] < 3 ? P.nc[3 * p[u] + k[u]] : P.nt[3 * p[u] + k[u] - 3];
+    }
+    for (int u = 0; u < kApplyBatch; ++u) {
+      if (lam[u] == 0.0) continue;
+      if (k[u] < 3) {
+        sx += w[u] * tx[u];
+        sy += w[u] * ty[u];
+      } else {
+        sx -= w[u] * tx[u];
+        sy -= w[u] * ty[u];
+      }
+    }
+  }
+}
+
 __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* start, const int32_t* entry,
                              const double* lambda, const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x,
                              double* f_y) {
@@ -573,20 +608,7 @@ __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const in
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i >= n) return;
   double sx = f_pre_x[i], sy = f_pre_y[i];
-  for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-    const int32_t e = entry[j], p = e / 6, k = e % 6;
-    if (!P.hit[p]) continue;  // a candidate that does not touch has none (its lambda is not set)
-    const double lam = lambda[p];
-    if (lam == 0.0) continue;
-    const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
-    if (k < 3) {
-      sx += P.nc[3 * p + k] * tx;
-      sy += P.nc[3 * p + k] * ty;
-    } else {
-      sx -= P.nt[3 * p + k - 3] * tx;
-      sy -= P.nt[3 * p + k - 3] * ty;
-    }
-  }
+  add_node_friction(P, start, entry, lambda, i, sx, sy);
   f_x[i] = sx;
   f_y[i] = sy;
 }
@@ -606,20 +628,7 @@ __global__ void apply_touched_kernel(const int32_t* halt, FrictionPairArrays P, 
   for (int32_t a = blockIdx.x * blockDim.x + threadIdx.x; a < n; a += gridDim.x * blockDim.x) {
     const int32_t i = touched[a];
     double sx = f_pre_x[i], sy = f_pre_y[i];
-    for (int32_t j = start[i]; j < start[i + 1]; ++j) {
-      const int32_t e = entry[j], p = e / 6, k = e % 6;
-      if (!P.hit[p]) continue;
-      const double lam = lambda[p];
-      if (lam == 0.0) continue;
-      const double tx = -P.ny[p] * lam, ty = P.nx[p] * lam;
-      if (k < 3) {
-        sx += P.nc[3 * p + k] * tx;
-        sy += P.nc[3 * p + k] * ty;
-      } else {
-        sx -= P.nt[3 * p + k - 3] * tx;
-        sy -= P.nt[3 * p + k - 3] * ty;
-      }
-    }
+    add_node_friction(P, start, entry, lambda, i, sx, sy);
     f_x[i] = sx;
     f_y[i] = sy;
   }
