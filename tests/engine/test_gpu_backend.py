@@ -95,10 +95,9 @@ def test_the_gpu_friction_is_the_cpus(seed, earlier_list, shared_nodes):
     # shared_nodes 0: the sweeps read the nodes' arrays, not shared memory
     cmp = gpu.compare_friction(rubbing_blocks(np.random.default_rng(seed)), earlier_list=earlier_list,
                                shared_nodes=shared_nodes)
-    # (~90 pairs: the sweeps keep their nodes in shared memory on a GPU, whose
-    # block holds them all, unless told not to; the emulation's 32 lanes do not)
-    if shared_nodes == 0:
-        assert cmp["local_nodes"] == -1, cmp
+    # ~90 pairs, held by the sweeps' lanes (up to four a lane: more than one
+    # on the emulation's 32 lanes), their nodes in shared memory unless told not to
+    assert (cmp["local_nodes"] > 10) if shared_nodes is None else (cmp["local_nodes"] == -1), cmp
     assert cmp["pairs"][0] > 10 and cmp["pairs"][0] == cmp["pairs"][1]   # the GPU finds the CPU's touching pairs
     assert cmp["colours"][0] > 1 and cmp["colours"][0] == cmp["colours"][1]
     assert cmp["colour"] == 0  # the GPU's parallel colouring is the CPU's greedy one
@@ -125,8 +124,8 @@ def test_the_gpu_friction_of_more_pairs_than_shared_memory_holds_is_the_cpus():
 @on_gpu_or_emulation
 def test_the_gpu_friction_of_pairs_held_in_the_sweeps_lanes_is_the_cpus():
     # a block landed on a slab: ~20 touching pairs, each held by a lane of the
-    # sweeps' block through every pass (HeldPair: the pairs at most the block's
-    # lanes, 32 on the emulation, 1,024 on a GPU), their nodes' velocities and
+    # sweeps' block through every pass (HeldPair: one a lane here, on the
+    # emulation's 32 lanes as on a GPU's 1,024), their nodes' velocities and
     # inverse masses in shared memory; then allowed one node fewer than they
     # have, so the held pairs read the nodes' arrays
     model = landing_block_and_a_flyer(np.random.default_rng(3))

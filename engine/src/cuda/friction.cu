@@ -49,10 +49,14 @@ constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours lis
 constexpr int32_t kSharedSlots = 8192;
 // the sweeps keep the velocities and inverse masses of the touching pairs'
 // nodes in shared memory where they are at most this many (32 KB) and the
-// pairs at most the block's lanes (all held, HeldPair): a pass then reads
+// pairs all held (HeldPair, kHeld below): a pass then reads
 // and writes them there, where each read went to the L2 cache after the
 // colour before had written them
 constexpr int32_t kSharedNodes = 1024;
+// pairs a sweep lane holds through every pass (HeldPair): up to kHeld times
+// the block's lanes are held, the rest read from the arrays each pass (a
+// loaded pile has up to a few thousand touching pairs)
+constexpr int kHeld = 4;
 
 
 // Whether candidate c touches, and its contact point and normal force's
@@ -245,7 +249,7 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
 // into L, and their count in counts[c_nodes] (the node sums visit them,
 // apply_touched_kernel); again in counts[c_local] where the sweeps keep them
 // in shared memory, -1 there where they are more than L.most or the pairs
-// more than the block's lanes (the sweeps then read the nodes' arrays).
+// more than the sweeps hold (kHeld per lane; the sweeps then read the nodes' arrays).
 // `scan`: the block's buffer of kSolveThreads.
 __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp, int32_t m, const LocalNodes& L,
                                           int32_t* counts, int32_t* scan) {
@@ -260,7 +264,7 @@ __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp
   if (threadIdx.x == kSolveThreads - 1) scan[0] = upto;  // the total, for every lane
   __syncthreads();
   const int32_t n_local = scan[0];
-  const bool fits = m <= kSolveThreads && n_local <= L.most;
+  const bool fits = m <= kHeld * kSolveThreads && n_local <= L.most;  // every pair held
   int32_t at = upto - own;
   for (int32_t t = lo; t < hi; ++t) {
     const int32_t v = node[6 * tp[t / 6] + t % 6];
@@ -457,13 +461,31 @@ __device__ inline void hold_pair(const FrictionPairArrays& P, int32_t i, const d
   h.lambda = 0.0;  // as compact_kernel left lambda[i]
 }
 
+// A held pair's warm start push, and its update in a sweep (as the arrays' pairs').
+__device__ inline void held_warm_push(HeldPair& hp, double dt, const double* ix, const double* iy, double* vx,
+                                               double* vy) {
+  if (isnan(hp.warm)) return;
+  hp.lambda = hp.warm;
+  friction_push(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, hp.warm, dt, ix, iy, vx, vy);
+}
+__device__ inline void held_update(HeldPair& hp, double mu, double dt, const double* ix, const double* iy,
+                                            double* vx, double* vy) {
+  if (hp.kinv == 0.0 || hp.fn == 0.0) return;
+  const double d = friction_update(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, mu * hp.fn, hp.kinv, dt, vx, vy, hp.lambda);
+  if (d != 0.0) friction_push(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, d, dt, ix, iy, vx, vy);
+}
+
 // The sweeps, colour by colour with a barrier closing each colour. The
 // pairs in colour order (order[j], j < m: their candidates) are shared among the lanes by j
-// modulo the block's size, so a lane solves pair j = its index in every
-// pass of that pair's colour and holds it (HeldPair) where m <= the block's
-// lanes: the load phase of a pile (~80-1,300 touching pairs); its further
-// pairs are read from memory each pass, as all of them were.
-__global__ void __launch_bounds__(kSolveThreads)
+// modulo the block's size, so a lane solves pairs j = its index + r times
+// the block's size in every pass of their colours and holds them (HeldPair)
+// for r < kHeld (m up to 4,096: a pile's load phase has ~80-3,000 touching
+// pairs; the lease of 2026-11-30 timed the sweeps at 60 us with ~1,000 held
+// and 207 with ~1,200, where pairs past the first 1,024 were read from
+// memory each pass); its further pairs are read from memory each pass.
+// (One block a multiprocessor, said: ptxas otherwise gave the lanes 32
+// registers, for two blocks that never run, and spilled the held pairs.)
+__global__ void __launch_bounds__(kSolveThreads, 1)
     solve_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* order,
                  const int32_t* colour_start, const int32_t* counts, const double* warm, double mu, double dt,
                  const double* imx, const double* imy, double* wx, double* wy, const double* kinv, double* lambda,
@@ -497,11 +519,18 @@ __global__ void __launch_bounds__(kSolveThreads)
     cs = starts;
   }
   const int32_t own = threadIdx.x;
-  HeldPair h;
-  if (own < m) {
-    const int32_t i = order[own];
-    hold_pair(P, i, kinv, warm[i], local ? L.node6 + 6 * slot_of[i] : nullptr, h);
-  }
+  // the lane's pairs j = own + r kSolveThreads, r < kHeld: the first held in
+  // registers, the others in the lane's local memory (an address of its own,
+  // where a pair read from the arrays is a chain: order, then the pair, then
+  // its nodes)
+  HeldPair h, more[kHeld - 1];
+  const auto hold = [&](int32_t j, HeldPair& hp) {
+    const int32_t i = order[j];
+    hold_pair(P, i, kinv, warm[i], local ? L.node6 + 6 * slot_of[i] : nullptr, hp);
+  };
+  if (own < m) hold(own, h);
+  for (int r = 1; r < kHeld; ++r)
+    if (own + r * kSolveThreads < m) hold(own + r * kSolveThreads, more[r - 1]);
   __syncthreads();  // the shared nodes loaded
   // this lane's first pair at or after a (j = its index modulo the block's size)
   const auto first = [&](int32_t a) {
@@ -510,10 +539,13 @@ __global__ void __launch_bounds__(kSolveThreads)
   // the warm start, colour by colour as the CPU pushes it
   for (int32_t c = 0; c < colours; ++c) {
     for (int32_t j = first(cs[c]); j < cs[c + 1]; j += kSolveThreads) {
-      if (j == own) {
-        if (isnan(h.warm)) continue;
-        h.lambda = h.warm;
-        friction_push(h.node, h.nc, h.nt, h.nx, h.ny, h.warm, dt, ix, iy, vx, vy);
+      const int32_t r = (j - own) / kSolveThreads;  // j = own + r kSolveThreads
+      if (r == 0) {
+        held_warm_push(h, dt, ix, iy, vx, vy);
+        continue;
+      }
+      if (r < kHeld) {
+        held_warm_push(more[r - 1], dt, ix, iy, vx, vy);
         continue;
       }
       const int32_t i = order[j];
@@ -526,11 +558,13 @@ __global__ void __launch_bounds__(kSolveThreads)
   for (int sweep = 0; sweep < kSweeps; ++sweep) {
     for (int32_t c = 0; c < colours; ++c) {
       for (int32_t j = first(cs[c]); j < cs[c + 1]; j += kSolveThreads) {
-        if (j == own) {
-          if (h.kinv == 0.0 || h.fn == 0.0) continue;
-          const double d =
-              friction_update(h.node, h.nc, h.nt, h.nx, h.ny, mu * h.fn, h.kinv, dt, vx, vy, h.lambda);
-          if (d != 0.0) friction_push(h.node, h.nc, h.nt, h.nx, h.ny, d, dt, ix, iy, vx, vy);
+        const int32_t r = (j - own) / kSolveThreads;
+        if (r == 0) {
+          held_update(h, mu, dt, ix, iy, vx, vy);
+          continue;
+        }
+        if (r < kHeld) {
+          held_update(more[r - 1], mu, dt, ix, iy, vx, vy);
           continue;
         }
         const int32_t i = order[j];
@@ -545,6 +579,8 @@ __global__ void __launch_bounds__(kSolveThreads)
     }
   }
   if (own < m) lambda[h.i] = h.lambda;
+  for (int r = 1; r < kHeld; ++r)
+    if (own + r * kSolveThreads < m) lambda[more[r - 1].i] = more[r - 1].lambda;
   if (local) {  // the velocities back to the nodes (the power reads them there)
     for (int32_t a = threadIdx.x; a < n_local; a += kSolveThreads) {
       wx[L.node[a]] = local_wx[a];
