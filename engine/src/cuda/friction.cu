@@ -211,7 +211,8 @@ __device__ inline bool see_earlier(const EarlierNeighbours& E, int32_t s, int32_
 // six run side by side, as the pairs do, not one after another in a lane.
 __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* tp, const int32_t* slot_of,
                                const int32_t* counts, const int32_t* start, const int32_t* entry,
-                               const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev, double mu,
+                               const uint64_t* prev_key, const double* prev_lambda, int64_t n_prev,
+                               bool by_candidate, double mu,
                                const double* imx, const double* imy, int32_t listed, int32_t* earlier,
                                int32_t* n_earlier, double* kinv, double* warm) {
   if (halted(halt)) return;
@@ -238,7 +239,10 @@ __global__ void prepare_kernel(const int32_t* halt, FrictionPairArrays P, const 
     kinv[p] = km;
     return;
   }
-  const int64_t at = find_key(prev_key, n_prev, P.key[p]);
+  // by_candidate: the warm start is laid out as the candidates (the whole
+  // step's), so its entry is the candidate's own, where a binary search over
+  // ~15,000 keys was a chain of ~14 loads in this lane
+  const int64_t at = by_candidate ? int64_t(p) : find_key(prev_key, n_prev, P.key[p]);
   // NaN: a candidate that did not touch in the step before (the whole step
   // keeps the warm start per candidate, cuda/device_step.cu)
   warm[p] = (at < 0 || km == 0.0 || isnan(prev_lambda[at])) ? NAN : clamp_to_cone(prev_lambda[at], mu * P.fn[p]);
@@ -689,8 +693,8 @@ void DeviceFriction::Impl::launch() {
   if (n_cand)
     launch_kernel(prepare_kernel, blocks(6 * int64_t(n_cand)), kBlock, stream, halt, pairs(), tp.data(),
                   slot_of.data(), counts.data(), start.data(), entry.data(), prev_key.data(), prev_lambda.data(),
-                  n_prev, mu, imx.data(), imy.data(), earlier_list, earlier.data(), n_earlier.data(), kinv.data(),
-                  warm.data());
+                  n_prev, warm_by_candidate, mu, imx.data(), imy.data(), earlier_list, earlier.data(),
+                  n_earlier.data(), kinv.data(), warm.data());
   const EarlierNeighbours E{node.data(),    hit.data(),     key.data(),     start.data(),
                             entry.data(),   slot_of.data(), earlier.data(), n_earlier.data()};
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, E, tp.data(), colour.data(), counts.data(),
@@ -763,6 +767,7 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.start.upload(L.start);
   d.entry.upload(L.entry);
   d.size_pairs(cand.size());
+  d.warm_by_candidate = warm_start == WarmStart::per_candidate;
   if (warm_start == WarmStart::model_keys) {
     d.prev_key.upload(wk);
     d.prev_lambda.upload(wl);

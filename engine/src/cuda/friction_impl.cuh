@@ -83,6 +83,9 @@ struct DeviceFriction::Impl {
   DeviceArray<double> warm;
   int32_t earlier_list = 0;  // kept in a list per pair and node (DeviceFriction::set_earlier_list)
   DeviceArray<uint64_t> key, prev_key;
+  // prev_key is the candidates' keys (WarmStart::per_candidate, the whole
+  // step: kept so through list rebuilds), so a pair's warm start is its candidate's entry
+  bool warm_by_candidate = false;
   cudaStream_t stream = nullptr;
   const int32_t* halt = nullptr;  // the whole step's batch (cuda/halt.cuh); none on its own
   // hit, nc, nt, nx, ny and fn are written by the step's normal pass (the
