@@ -109,8 +109,12 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 // every step or two once points have split, bench/touching_churn.py: a
 // comparison here costs little where it does not pay).
 __global__ void __launch_bounds__(kSolveThreads)
-    compact_kernel(const int32_t* halt, const uint8_t* hit, int32_t n, const int32_t* coloured_tp, int32_t* tp,
-                   int32_t* slot_of, double* lambda, int32_t* counts) {
+    compact_kernel(const int32_t* halt, const uint8_t* __restrict__ hit, int32_t n,
+                   const int32_t* __restrict__ coloured_tp, int32_t* __restrict__ tp, int32_t* __restrict__ slot_of,
+                   double* __restrict__ lambda, int32_t* __restrict__ counts) {
+  // (__restrict__: the flags are bytes, which may alias anything, so each
+  // store of a touching candidate's entries made the next flag's load wait
+  // for it: a lane's chunk was read one trip to memory after another)
   if (halted(halt)) return;
   __shared__ int32_t scan[kSolveThreads];
   const int32_t kept = counts[c_coloured];  // -1: no colouring kept
