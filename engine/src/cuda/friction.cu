@@ -108,7 +108,7 @@ __device__ inline void lane_chunk(int32_t n, int32_t& lo, int32_t& hi) {
 // they are (a pile's touching set seldom changes at the start of its load,
 // every step or two once points have split, bench/touching_churn.py: a
 // comparison here costs little where it does not pay).
-__global__ void __launch_bounds__(kSolveThreads)
+__global__ void __launch_bounds__(kSolveThreads, 1)
     compact_kernel(const int32_t* halt, const uint8_t* __restrict__ hit, int32_t n,
                    const int32_t* __restrict__ coloured_tp, int32_t* __restrict__ tp, int32_t* __restrict__ slot_of,
                    double* __restrict__ lambda, int32_t* __restrict__ counts) {
@@ -304,7 +304,7 @@ __device__ inline void number_local_nodes(const int32_t* node, const int32_t* tp
 // Where the touching pairs are those of the colouring kept (counts[c_same]),
 // its outputs stand and nothing is done; otherwise the new colouring's pairs
 // are kept with it (coloured_tp, counts[c_coloured]).
-__global__ void __launch_bounds__(kSolveThreads)
+__global__ void __launch_bounds__(kSolveThreads, 1)
     colour_kernel(const int32_t* halt, EarlierNeighbours E, const int32_t* tp, int32_t* colour_out, int32_t* counts,
                   int32_t* slot_colour, int32_t* order, int32_t* colour_start, int32_t* coloured_tp,
                   LocalNodes L) {
@@ -314,18 +314,40 @@ __global__ void __launch_bounds__(kSolveThreads)
   const int32_t m = counts[c_touching];
   volatile int32_t* colour = m <= kSharedSlots ? shared_colour : slot_colour;
   for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) colour[s] = -1;
-  // The lane's first slot (its only one where m <= the block's lanes) keeps
-  // its way through its earlier neighbours from round to round: the colours
-  // below 64 seen so far (a colour, once written, is final) and the node and
-  // list entry it waits on, so a round reads the one colour it waits for,
-  // where it read the lists again from their start
-  const int32_t s0 = threadIdx.x;
-  int32_t p0 = 0, at_k = 0, at_j = 0;
-  uint64_t pp0 = 0, seen0 = 0;
-  if (s0 < m) {
-    p0 = tp[s0];
-    pp0 = friction_priority(E.key[p0]);
+  // The lane's first kHeld slots (s = its index + r times the block's lanes,
+  // as the sweeps hold their pairs) each keep their way through their
+  // earlier neighbours from round to round: the colours below 64 seen so far
+  // (a colour, once written, is final) and the node and list entry waited
+  // on, so a round reads the one colour each waits for, where it read the
+  // lists again from their start. The first slot's in registers, the
+  // others' in the lane's local memory.
+  struct Resumed {
+    int32_t p = 0, k = 0, j = 0;
+    uint64_t pp = 0, seen = 0;
+  };
+  Resumed first_slot, more_slots[kHeld - 1];
+  for (int r = 0; r < kHeld; ++r) {
+    const int32_t s = int32_t(threadIdx.x) + r * kSolveThreads;
+    if (s >= m) break;
+    Resumed& w = r == 0 ? first_slot : more_slots[r - 1];
+    w.p = tp[s];
+    w.pp = friction_priority(E.key[w.p]);
   }
+  // slot s's next round on its way (w): 1 coloured, 0 waiting, -1 colours 0-63 all taken
+  const auto resume = [&](int32_t s, Resumed& w) {
+    // a colour, once written, is final: the bits seen stay right
+    const bool ready = see_earlier(E, s, w.p, w.pp, w.k, w.j, [&](int32_t e) {
+      const int32_t c = colour[e];
+      if (c >= 0 && c < 64) w.seen |= uint64_t(1) << c;
+      return c >= 0;
+    });
+    if (!ready) return 0;
+    if (~w.seen) {
+      colour[s] = __ffsll((long long)~w.seen) - 1;
+      return 1;
+    }
+    return -1;
+  };
   __syncthreads();
   int32_t rounds = 0;
   for (;;) {
@@ -333,21 +355,11 @@ __global__ void __launch_bounds__(kSolveThreads)
     int waiting = 0;
     for (int32_t s = threadIdx.x; s < m; s += kSolveThreads) {
       if (colour[s] != -1) continue;
-      if (s == s0) {
-        // a colour, once written, is final: the bits seen stay right
-        const bool ready = see_earlier(E, s, p0, pp0, at_k, at_j, [&](int32_t e) {
-          const int32_t c = colour[e];
-          if (c >= 0 && c < 64) seen0 |= uint64_t(1) << c;
-          return c >= 0;
-        });
-        if (!ready) {
-          waiting = 1;
-          continue;
-        }
-        if (~seen0) {
-          colour[s] = __ffsll((long long)~seen0) - 1;
-          continue;
-        }
+      const int32_t r = (s - int32_t(threadIdx.x)) / kSolveThreads;
+      if (r < kHeld) {
+        const int done = resume(s, r == 0 ? first_slot : more_slots[r - 1]);
+        if (done == 0) waiting = 1;
+        if (done >= 0) continue;
         // colours 0-63 all taken: the scan below finds its colour from 64 up
       }
       const int32_t p = tp[s];
