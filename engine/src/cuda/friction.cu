@@ -483,13 +483,13 @@ __device__ inline void hold_pair(const FrictionPairArrays& P, int32_t i, const d
 
 // A held pair's warm start push, and its update in a sweep (as the arrays' pairs').
 __device__ inline void held_warm_push(HeldPair& hp, double dt, const double* ix, const double* iy, double* vx,
-                                               double* vy) {
+                                      double* vy) {
   if (isnan(hp.warm)) return;
   hp.lambda = hp.warm;
   friction_push(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, hp.warm, dt, ix, iy, vx, vy);
 }
 __device__ inline void held_update(HeldPair& hp, double mu, double dt, const double* ix, const double* iy,
-                                            double* vx, double* vy) {
+                                   double* vx, double* vy) {
   if (hp.kinv == 0.0 || hp.fn == 0.0) return;
   const double d = friction_update(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, mu * hp.fn, hp.kinv, dt, vx, vy, hp.lambda);
   if (d != 0.0) friction_push(hp.node, hp.nc, hp.nt, hp.nx, hp.ny, d, dt, ix, iy, vx, vy);
