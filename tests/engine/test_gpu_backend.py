@@ -142,7 +142,7 @@ def test_a_friction_list_length_out_of_range_is_refused():
     stage = gpu.Friction(rubbing_blocks(np.random.default_rng(3)))
     with pytest.raises(ValueError, match="earlier_list=17: valid values are 0 to 16"):
         stage._d.set_earlier_list(17)
-    with pytest.raises(ValueError, match="shared_nodes=-1: valid values are 0 to 1024"):
+    with pytest.raises(ValueError, match=r"shared_nodes=-1: valid values are 0 to \d+"):
         stage._d.set_shared_nodes(-1)
 
 

@@ -29,6 +29,7 @@
 #include "contact/friction_kernel.hpp"
 #include "contact/potential_contact_kernel.hpp"
 #include "cuda/device_array.cuh"
+#include "cuda/dynamic_shared.cuh"
 #include "cuda/fixed_sums.cuh"
 #include "cuda/stream.cuh"
 #include "cuda/halt.cuh"
@@ -48,11 +49,13 @@ constexpr int32_t kEarlier = 16;     // a touching pair's earlier neighbours lis
 // neighbour's colour in tens of cycles, not a trip to L2
 constexpr int32_t kSharedSlots = 8192;
 // the sweeps keep the velocities and inverse masses of the touching pairs'
-// nodes in shared memory where they are at most this many (32 KB) and the
-// pairs all held (HeldPair, kHeld below): a pass then reads
-// and writes them there, where each read went to the L2 cache after the
-// colour before had written them
-constexpr int32_t kSharedNodes = 1024;
+// nodes in shared memory where they are at most this many (128 KB of dynamic
+// shared memory; fewer where the GPU's blocks have less) and the pairs all
+// held (HeldPair, kHeld below): a pass then reads and writes them there,
+// where each read went to the L2 cache after the colour before had written
+// them
+constexpr int32_t kSharedNodes = 4096;
+constexpr size_t kSharedNodeBytes = 4 * sizeof(double);  // velocity x, y, inverse mass x, y
 // pairs a sweep lane holds through every pass (HeldPair): up to kHeld times
 // the block's lanes are held, the rest read from the arrays each pass (a
 // loaded pile has up to a few thousand touching pairs)
@@ -513,7 +516,11 @@ __global__ void __launch_bounds__(kSolveThreads, 1)
   if (halted(halt)) return;
   __shared__ double shared[kSolveThreads];
   __shared__ int32_t starts[kSolveThreads + 1];
-  __shared__ double local_wx[kSharedNodes], local_wy[kSharedNodes], local_imx[kSharedNodes], local_imy[kSharedNodes];
+  // L.most nodes' four values in the launch's dynamic shared memory
+  double* const local_wx = dynamic_shared<double>();
+  double* const local_wy = local_wx + L.most;
+  double* const local_imx = local_wy + L.most;
+  double* const local_imy = local_imx + L.most;
   const int32_t colours = counts[c_colours], m = counts[c_touching];
   // the touching pairs' nodes in shared memory (number_local_nodes: every pair held)
   const int32_t n_local = counts[c_local];
@@ -691,6 +698,24 @@ __global__ void apply_touched_kernel(const int32_t* halt, FrictionPairArrays P, 
 }
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }
+
+// The most nodes the sweeps keep in shared memory on this GPU: kSharedNodes,
+// or what its blocks' shared memory holds beside solve_kernel's own arrays;
+// the kernel is let use that much (over 48 KB it must opt in).
+int32_t most_shared_nodes() {
+  static const int32_t most = [] {
+    int optin = 0;
+    cuda_check(cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, 0), "cudaDeviceGetAttribute");
+    const size_t own = sizeof(double) * kSolveThreads + sizeof(int32_t) * (kSolveThreads + 1);  // solve_kernel's
+    const size_t room = size_t(optin) > own ? size_t(optin) - own : 0;
+    const int32_t n = int32_t(std::min<size_t>(size_t(kSharedNodes), room / kSharedNodeBytes));
+    cuda_check(cudaFuncSetAttribute(solve_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
+                                    int(kSharedNodeBytes * size_t(n))),
+               "cudaFuncSetAttribute");
+    return n;
+  }();
+  return most;
+}
 // apply_touched_kernel's grid (its lanes step through the touching pairs' nodes)
 constexpr int kTouchedBlocks = 32;
 
@@ -715,7 +740,8 @@ void DeviceFriction::Impl::launch() {
                             entry.data(),   slot_of.data(), earlier.data(), n_earlier.data()};
   launch_kernel(colour_kernel, 1, kSolveThreads, stream, halt, E, tp.data(), colour.data(), counts.data(),
                 slot_colour.data(), order.data(), colour_start.data(), coloured_tp.data(), local_nodes());
-  launch_kernel(solve_kernel, 1, kSolveThreads, stream, halt, pairs(), tp.data(), order.data(), colour_start.data(),
+  launch_kernel_shared(solve_kernel, 1, kSolveThreads, kSharedNodeBytes * size_t(shared_nodes), stream, halt,
+                       pairs(), tp.data(), order.data(), colour_start.data(),
                 counts.data(), warm.data(), mu, dt, imx.data(), imy.data(), wx.data(), wy.data(), kinv.data(),
                 lambda.data(), power.data(), local_nodes(), slot_of.data());
   if (totals_given)
@@ -771,7 +797,7 @@ DeviceFriction::DeviceFriction(const Model& m, WarmStart warm_start) : impl_(new
   d.f_pre_y.upload(N.f_pre_y);
   for (auto* a : {&d.imx, &d.imy, &d.wx, &d.wy, &d.f_x, &d.f_y}) a->resize(d.n_nodes);
   d.first_of.upload(std::vector<int32_t>(size_t(d.n_nodes), INT32_MAX));  // number_local_nodes' between colourings
-  d.shared_nodes = kSharedNodes;
+  d.shared_nodes = most_shared_nodes();
   std::vector<int32_t> counts(n_friction_counts, 0);
   counts[c_coloured] = -1;  // no colouring kept
   d.counts.upload(counts);
@@ -822,9 +848,10 @@ void DeviceFriction::set_earlier_list(int32_t n) {
 }
 
 void DeviceFriction::set_shared_nodes(int32_t n) {
-  if (n < 0 || n > kSharedNodes)
+  const int32_t most = most_shared_nodes();
+  if (n < 0 || n > most)
     throw std::invalid_argument("shared_nodes=" + std::to_string(n) + ": valid values are 0 to " +
-                                std::to_string(kSharedNodes));
+                                std::to_string(most));
   impl_->shared_nodes = n;
   impl_->forget_colouring();  // the nodes are numbered with the colouring
 }
