@@ -14,8 +14,11 @@ namespace contact_kernel {
 // A triangle cut by 3 half-planes has at most 6 vertices, by 2 more at most 8.
 constexpr int kMaxPoly = 12;
 
+// No initializer: a polygon is made by clip (or from a triangle's corners)
+// before it is read, and the GPU keeps an Overlap's in shared memory, which
+// takes no initialization (cuda/contact_normal.cu).
 struct Poly {
-  int n = 0;
+  int n;
   double x[kMaxPoly];
   double y[kMaxPoly];
 };
