@@ -113,69 +113,6 @@ ICERUBBLE_HD double area_centroid(const Poly& p, double& gx, double& gy) {
   return 0.5 * a2;
 }
 
-// The part of potential_term (below) from the owner's sub-triangle i (node
-// i1, node i2, centroid, where phi = 3 lambda_i): each term as potential_term
-// adds it (present: the overlap reaches into the sub-triangle). A term of its
-// own so that the GPU computes a pair's six on six lanes (cuda/contact_normal.cu),
-// which add them in potential_term's order: the same bits.
-struct SubTerm {
-  bool present;
-  double energy;            // s A phi_o(g)
-  double fo_x[3], fo_y[3];  // added to the owner's nodes
-  double fp_x[3], fp_y[3];  // taken from the other triangle's nodes
-};
-
-ICERUBBLE_HD void sub_term(const Tri& owner, const Tri& other, const Poly& ov, double s, int i, SubTerm& r) {
-  const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-  Poly q, tmp;
-  clip(ov, owner.x[i2], owner.y[i2], owner.cx, owner.cy, tmp);
-  clip(tmp, owner.cx, owner.cy, owner.x[i1], owner.y[i1], q);
-  double gx = 0.0, gy = 0.0;
-  const double a = area_centroid(q, gx, gy);
-  r.present = !(a <= 0.0);
-  if (!r.present) return;
-  const double sa = s * a;
-  const double dphix = 3.0 * owner.gx[i], dphiy = 3.0 * owner.gy[i];
-  const double phi = 3.0 * owner.lambda(i, gx, gy);
-  r.energy = sa * phi;
-  for (int k = 0; k < 3; ++k) {
-    const double no = owner.lambda(k, gx, gy);
-    r.fo_x[k] = sa * no * dphix;
-    r.fo_y[k] = sa * no * dphiy;
-    const double np = other.lambda(k, gx, gy);
-    r.fp_x[k] = sa * (np * dphix + phi * other.gx[k]);
-    r.fp_y[k] = sa * (np * dphiy + phi * other.gy[k]);
-  }
-}
-
-// Adds a sub-term to the owner's (fo) and the other's (fp) forces and the energy.
-ICERUBBLE_HD void add_sub_term(const SubTerm& r, double& energy, double fo_x[3], double fo_y[3], double fp_x[3],
-                               double fp_y[3]) {
-  if (!r.present) return;
-  energy += r.energy;
-  for (int k = 0; k < 3; ++k) {
-    fo_x[k] += r.fo_x[k];
-    fo_y[k] += r.fo_y[k];
-    fp_x[k] -= r.fp_x[k];
-    fp_y[k] -= r.fp_y[k];
-  }
-}
-
-// Adds the force of the potential of `owner` acting on the overlap `ov`
-// (which lies inside `owner`): owner nodes get  s A N^o_k(g) grad phi_o,
-// the other triangle's nodes get  -s A (N^p_j(g) grad phi_o + phi_o(g) grad N^p_j),
-// summed over the three sub-triangles of `owner`. Returns s int phi_o.
-ICERUBBLE_HD double potential_term(const Tri& owner, const Tri& other, const Poly& ov, double s, double fo_x[3],
-                      double fo_y[3], double fp_x[3], double fp_y[3]) {
-  double energy = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    SubTerm r;
-    sub_term(owner, other, ov, s, i, r);
-    add_sub_term(r, energy, fo_x, fo_y, fp_x, fp_y);
-  }
-  return energy;
-}
-
 // A pair's first part: both triangles in a frame at the target's centroid
 // (ox, oy: overlaps are tiny compared with the global coordinates, so work
 // with small numbers), the contactor clipped by the three target edges
@@ -206,11 +143,81 @@ ICERUBBLE_HD bool overlap_of(const double xc[3], const double yc[3], const doubl
   return o.area > 0.0;
 }
 
-// The pair's contact from its overlap, the forces on the contactor's (fc)
-// and the target's (ft) nodes in the local order and the energy, in the
-// caller's node order.
-ICERUBBLE_HD void finish_pair(const Overlap& o, const double fcx[3], const double fcy[3], const double ftx[3],
-                              const double fty[3], double energy, PairContact& out) {
+// The force of the potential of an `owner` triangle acting on the overlap
+// (which lies inside it), from one of its three sub-triangles i (node i1,
+// node i2, centroid, where phi = 3 lambda_i): owner nodes get
+// s A N^o_k(g) grad phi_o, the other triangle's nodes get
+// -s A (N^p_j(g) grad phi_o + phi_o(g) grad N^p_j), and the energy is s A phi_o(g)
+// (present: the overlap reaches into the sub-triangle). A pair has six: the
+// target as owner (the contactor in the target's phi), sub-triangles 0-2,
+// then the contactor as owner, 0-2 (pair_sub_term's j); each is computed
+// alone, so the GPU computes a pair's six on six lanes (cuda/contact_normal.cu),
+// and finish_pair adds them in that order on both backends: the same bits.
+struct SubTerm {
+  bool present;
+  double energy;
+  double fo_x[3], fo_y[3];  // added to the owner's nodes
+  double fp_x[3], fp_y[3];  // taken from the other triangle's nodes
+};
+
+ICERUBBLE_HD void sub_term(const Tri& owner, const Tri& other, const Poly& ov, double s, int i, SubTerm& r) {
+  const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+  Poly q, tmp;
+  clip(ov, owner.x[i2], owner.y[i2], owner.cx, owner.cy, tmp);
+  clip(tmp, owner.cx, owner.cy, owner.x[i1], owner.y[i1], q);
+  double gx = 0.0, gy = 0.0;
+  const double a = area_centroid(q, gx, gy);
+  r.present = !(a <= 0.0);
+  if (!r.present) return;
+  const double sa = s * a;
+  const double dphix = 3.0 * owner.gx[i], dphiy = 3.0 * owner.gy[i];
+  const double phi = 3.0 * owner.lambda(i, gx, gy);
+  r.energy = sa * phi;
+  for (int k = 0; k < 3; ++k) {
+    const double no = owner.lambda(k, gx, gy);
+    r.fo_x[k] = sa * no * dphix;
+    r.fo_y[k] = sa * no * dphiy;
+    const double np = other.lambda(k, gx, gy);
+    r.fp_x[k] = sa * (np * dphix + phi * other.gx[k]);
+    r.fp_y[k] = sa * (np * dphiy + phi * other.gy[k]);
+  }
+}
+
+// The pair's sub-term j (0-5, the order above).
+ICERUBBLE_HD void pair_sub_term(const Overlap& o, double s, int j, SubTerm& r) {
+  if (j < 3)
+    sub_term(o.t, o.c, o.ov, s, j, r);
+  else
+    sub_term(o.c, o.t, o.ov, s, j - 3, r);
+}
+
+// Adds a sub-term to the owner's (fo) and the other's (fp) forces and the energy.
+ICERUBBLE_HD void add_sub_term(const SubTerm& r, double& energy, double fo_x[3], double fo_y[3], double fp_x[3],
+                               double fp_y[3]) {
+  if (!r.present) return;
+  energy += r.energy;
+  for (int k = 0; k < 3; ++k) {
+    fo_x[k] += r.fo_x[k];
+    fo_y[k] += r.fo_y[k];
+    fp_x[k] -= r.fp_x[k];
+    fp_y[k] -= r.fp_y[k];
+  }
+}
+
+// The pair's contact from its overlap and its six sub-terms (term(j): the
+// sub-term j, SubTerm), added in their order (each owner's energy on its
+// own, then the two added), in the caller's node order. The CPU computes
+// each term as it is added (potential_contact_pair; six computed first made
+// its contact forces ~20 % slower), the GPU's lanes computed them before
+// (cuda/contact_normal.cu).
+template <class Term>
+ICERUBBLE_HD void finish_pair(const Overlap& o, Term term, PairContact& out) {
+  double fcx[3] = {0, 0, 0}, fcy[3] = {0, 0, 0}, ftx[3] = {0, 0, 0}, fty[3] = {0, 0, 0};
+  double energy = 0.0;
+  for (int j = 0; j < 3; ++j) add_sub_term(term(j), energy, ftx, fty, fcx, fcy);  // contactor in target's phi
+  double e_target = 0.0;
+  for (int j = 3; j < 6; ++j) add_sub_term(term(j), e_target, fcx, fcy, ftx, fty);  // target in contactor's phi
+  energy += e_target;
   for (int k = 0; k < 3; ++k) {
     out.fx[o.c.perm[k]] = fcx[k];
     out.fy[o.c.perm[k]] = fcy[k];
@@ -232,10 +239,13 @@ ICERUBBLE_HD bool potential_contact_pair(const double xc[3], const double yc[3],
   using namespace contact_kernel;
   Overlap o;
   if (!overlap_of(xc, yc, xt, yt, o)) return false;
-  double fcx[3] = {0, 0, 0}, fcy[3] = {0, 0, 0}, ftx[3] = {0, 0, 0}, fty[3] = {0, 0, 0};
-  double energy = potential_term(o.t, o.c, o.ov, s, ftx, fty, fcx, fcy);  // contactor in target's phi
-  energy += potential_term(o.c, o.t, o.ov, s, fcx, fcy, ftx, fty);        // target in contactor's phi
-  finish_pair(o, fcx, fcy, ftx, fty, energy, out);
+  finish_pair(o,
+              [&](int j) {
+                SubTerm r;
+                pair_sub_term(o, s, j, r);
+                return r;
+              },
+              out);
   return true;
 }
 

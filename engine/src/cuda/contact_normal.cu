@@ -28,10 +28,11 @@ constexpr int kSumThreads = kWideBlock;
 // little else to run meanwhile: the kernel took as long as one pair's chain
 // (35 us a step of the paper mesh at the lease of 2026-11-30). So a group of
 // kPairLanes lanes takes a candidate: its first lane tests the boxes and
-// finds the overlap, six lanes then take a sub-term each (the owner's
-// sub-triangle: the target's three, then the contactor's), and the first
-// lane adds them in potential_term's order and finishes the pair: the CPU's
-// potential_contact_pair, bit for bit, a chain a third as long.
+// finds the overlap, six lanes then take a sub-term each (pair_sub_term:
+// the owner's sub-triangle, the target's three, then the contactor's), and
+// the first lane finishes the pair from them (finish_pair, which adds them in
+// their order): the CPU's potential_contact_pair, bit for bit, a chain a
+// third as long.
 constexpr int kPairLanes = 8;  // six sub-terms; a group of eight stays within a warp
 constexpr int kPairsPerBlock = kBlock / kPairLanes;
 
@@ -62,18 +63,11 @@ __global__ void __launch_bounds__(kBlock) pair_kernel(const int32_t* halt, const
   __syncthreads();
   const bool h = touching[g];
   const contact_kernel::Overlap& o = overlap[g];
-  if (h && j < 6) contact_kernel::sub_term(j < 3 ? o.t : o.c, j < 3 ? o.c : o.t, o.ov, s, j % 3, term[g][j]);
+  if (h && j < 6) contact_kernel::pair_sub_term(o, s, j, term[g][j]);
   __syncthreads();  // every lane: a barrier some lanes had left is undefined
   if (!h || j != 0) return;
-  // potential_contact_pair's sums: the contactor in the target's phi, then the target in the contactor's
-  double fcx[3] = {0, 0, 0}, fcy[3] = {0, 0, 0}, ftx[3] = {0, 0, 0}, fty[3] = {0, 0, 0};
-  double e = 0.0;
-  for (int i = 0; i < 3; ++i) contact_kernel::add_sub_term(term[g][i], e, ftx, fty, fcx, fcy);
-  double e2 = 0.0;
-  for (int i = 3; i < 6; ++i) contact_kernel::add_sub_term(term[g][i], e2, fcx, fcy, ftx, fty);
-  e += e2;
   PairContact r;
-  contact_kernel::finish_pair(o, fcx, fcy, ftx, fty, e, r);
+  contact_kernel::finish_pair(o, [&](int i) -> const contact_kernel::SubTerm& { return term[g][i]; }, r);
   energy[p] = r.energy;
   for (int k = 0; k < 6; ++k) {
     fx[6 * p + k] = r.fx[k];

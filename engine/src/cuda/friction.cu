@@ -664,16 +664,22 @@ __device__ inline void add_node_friction(const FrictionPairArrays& P, const int3
   }
 }
 
+// Node i's total: its force before friction with its pairs' friction added.
+__device__ inline void apply_node(const FrictionPairArrays& P, const int32_t* start, const int32_t* entry,
+                                  const double* lambda, const double* f_pre_x, const double* f_pre_y, int32_t i,
+                                  double* f_x, double* f_y) {
+  double sx = f_pre_x[i], sy = f_pre_y[i];
+  add_node_friction(P, start, entry, lambda, i, sx, sy);
+  f_x[i] = sx;
+  f_y[i] = sy;
+}
+
 __global__ void apply_kernel(const int32_t* halt, FrictionPairArrays P, const int32_t* start, const int32_t* entry,
                              const double* lambda, const double* f_pre_x, const double* f_pre_y, int32_t n, double* f_x,
                              double* f_y) {
   if (halted(halt)) return;
   const int32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i >= n) return;
-  double sx = f_pre_x[i], sy = f_pre_y[i];
-  add_node_friction(P, start, entry, lambda, i, sx, sy);
-  f_x[i] = sx;
-  f_y[i] = sy;
+  if (i < n) apply_node(P, start, entry, lambda, f_pre_x, f_pre_y, i, f_x, f_y);
 }
 
 // apply_kernel for the touching pairs' nodes alone (number_local_nodes),
@@ -688,13 +694,8 @@ __global__ void apply_touched_kernel(const int32_t* halt, FrictionPairArrays P, 
                                      double* f_x, double* f_y) {
   if (halted(halt)) return;
   const int32_t n = counts[c_nodes];
-  for (int32_t a = blockIdx.x * blockDim.x + threadIdx.x; a < n; a += gridDim.x * blockDim.x) {
-    const int32_t i = touched[a];
-    double sx = f_pre_x[i], sy = f_pre_y[i];
-    add_node_friction(P, start, entry, lambda, i, sx, sy);
-    f_x[i] = sx;
-    f_y[i] = sy;
-  }
+  for (int32_t a = blockIdx.x * blockDim.x + threadIdx.x; a < n; a += gridDim.x * blockDim.x)
+    apply_node(P, start, entry, lambda, f_pre_x, f_pre_y, touched[a], f_x, f_y);
 }
 
 int blocks(int64_t n) { return int((n + kBlock - 1) / kBlock); }

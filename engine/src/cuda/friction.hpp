@@ -52,8 +52,9 @@ class DeviceFriction {
   // are the same.
   void set_earlier_list(int32_t n);
   // How many of the touching pairs' nodes the sweeps may keep in shared
-  // memory (0 to the most, kSharedNodes in friction.cu; more: they read the
-  // nodes' arrays). Fewer only to test that path: the forces are the same.
+  // memory (0 to the most, most_shared_nodes in friction.cu: kSharedNodes or
+  // what this GPU's blocks hold; more: they read the nodes' arrays). Fewer
+  // only to test that path: the forces are the same.
   void set_shared_nodes(int32_t n);
 
  private:

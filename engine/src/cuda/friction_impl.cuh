@@ -55,7 +55,7 @@ struct LocalNodes {
   int32_t* first_of;  // per node of the mesh
   int32_t* node;      // per local index (room for every touching pair's six)
   int32_t* node6;     // per touching pair's (slot, node)
-  int32_t most;       // at most this many (kSharedNodes or fewer: DeviceFriction::set_shared_nodes)
+  int32_t most;       // at most this many in shared memory (most_shared_nodes or fewer: set_shared_nodes)
 };
 
 struct DeviceFriction::Impl {
