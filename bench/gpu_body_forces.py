@@ -41,7 +41,7 @@ from icerubble.run.scene import Scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "bench", "results", "gpu_body_forces.json")
-PARTS = ("elements", "drag", "contact_detection", "contact_forces", "bonds", "integration")
+PARTS = ("elements", "drag", "contact_detection", "contact_forces", "friction", "bonds", "integration")
 
 
 def load_phase_model(mesh, scene_name, preset, threads):

@@ -6,7 +6,8 @@ the colours are large (no two pairs of a colour share a node). So the contact
 forces, the touching pairs and friction's forces are the same bits on one
 thread and on two. (A loaded pile has ~1,000 touching pairs among tens of
 thousands of candidates, above the sizes from which the contact pass runs
-threaded; its friction, ~50 pairs a colour, runs serially.)"""
+threaded; its friction, ~50 pairs a colour, runs island by island:
+test_friction_islands.py. The wall here is nearly one island: colour by colour.)"""
 import numpy as np
 
 from icerubble import engine

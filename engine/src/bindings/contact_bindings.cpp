@@ -177,6 +177,27 @@ void bind_contact(py::module_& m) {
       "('entry'[start[i]:start[i + 1]]).");
 
   m.def(
+      "friction_islands",
+      [](IArr node, int32_t n_nodes) {
+        if (node.ndim() != 2 || node.shape(1) != 6) throw std::invalid_argument("node must be (pairs, 6)");
+        if (!(n_nodes > 0)) throw std::invalid_argument("n_nodes must be > 0");
+        const int32_t* v = node.data();
+        for (py::ssize_t e = 0; e < node.size(); ++e)
+          if (v[e] < 0 || v[e] >= n_nodes)
+            throw std::invalid_argument("node ids must be in [0, n_nodes = " + std::to_string(n_nodes) + ")");
+        FrictionIslands out;
+        std::vector<int32_t> owner;
+        friction_islands(int32_t(node.shape(0)), v, n_nodes, out, owner);
+        py::dict d;
+        d["of_pair"] = as_array(out.of_pair);
+        d["by_size"] = as_array(out.by_size);
+        return d;
+      },
+      py::arg("node"), py::arg("n_nodes"),
+      "The islands of pairs given by their six nodes each (contact/friction_islands.hpp): 'of_pair',\n"
+      "each pair's island (numbered by their first pair), and 'by_size', the islands largest first.");
+
+  m.def(
       "contact_critical_dt",
       [](DArr x, DArr y, DArr mass, IArr tri, double penalty, std::optional<IArr> body_in, double reach) {
         if (!(reach > 0.0)) throw std::invalid_argument("reach must be > 0 m (inf: the whole mesh)");

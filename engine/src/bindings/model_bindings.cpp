@@ -409,6 +409,7 @@ void bind_model(py::module_& m) {
         d["drag"] = t.drag;
         d["contact_detection"] = t.contact_detection;
         d["contact_forces"] = t.contact_forces;
+        d["friction"] = t.friction;
         d["bonds"] = t.bonds;
         d["integration"] = t.integration;
         d["total"] = t.total;

@@ -231,6 +231,10 @@ class ContactSolver {
     bool fn_zero;
   };
   std::vector<SweepPair> sweep_;
+  std::vector<int32_t> slot_;        // sweep_[s] holds pair slot_[s] (island by island)
+  std::vector<double> slip_work_;    // lambda times the end-of-step slip, per pair
+  FrictionIslands islands_;          // the pairs' islands (threaded friction)
+  std::vector<int32_t> island_owner_; // their workspace
   FrictionOrder order_;              // the sweeps' order of the last friction call
   std::vector<int32_t> order_nodes_; // its input: six nodes per pair
   std::vector<uint64_t> order_keys_; // (contactor, target) per pair, ascending

@@ -40,8 +40,16 @@ constexpr int kSweeps = 4;
 // each on two threads. Measured on two threads (bench/gpu_friction.py): 1,283
 // pairs in 30 colours took 0.26 ms on one thread and 0.32 ms threaded, 13,581
 // in 32 colours 3.9 and 2.7 ms. A loaded paper pile has ~1,000 pairs in ~15-30
-// colours: serial.
+// colours: its threads share the pairs' islands instead (friction_islands.hpp).
 constexpr int64_t kMinPairsPerColour = 256;
+
+// Fewer touching pairs than this are swept on one thread: finding the
+// islands (serial, ~50 us for 1,100 pairs here: its node lookups miss the
+// cache) and starting the threads costs more than it saves. Measured on two
+// threads (the paper scene, ridge 1, fast): 153 pairs of its rest state in 35
+// islands took 41 us on one thread, 45 by islands; 1,106 of a nudged pile in
+// 212 islands 304 and 283 us.
+constexpr int64_t kMinParallelFrictionPairs = 256;
 
 }  // namespace
 
@@ -75,94 +83,81 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     std::copy(pairs_[i].node, pairs_[i].node + 6, order_nodes_.begin() + 6 * i);
     order_keys_[i] = friction_pair_key(pairs_[i].contactor, pairs_[i].target);
   }
-  engine::friction_order(int32_t(np), order_nodes_.data(), order_keys_.data(), in.n_nodes, order_, order_used_);
+  const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
+  const bool threaded = nthreads > 1 && int64_t(np) >= kMinParallelFrictionPairs;
+  if (threaded)
+    friction_islands(int32_t(np), order_nodes_.data(), in.n_nodes, islands_, island_owner_);
+  else
+    one_island(int32_t(np), islands_);
+  engine::friction_order(int32_t(np), order_nodes_.data(), order_keys_.data(), in.n_nodes, islands_,
+                         threaded ? nthreads : 1, order_, order_used_);
   double* wx = wx_.data();
   double* wy = wy_.data();
   double* imx = imx_.data();
   double* imy = imy_.data();
   sweep_.resize(np);
+  slip_work_.resize(np);
   const int32_t* colour_start = order_.colour_start.data();
   const int32_t colours = order_.colours();
-  const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
-  const bool threaded = nthreads > 1 && int64_t(np) >= kMinPairsPerColour * colours;
+  // The threads share the pairs island by island (no barrier: an island's
+  // sweeps touch its nodes alone), or colour by colour where one island holds
+  // more than a thread's share and the colours are large (a pressed wall).
+  const bool by_colour = threaded && int64_t(np) >= kMinPairsPerColour * colours &&
+                         int64_t(islands_.largest()) * nthreads > int64_t(np);
 
-  // Each phase visits the pairs colour by colour (no two pairs of a colour
-  // share a node), a barrier between colours, so its threads write disjoint
-  // nodes and the bits are those of one thread visiting them in that order.
-  #pragma omp parallel num_threads(nthreads) if (threaded)
-  {
-    // Per-component inverse masses (0 for an immovable or prescribed
-    // component) and end-of-step velocities without friction, for the nodes
-    // that touch (a node of pairs of several colours: the same values again).
-    for (int32_t c = 0; c < colours; ++c) {
-      #pragma omp for schedule(static)
-      for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) {
-        const ContactPair& q = pairs_[order_.pair[k]];
-        for (int j = 0; j < 6; ++j) {
-          const int32_t n = q.node[j];
-          friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n],
-                                fy[n], in.v_bc_x, in.v_bc_y, n, dt, imx[n], imy[n], wx[n], wy[n]);
-        }
-      }
+  // Per-component inverse masses (0 for an immovable or prescribed
+  // component) and end-of-step velocities without friction, for the nodes
+  // of pair i (a node of several pairs: the same values again).
+  const auto predict = [&](int32_t i) {
+    const ContactPair& q = pairs_[i];
+    for (int j = 0; j < 6; ++j) {
+      const int32_t n = q.node[j];
+      friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n], fy[n],
+                            in.v_bc_x, in.v_bc_y, n, dt, imx[n], imy[n], wx[n], wy[n]);
     }
-    // The pairs copied in sweep order: a colour's pairs are scattered over
-    // pairs_, and the sweeps visit every colour five times (warm start, four
-    // sweeps); packed, each visit reads the pairs in memory order. What the
-    // colour order still costs on the CPU: consecutive pairs of a colour share
-    // no node, so the velocities they update are rarely in cache
-    // (docs/gpu.md, "Friction").
-    // Warm start from the force the same triangle pair carried last step: a
-    // resting block needs nearly the same friction every step, so the sweeps
-    // only correct it, and the iteration keeps converging across steps
-    // instead of leaving a residual slip (creep) at a fixed sweep count.
-    for (int32_t c = 0; c < colours; ++c) {
-      #pragma omp for schedule(static)
-      for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) {
-        const int32_t i = order_.pair[k];
-        const ContactPair& cp = pairs_[i];
-        SweepPair& q = sweep_[k];
-        std::copy(cp.node, cp.node + 6, q.node);
-        std::copy(cp.nc, cp.nc + 3, q.nc);
-        std::copy(cp.nt, cp.nt + 3, q.nt);
-        q.nx = cp.nx;
-        q.ny = cp.ny;
-        q.limit = p.mu * cp.fn;
-        q.kinv = friction_inverse_mass(cp.node, cp.nc, cp.nt, cp.nx, cp.ny, imx, imy);
-        q.lambda = 0.0;
-        q.fn_zero = cp.fn == 0.0;
-        const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[i]);
-        if (at < 0 || q.kinv == 0.0) continue;
-        q.lambda = clamp_to_cone(prev_lambda_[at], q.limit);
-        friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, imx, imy, wx, wy);
-      }
-    }
-    for (int sweep = 0; sweep < kSweeps; ++sweep) {
-      for (int32_t c = 0; c < colours; ++c) {
-        #pragma omp for schedule(static)
-        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) {
-          SweepPair& q = sweep_[k];
-          if (q.kinv == 0.0 || q.fn_zero) continue;
-          const double d = friction_update(q.node, q.nc, q.nt, q.nx, q.ny, q.limit, q.kinv, dt, wx, wy, q.lambda);
-          if (d != 0.0) friction_push(q.node, q.nc, q.nt, q.nx, q.ny, d, dt, imx, imy, wx, wy);
-        }
-      }
-    }
-    #pragma omp for schedule(static)
-    for (int64_t k = 0; k < int64_t(np); ++k) lambda_[order_.pair[k]] = sweep_[k].lambda;
-  }
-
-  // Remember the forces by pair for the next step's warm start: the pairs
-  // come in (contactor, target) order, i.e. with ascending keys.
-  prev_key_.assign(order_keys_.begin(), order_keys_.end());
-  prev_lambda_.assign(lambda_.begin(), lambda_.begin() + np);
-
-  // Apply, and measure the power of friction with the velocities the nodes
-  // will move with over this step (what the energy balance integrates).
-  double dissipation = 0.0;
-  for (size_t i = 0; i < np; ++i) {
+  };
+  // Pair i copied into sweep_[s]: the pairs of a colour are scattered over
+  // pairs_, and the sweeps visit each pair five times (warm start, four
+  // sweeps); packed, each visit reads the pairs in memory order. What the
+  // colour order still costs on the CPU: consecutive pairs of a colour share
+  // no node, so the velocities they update are rarely in cache (docs/gpu.md,
+  // "Friction").
+  // Warm start from the force the same triangle pair carried last step: a
+  // resting block needs nearly the same friction every step, so the sweeps
+  // only correct it, and the iteration keeps converging across steps
+  // instead of leaving a residual slip (creep) at a fixed sweep count.
+  const auto warm_start = [&](int32_t s, int32_t i) {
+    const ContactPair& cp = pairs_[i];
+    SweepPair& q = sweep_[s];
+    std::copy(cp.node, cp.node + 6, q.node);
+    std::copy(cp.nc, cp.nc + 3, q.nc);
+    std::copy(cp.nt, cp.nt + 3, q.nt);
+    q.nx = cp.nx;
+    q.ny = cp.ny;
+    q.limit = p.mu * cp.fn;
+    q.kinv = friction_inverse_mass(cp.node, cp.nc, cp.nt, cp.nx, cp.ny, imx, imy);
+    q.lambda = 0.0;
+    q.fn_zero = cp.fn == 0.0;
+    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[i]);
+    if (at < 0 || q.kinv == 0.0) return;
+    q.lambda = clamp_to_cone(prev_lambda_[at], q.limit);
+    friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, imx, imy, wx, wy);
+  };
+  const auto update = [&](int32_t s) {
+    SweepPair& q = sweep_[s];
+    if (q.kinv == 0.0 || q.fn_zero) return;
+    const double d = friction_update(q.node, q.nc, q.nt, q.nx, q.ny, q.limit, q.kinv, dt, wx, wy, q.lambda);
+    if (d != 0.0) friction_push(q.node, q.nc, q.nt, q.nx, q.ny, d, dt, imx, imy, wx, wy);
+  };
+  // Pair i's force onto its nodes, and its part of the power of friction
+  // with the velocities the nodes will move with over this step (what the
+  // energy balance integrates). A node's forces come in pair order, as they
+  // do when the pairs are applied one after another.
+  const auto apply = [&](int32_t i) {
     const ContactPair& c = pairs_[i];
     const double lam = lambda_[i];
-    if (lam == 0.0) continue;
+    slip_work_[i] = 0.0;
+    if (lam == 0.0) return;
     const double tx = -c.ny * lam, ty = c.nx * lam;
     for (int j = 0; j < 3; ++j) {
       fx[c.node[j]] += c.nc[j] * tx;
@@ -170,8 +165,64 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       fx[c.node[3 + j]] -= c.nt[j] * tx;
       fy[c.node[3 + j]] -= c.nt[j] * ty;
     }
-    dissipation -= lam * friction_slip(c.node, c.nc, c.nt, c.nx, c.ny, wx, wy);
+    slip_work_[i] = lam * friction_slip(c.node, c.nc, c.nt, c.nx, c.ny, wx, wy);
+  };
+
+  if (by_colour) {
+    // Each phase visits the pairs colour by colour (no two pairs of a colour
+    // share a node), a barrier between colours, so its threads write disjoint
+    // nodes and the bits are those of one thread visiting them in that order.
+    const int32_t* order = order_.pair.data();
+    #pragma omp parallel num_threads(nthreads)
+    {
+      for (int32_t c = 0; c < colours; ++c) {
+        #pragma omp for schedule(static)
+        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) predict(order[k]);
+      }
+      for (int32_t c = 0; c < colours; ++c) {
+        #pragma omp for schedule(static)
+        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) warm_start(k, order[k]);
+      }
+      for (int sweep = 0; sweep < kSweeps; ++sweep) {
+        for (int32_t c = 0; c < colours; ++c) {
+          #pragma omp for schedule(static)
+          for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) update(k);
+        }
+      }
+      #pragma omp for schedule(static)
+      for (int64_t k = 0; k < int64_t(np); ++k) lambda_[order[k]] = sweep_[k].lambda;
+    }
+    for (int32_t i = 0; i < int32_t(np); ++i) apply(i);
+  } else {
+    // Island by island, each island's pairs in sweep order: sweep_[s] holds
+    // pair slot_[s], the islands one after another.
+    slot_.resize(np);
+    std::vector<int32_t> fill(islands_.start.begin(), islands_.start.end() - 1);
+    for (int32_t k = 0; k < int32_t(np); ++k) {
+      const int32_t i = order_.pair[k];
+      slot_[fill[islands_.of_pair[i]]++] = i;
+    }
+    const int32_t* slot = slot_.data();
+    const int32_t* island_pair = islands_.pair.data();
+    #pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads) if (threaded)
+    for (int32_t r = 0; r < islands_.count(); ++r) {
+      const int32_t isl = islands_.by_size[r], b = islands_.start[isl], e = islands_.start[isl + 1];
+      for (int32_t s = b; s < e; ++s) predict(slot[s]);
+      for (int32_t s = b; s < e; ++s) warm_start(s, slot[s]);
+      for (int sweep = 0; sweep < kSweeps; ++sweep)
+        for (int32_t s = b; s < e; ++s) update(s);
+      for (int32_t s = b; s < e; ++s) lambda_[slot[s]] = sweep_[s].lambda;
+      for (int32_t s = b; s < e; ++s) apply(island_pair[s]);  // pair order within the island
+    }
   }
+
+  // Remember the forces by pair for the next step's warm start: the pairs
+  // come in (contactor, target) order, i.e. with ascending keys.
+  prev_key_.assign(order_keys_.begin(), order_keys_.end());
+  prev_lambda_.assign(lambda_.begin(), lambda_.begin() + np);
+  double dissipation = 0.0;
+  for (size_t i = 0; i < np; ++i)  // in pair order: the same sum on any thread count
+    if (lambda_[i] != 0.0) dissipation -= slip_work_[i];
   timings_.forces_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   friction_power_ = dissipation;
   return dissipation;

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact/friction_islands.hpp"
 #include "contact/friction_kernel.hpp"  // friction_priority, coloured_before
 
 namespace engine {
@@ -24,9 +25,10 @@ struct FrictionOrder {
 };
 
 // n_pairs pairs, node[6 p + k] their nodes (< n_nodes), key[p] their keys
-// (friction_pair_key). `used` is a workspace (kept between calls, all zero
-// between calls).
+// (friction_pair_key), coloured island by island (contact/friction_islands.hpp;
+// one island of every pair gives the same colours) on `threads` threads.
+// `used` is a workspace (kept between calls, all zero between calls).
 void friction_order(int32_t n_pairs, const int32_t* node, const uint64_t* key, int32_t n_nodes,
-                    FrictionOrder& out, std::vector<uint64_t>& used);
+                    const FrictionIslands& islands, int threads, FrictionOrder& out, std::vector<uint64_t>& used);
 
 }  // namespace engine

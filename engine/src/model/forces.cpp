@@ -235,7 +235,9 @@ void Model::apply_friction(History history) {
   const double power = contact_.apply_friction(params_.contact, contact_input(), nodes_.f_x.data(), nodes_.f_y.data());
   const double detection = contact_.timings().detection_s - detection_before;
   timings_.contact_detection += detection;
-  timings_.contact_forces += omp_get_wtime() - t0 - detection;
+  const double forces = omp_get_wtime() - t0 - detection;
+  timings_.contact_forces += forces;
+  timings_.friction += forces;
   if (history == History::commit) {
     energy_.friction_solver += power * dt_;
   } else {

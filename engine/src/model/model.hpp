@@ -38,6 +38,7 @@ struct StepTimings {
   double drag = 0.0;               // of which the bodies' quadratic drag constants
   double contact_detection = 0.0;  // as reported by the contact module
   double contact_forces = 0.0;     // rest of the contact calls (normal + friction)
+  double friction = 0.0;           // of which friction (eq 4: its islands, colouring, sweeps)
   double bonds = 0.0;              // freeze-bond check and cohesive forces
   double integration = 0.0;        // boundary conditions, update, energy, checks
   double total = 0.0;

@@ -1,0 +1,36 @@
+// The touching pairs' islands (contact/friction.cpp): the sets of pairs that
+// friction couples, a pair together with every pair that shares one of its
+// nodes, and so on. Friction's sweeps over an island read and write that
+// island's nodes alone, so the CPU's threads sweep different islands at once
+// and give the bits of the serial sweep, each island's pairs in their sweep
+// order; the colouring (contact/friction_order.hpp) is a greedy pass whose
+// choices look at a pair's island only, so islands are coloured at once too.
+// A loaded paper pile's ~300-1,100 touching pairs fall into ~65-210 islands,
+// the largest of 17-42 pairs (docs/gpu.md, "The CPU engine on a
+// workstation"), where its ~15-30 colours hold too few pairs each to share
+// among threads with a barrier per colour.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace engine {
+
+struct FrictionIslands {
+  std::vector<int32_t> of_pair;  // island of each pair (numbered by their first pair)
+  std::vector<int32_t> start;    // island i holds pair[start[i], start[i + 1])
+  std::vector<int32_t> pair;     // the pairs island by island, ascending within one
+  std::vector<int32_t> by_size;  // the islands, largest first (ties: lower number first)
+  int32_t count() const { return start.empty() ? 0 : int32_t(start.size()) - 1; }
+  int32_t largest() const { return by_size.empty() ? 0 : start[by_size[0] + 1] - start[by_size[0]]; }
+};
+
+// n_pairs pairs, node[6 p + k] their nodes (< n_nodes). `owner` is a
+// workspace (kept between calls, all -1 between calls).
+void friction_islands(int32_t n_pairs, const int32_t* node, int32_t n_nodes, FrictionIslands& out,
+                      std::vector<int32_t>& owner);
+
+// All n_pairs pairs as one island (a serial sweep: finding the islands would
+// cost more than the work they share out).
+void one_island(int32_t n_pairs, FrictionIslands& out);
+
+}  // namespace engine
