@@ -1,8 +1,9 @@
 """Friction on the CPU's threads, island by island (contact/friction_islands.hpp):
 the touching pairs coupled through shared nodes form islands; the threads
 colour and sweep different islands at once, each island's pairs in their
-sweep order, and apply each island's forces in pair order. So the colours,
-friction's forces and the run are the bits of one thread's serial sweep."""
+sweep order, and apply each island's forces in pair order (the normal pass
+adds its forces onto the nodes island by island too). So the colours, the
+contact and friction forces and the run are the bits of one thread's."""
 import numpy as np
 
 from icerubble import _engine, engine
@@ -10,7 +11,7 @@ from icerubble.engine import gpu
 from tests.engine.gpu_scenes import on_gpu_or_emulation
 from tests.engine.test_friction_order import priority, wall_of_squares
 
-MIN_PAIRS = 256  # friction.cpp, kMinParallelFrictionPairs: fewer are swept on one thread
+MIN_PAIRS = 256  # contact/friction_islands.hpp, kMinIslandPairs: fewer are swept on one thread
 
 
 def components(nodes):

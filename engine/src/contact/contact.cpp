@@ -156,6 +156,10 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
   for (int t = 0; t < team_size; ++t) hits_.insert(hits_.end(), thread_hits_[t].begin(), thread_hits_[t].end());
   const int64_t nh = static_cast<int64_t>(hits_.size());
   pairs_.resize(static_cast<size_t>(nh));
+  // the pairs' nodes and keys side by side: their islands' input and the
+  // friction's colouring's
+  pair_nodes_.resize(6 * static_cast<size_t>(nh));
+  pair_keys_.resize(static_cast<size_t>(nh));
 #pragma omp parallel for schedule(static) num_threads(nthreads) if (nh >= kMinParallelTouching)
   for (int64_t h = 0; h < nh; ++h) {
     const int64_t i = hits_[h];
@@ -169,21 +173,38 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
       cp.nc[k] = r.nc[k];
       cp.nt[k] = r.nt[k];
     }
+    std::copy(cp.node, cp.node + 6, pair_nodes_.begin() + 6 * h);
+    pair_keys_[h] = friction_pair_key(cp.contactor, cp.target);
     contact_resultant(r, cp.fn, cp.nx, cp.ny);
     cp.px = r.px;
     cp.py = r.py;
     cp.energy = r.energy;
   }
-  double energy = 0.0;
-  for (int64_t h = 0; h < nh; ++h) {  // in pair order: the sums the same at any thread count
+  // A node's forces in pair order, the same at any thread count: where the
+  // threads share the pairs, island by island (no two islands share a node).
+  islands_of_pairs_ = nthreads > 1 && nh >= kMinIslandPairs;
+  if (islands_of_pairs_)
+    friction_islands(int32_t(nh), pair_nodes_.data(), in.n_nodes, islands_, island_owner_);
+  const auto add = [&](int32_t h) {
     const PairContact& r = results_[hits_[h]];
     const ContactPair& cp = pairs_[h];
     for (int k = 0; k < 6; ++k) {
       fx[cp.node[k]] += r.fx[k];
       fy[cp.node[k]] += r.fy[k];
     }
-    energy += r.energy;
+  };
+  if (islands_of_pairs_) {
+    const int32_t* island_pair = islands_.pair.data();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+    for (int32_t r = 0; r < islands_.count(); ++r) {
+      const int32_t isl = islands_.by_size[r];
+      for (int32_t s = islands_.start[isl]; s < islands_.start[isl + 1]; ++s) add(island_pair[s]);
+    }
+  } else {
+    for (int32_t h = 0; h < int32_t(nh); ++h) add(h);
   }
+  double energy = 0.0;
+  for (int64_t h = 0; h < nh; ++h) energy += pairs_[h].energy;  // in pair order
   stored_energy_ = energy;
   n_touching_ = static_cast<int32_t>(pairs_.size());
   const double t2 = now_s();

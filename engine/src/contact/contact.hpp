@@ -233,11 +233,12 @@ class ContactSolver {
   std::vector<SweepPair> sweep_;
   std::vector<int32_t> slot_;        // sweep_[s] holds pair slot_[s] (island by island)
   std::vector<double> slip_work_;    // lambda times the end-of-step slip, per pair
-  FrictionIslands islands_;          // the pairs' islands (threaded friction)
+  std::vector<int32_t> pair_nodes_;  // six nodes per pair, pair order
+  std::vector<uint64_t> pair_keys_;  // (contactor, target) per pair, ascending
+  FrictionIslands islands_;          // the pairs' islands (where threads share them)
+  bool islands_of_pairs_ = false;    // islands_ are those of pairs_
   std::vector<int32_t> island_owner_; // their workspace
   FrictionOrder order_;              // the sweeps' order of the last friction call
-  std::vector<int32_t> order_nodes_; // its input: six nodes per pair
-  std::vector<uint64_t> order_keys_; // (contactor, target) per pair, ascending
   std::vector<uint64_t> order_used_; // its workspace
   std::vector<int64_t> hits_;       // touching candidates, in pair order
   std::vector<uint64_t> prev_key_;  // (contactor, target) of last step's pairs, sorted

@@ -43,14 +43,6 @@ constexpr int kSweeps = 4;
 // colours: its threads share the pairs' islands instead (friction_islands.hpp).
 constexpr int64_t kMinPairsPerColour = 256;
 
-// Fewer touching pairs than this are swept on one thread: finding the
-// islands (serial, ~50 us for 1,100 pairs here: its node lookups miss the
-// cache) and starting the threads costs more than it saves. Measured on two
-// threads (the paper scene, ridge 1, fast): 153 pairs of its rest state in 35
-// islands took 41 us on one thread, 45 by islands; 1,106 of a nudged pile in
-// 212 islands 304 and 283 us.
-constexpr int64_t kMinParallelFrictionPairs = 256;
-
 }  // namespace
 
 double ContactSolver::apply_friction(const ContactParams& p, const ContactInput& in, double* fx,
@@ -77,19 +69,15 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   }
   if (lambda_.size() < np) lambda_.resize(np);
 
-  order_nodes_.resize(6 * np);
-  order_keys_.resize(np);
-  for (size_t i = 0; i < np; ++i) {
-    std::copy(pairs_[i].node, pairs_[i].node + 6, order_nodes_.begin() + 6 * i);
-    order_keys_[i] = friction_pair_key(pairs_[i].contactor, pairs_[i].target);
-  }
+  // the pairs' nodes, keys and (where the threads share them) islands come
+  // from the normal pass (contact.cpp)
   const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
-  const bool threaded = nthreads > 1 && int64_t(np) >= kMinParallelFrictionPairs;
-  if (threaded)
-    friction_islands(int32_t(np), order_nodes_.data(), in.n_nodes, islands_, island_owner_);
-  else
-    one_island(int32_t(np), islands_);
-  engine::friction_order(int32_t(np), order_nodes_.data(), order_keys_.data(), in.n_nodes, islands_,
+  const bool threaded = nthreads > 1 && int64_t(np) >= kMinIslandPairs;
+  if (threaded && !islands_of_pairs_)
+    friction_islands(int32_t(np), pair_nodes_.data(), in.n_nodes, islands_, island_owner_);
+  if (!threaded) one_island(int32_t(np), islands_);
+  islands_of_pairs_ = threaded;
+  engine::friction_order(int32_t(np), pair_nodes_.data(), pair_keys_.data(), in.n_nodes, islands_,
                          threaded ? nthreads : 1, order_, order_used_);
   double* wx = wx_.data();
   double* wy = wy_.data();
@@ -138,7 +126,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     q.kinv = friction_inverse_mass(cp.node, cp.nc, cp.nt, cp.nx, cp.ny, imx, imy);
     q.lambda = 0.0;
     q.fn_zero = cp.fn == 0.0;
-    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), order_keys_[i]);
+    const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), pair_keys_[i]);
     if (at < 0 || q.kinv == 0.0) return;
     q.lambda = clamp_to_cone(prev_lambda_[at], q.limit);
     friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, imx, imy, wx, wy);
@@ -218,7 +206,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
 
   // Remember the forces by pair for the next step's warm start: the pairs
   // come in (contactor, target) order, i.e. with ascending keys.
-  prev_key_.assign(order_keys_.begin(), order_keys_.end());
+  prev_key_.assign(pair_keys_.begin(), pair_keys_.end());
   prev_lambda_.assign(lambda_.begin(), lambda_.begin() + np);
   double dissipation = 0.0;
   for (size_t i = 0; i < np; ++i)  // in pair order: the same sum on any thread count

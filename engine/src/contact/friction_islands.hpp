@@ -5,6 +5,8 @@
 // and give the bits of the serial sweep, each island's pairs in their sweep
 // order; the colouring (contact/friction_order.hpp) is a greedy pass whose
 // choices look at a pair's island only, so islands are coloured at once too.
+// The normal pass (contact.cpp) finds them and adds its pairs' forces onto the
+// nodes island by island (a node's in pair order, as on one thread).
 // A loaded paper pile's ~300-1,100 touching pairs fall into ~65-210 islands,
 // the largest of 17-42 pairs (docs/gpu.md, "The CPU engine on a
 // workstation"), where its ~15-30 colours hold too few pairs each to share
@@ -14,6 +16,14 @@
 #include <vector>
 
 namespace engine {
+
+// Fewer touching pairs than this are summed and swept on one thread: finding
+// the islands (serial, ~50 us for 1,100 pairs here: its node lookups miss the
+// cache) and starting the threads costs more than it saves. Measured on two
+// threads (friction; the paper scene, ridge 1, fast): 153 pairs of its rest
+// state in 35 islands took 41 us on one thread, 45 by islands; 1,106 of a
+// nudged pile in 212 islands 304 and 283 us.
+constexpr int64_t kMinIslandPairs = 256;
 
 struct FrictionIslands {
   std::vector<int32_t> of_pair;  // island of each pair (numbered by their first pair)

@@ -833,7 +833,7 @@ struct DeviceStep::Impl {
       Stopwatch sw(host_step_seconds);
       to_model();
       const Model& cm = *model;
-      const size_t nodes_before = cm.nodes().size();
+      const int32_t nodes_before = cm.nodes().size();
       model->step(1);
       if (contact && cm.nodes().size() != nodes_before) model->build_contact_list();
     }

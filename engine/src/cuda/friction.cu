@@ -550,7 +550,7 @@ __global__ void __launch_bounds__(kSolveThreads, 1)
   // registers, the others in the lane's local memory (an address of its own,
   // where a pair read from the arrays is a chain: order, then the pair, then
   // its nodes)
-  HeldPair h, more[kHeld - 1];
+  HeldPair h{}, more[kHeld - 1];  // h set where own < m, read only there
   const auto hold = [&](int32_t j, HeldPair& hp) {
     const int32_t i = order[j];
     hold_pair(P, i, kinv, warm[i], local ? L.node6 + 6 * slot_of[i] : nullptr, hp);
@@ -637,7 +637,7 @@ __device__ inline void add_node_friction(const FrictionPairArrays& P, const int3
   const int32_t end = start[i + 1];
   for (int32_t j0 = start[i]; j0 < end; j0 += kApplyBatch) {
     int32_t p[kApplyBatch], k[kApplyBatch];
-    double lam[kApplyBatch], tx[kApplyBatch], ty[kApplyBatch], w[kApplyBatch];
+    double lam[kApplyBatch], tx[kApplyBatch] = {}, ty[kApplyBatch] = {}, w[kApplyBatch] = {};  // set where lam != 0, read only there
     for (int u = 0; u < kApplyBatch; ++u) {
       const int32_t e = j0 + u < end ? entry[j0 + u] : -1;
       p[u] = e >= 0 ? e / 6 : -1;
