@@ -5,6 +5,7 @@ sweep order, and apply each island's forces in pair order (the normal pass
 adds its forces onto the nodes island by island too). So the colours, the
 contact and friction forces and the run are the bits of one thread's."""
 import numpy as np
+import pytest
 
 from icerubble import _engine, engine
 from icerubble.engine import gpu
@@ -38,7 +39,10 @@ def components(nodes):
     return label
 
 
-def test_islands_are_the_pairs_joined_through_shared_nodes():
+@pytest.mark.parametrize("threads", [1, 2, 4])
+def test_islands_are_the_pairs_joined_through_shared_nodes(threads):
+    # on threads, the pairs claim nodes and join islands at once (in any
+    # interleaving: the islands, and their numbers, the same)
     rng = np.random.default_rng(3)
     # chains that meet only late (pair 2 joins the islands of pairs 0 and 1;
     # pair 5 joins two islands whose first pairs are 3 and 4), and random
@@ -46,14 +50,15 @@ def test_islands_are_the_pairs_joined_through_shared_nodes():
     chains = np.array([[0, 1, 2, 3, 4, 5], [10, 11, 12, 13, 14, 15], [5, 20, 21, 22, 23, 10],
                        [30, 31, 32, 33, 34, 35], [40, 41, 42, 43, 44, 45], [45, 50, 51, 52, 53, 35],
                        [60, 61, 62, 63, 64, 65]], dtype=np.int32)
-    random = np.array([rng.choice(400, 6, replace=False) for _ in range(150)], dtype=np.int32)
-    for nodes in (chains, random):
-        got = _engine.friction_islands(nodes, 400)
+    random = [np.array([rng.choice(n, 6, replace=False) for _ in range(m)], dtype=np.int32)
+              for n, m in ((400, 150), (3000, 2000), (20000, 3000))]
+    for nodes in [chains] + random:
+        got = _engine.friction_islands(nodes, 20000, threads)
         want = components(nodes)
         assert np.array_equal(got["of_pair"], want)
         sizes = np.bincount(want)
         assert list(got["by_size"]) == sorted(range(len(sizes)), key=lambda i: (-sizes[i], i))
-    assert list(_engine.friction_islands(chains, 400)["of_pair"]) == [0, 0, 0, 1, 1, 1, 2]
+    assert list(_engine.friction_islands(chains, 400, threads)["of_pair"]) == [0, 0, 0, 1, 1, 1, 2]
 
 
 def walls_apart(rng, count, rows, cols, apart=5.0):

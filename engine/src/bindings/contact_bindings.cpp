@@ -178,7 +178,8 @@ void bind_contact(py::module_& m) {
 
   m.def(
       "friction_islands",
-      [](IArr node, int32_t n_nodes) {
+      [](IArr node, int32_t n_nodes, int threads) {
+        if (threads < 1) throw std::invalid_argument("threads must be >= 1");
         if (node.ndim() != 2 || node.shape(1) != 6) throw std::invalid_argument("node must be (pairs, 6)");
         if (!(n_nodes > 0)) throw std::invalid_argument("n_nodes must be > 0");
         const int32_t* v = node.data();
@@ -187,14 +188,18 @@ void bind_contact(py::module_& m) {
             throw std::invalid_argument("node ids must be in [0, n_nodes = " + std::to_string(n_nodes) + ")");
         FrictionIslands out;
         std::vector<int32_t> owner;
-        friction_islands(int32_t(node.shape(0)), v, n_nodes, out, owner);
+        {
+          py::gil_scoped_release nogil;
+          friction_islands(int32_t(node.shape(0)), v, n_nodes, out, owner, threads);
+        }
         py::dict d;
         d["of_pair"] = as_array(out.of_pair);
         d["by_size"] = as_array(out.by_size);
         return d;
       },
-      py::arg("node"), py::arg("n_nodes"),
-      "The islands of pairs given by their six nodes each (contact/friction_islands.hpp): 'of_pair',\n"
+      py::arg("node"), py::arg("n_nodes"), py::arg("threads") = 1,
+      "The islands of pairs given by their six nodes each (contact/friction_islands.hpp), found on\n"
+      "`threads` threads: 'of_pair',\n"
       "each pair's island (numbered by their first pair), and 'by_size', the islands largest first.");
 
   m.def(

@@ -184,7 +184,7 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
   // threads share the pairs, island by island (no two islands share a node).
   islands_of_pairs_ = nthreads > 1 && nh >= kMinIslandPairs;
   if (islands_of_pairs_)
-    friction_islands(int32_t(nh), pair_nodes_.data(), in.n_nodes, islands_, island_owner_);
+    friction_islands(int32_t(nh), pair_nodes_.data(), in.n_nodes, islands_, island_owner_, nthreads);
   const auto add = [&](int32_t h) {
     const PairContact& r = results_[hits_[h]];
     const ContactPair& cp = pairs_[h];

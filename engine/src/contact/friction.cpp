@@ -74,7 +74,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
   const bool threaded = nthreads > 1 && int64_t(np) >= kMinIslandPairs;
   if (threaded && !islands_of_pairs_)
-    friction_islands(int32_t(np), pair_nodes_.data(), in.n_nodes, islands_, island_owner_);
+    friction_islands(int32_t(np), pair_nodes_.data(), in.n_nodes, islands_, island_owner_, nthreads);
   if (!threaded) one_island(int32_t(np), islands_);
   islands_of_pairs_ = threaded;
   engine::friction_order(int32_t(np), pair_nodes_.data(), pair_keys_.data(), in.n_nodes, islands_,

@@ -3,41 +3,102 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 namespace engine {
 
+namespace {
+
+int32_t load(const int32_t& x) { return __atomic_load_n(&x, __ATOMIC_RELAXED); }
+
+// x = desired where x still holds expected; else expected = x.
+bool swap_if(int32_t& x, int32_t& expected, int32_t desired) {
+  return __atomic_compare_exchange_n(&x, &expected, desired, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+}
+
+// parent[p] <= p (a root is its island's lowest pair), so the walk ends.
+int32_t root_of(int32_t* parent, int32_t p) {
+  for (int32_t q; (q = load(parent[p])) != p;) p = q;
+  return p;
+}
+
+// The islands of a and b joined by threads at once: the higher root is hung
+// under the lower where it is still a root, else tried again from the roots.
+void join(int32_t* parent, int32_t a, int32_t b) {
+  for (;;) {
+    a = root_of(parent, a);
+    b = root_of(parent, b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    int32_t expected = a;
+    if (swap_if(parent[a], expected, b)) return;
+  }
+}
+
+constexpr int32_t kAhead = 8;  // pairs: the owner entries are cache misses (the step evicted them)
+
+void prefetch_owners(const int32_t* node, const std::vector<int32_t>& owner, int32_t p, int32_t n_pairs) {
+  if (p + kAhead < n_pairs)
+    for (int k = 0; k < 6; ++k) __builtin_prefetch(&owner[node[6 * int64_t(p + kAhead) + k]], 1);
+}
+
+}  // namespace
+
 void friction_islands(int32_t n_pairs, const int32_t* node, int32_t n_nodes, FrictionIslands& out,
-                      std::vector<int32_t>& owner) {
+                      std::vector<int32_t>& owner, int threads) {
   if (owner.size() < size_t(n_nodes)) owner.resize(size_t(n_nodes), -1);
   // parent[p]: a pair of p's island nearer its root; a root is its island's
   // lowest pair (unions keep the lower root), so numbering roots in pair
-  // order numbers the islands by their first pair
+  // order numbers the islands by their first pair. Which pair owns a node
+  // (the first to claim it) and the order of the unions depend on the
+  // threads; the islands do not.
   std::vector<int32_t>& parent = out.of_pair;
   parent.resize(size_t(n_pairs));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&parent](int32_t p) {
-    while (parent[p] != p) p = parent[p] = parent[parent[p]];  // path halving
-    return p;
-  };
-  constexpr int32_t kAhead = 8;  // pairs: the owner entries are cache misses (the step evicted them)
-  for (int32_t p = 0; p < n_pairs; ++p) {
-    if (p + kAhead < n_pairs)
-      for (int k = 0; k < 6; ++k) __builtin_prefetch(&owner[node[6 * int64_t(p + kAhead) + k]], 1);
-    for (int k = 0; k < 6; ++k) {
-      int32_t& o = owner[node[6 * int64_t(p) + k]];
-      if (o < 0) {
-        o = p;
-        continue;
+  int32_t* up = parent.data();
+  if (threads > 1) {
+    #pragma omp parallel num_threads(threads)
+    {
+      #pragma omp for schedule(static)
+      for (int32_t p = 0; p < n_pairs; ++p) parent[p] = p;
+      #pragma omp for schedule(static)
+      for (int32_t p = 0; p < n_pairs; ++p) {
+        prefetch_owners(node, owner, p, n_pairs);
+        for (int k = 0; k < 6; ++k) {
+          int32_t& o = owner[node[6 * int64_t(p) + k]];
+          int32_t other = load(o);
+          if (other < 0 && swap_if(o, other, p)) continue;  // claimed; else other is the owner
+          join(up, p, other);
+        }
       }
-      const int32_t a = root(p), b = root(o);
-      if (a < b) parent[b] = a;
-      if (b < a) parent[a] = b;
+      // every pair to its root (an ancestor: safe beside other walks)
+      #pragma omp for schedule(static)
+      for (int32_t p = 0; p < n_pairs; ++p) __atomic_store_n(&up[p], root_of(up, p), __ATOMIC_RELAXED);
+      #pragma omp for schedule(static)
+      for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) __atomic_store_n(&owner[node[e]], -1, __ATOMIC_RELAXED);
     }
+  } else {
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto root = [&parent](int32_t p) {
+      while (parent[p] != p) p = parent[p] = parent[parent[p]];  // path halving
+      return p;
+    };
+    for (int32_t p = 0; p < n_pairs; ++p) {
+      prefetch_owners(node, owner, p, n_pairs);
+      for (int k = 0; k < 6; ++k) {
+        int32_t& o = owner[node[6 * int64_t(p) + k]];
+        if (o < 0) {
+          o = p;
+          continue;
+        }
+        const int32_t a = root(p), b = root(o);
+        if (a < b) parent[b] = a;
+        if (b < a) parent[a] = b;
+      }
+    }
+    for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) owner[node[e]] = -1;
+    for (int32_t p = 0; p < n_pairs; ++p) parent[p] = root(p);
   }
-  for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) owner[node[e]] = -1;
-  // every pair to its root, then the roots numbered in pair order (a root
-  // comes before the rest of its island)
-  for (int32_t p = 0; p < n_pairs; ++p) parent[p] = root(p);
+  // the roots numbered in pair order (a root comes before the rest of its island)
   std::vector<int32_t> size, number(static_cast<size_t>(n_pairs));
   for (int32_t p = 0; p < n_pairs; ++p) {
     if (parent[p] == p) {

@@ -18,8 +18,8 @@
 namespace engine {
 
 // Fewer touching pairs than this are summed and swept on one thread: finding
-// the islands (serial, ~50 us for 1,100 pairs here: its node lookups miss the
-// cache) and starting the threads costs more than it saves. Measured on two
+// the islands (~50 us for 1,100 pairs on one thread here, 45 on two: its node
+// lookups miss the cache) and starting the threads costs more than it saves. Measured on two
 // threads (friction; the paper scene, ridge 1, fast): 153 pairs of its rest
 // state in 35 islands took 41 us on one thread, 45 by islands; 1,106 of a
 // nudged pile in 212 islands 304 and 283 us.
@@ -34,10 +34,11 @@ struct FrictionIslands {
   int32_t largest() const { return by_size.empty() ? 0 : start[by_size[0] + 1] - start[by_size[0]]; }
 };
 
-// n_pairs pairs, node[6 p + k] their nodes (< n_nodes). `owner` is a
-// workspace (kept between calls, all -1 between calls).
+// n_pairs pairs, node[6 p + k] their nodes (< n_nodes), on `threads` threads
+// (the same islands on any number). `owner` is a workspace (kept between
+// calls, all -1 between calls).
 void friction_islands(int32_t n_pairs, const int32_t* node, int32_t n_nodes, FrictionIslands& out,
-                      std::vector<int32_t>& owner);
+                      std::vector<int32_t>& owner, int threads);
 
 // All n_pairs pairs as one island (a serial sweep: finding the islands would
 // cost more than the work they share out).
