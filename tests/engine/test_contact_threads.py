@@ -39,3 +39,5 @@ def test_contact_and_friction_of_many_touching_pairs_are_the_same_on_one_and_two
     for kind in ("contact", "total"):
         assert np.array_equal(one.forces(kind), two.forces(kind)), kind
     assert np.array_equal(one.positions, two.positions) and np.array_equal(one.velocities, two.velocities)
+    # friction's power as its solver sums it (the ledger's other sums are per thread)
+    assert one._m.energy()["friction_solver"] == two._m.energy()["friction_solver"] != 0.0

@@ -232,6 +232,13 @@ class ContactSolver {
   };
   std::vector<SweepPair> sweep_;
   std::vector<int32_t> slot_;        // sweep_[s] holds pair slot_[s] (island by island)
+  std::vector<int32_t> slot_of_;     // and pair i is in sweep_[slot_of_[i]]
+  struct IslandNodes {               // an island's nodes and their friction values, a thread's
+    std::vector<int32_t> node;       // the mesh's number of each
+    std::vector<double> wx, wy, imx, imy;
+  };
+  std::vector<IslandNodes> island_nodes_;  // one per thread
+  std::vector<int32_t> local_of_;    // a node's number in its island's arrays (-1 between calls)
   std::vector<double> slip_work_;    // lambda times the end-of-step slip, per pair
   std::vector<int32_t> pair_nodes_;  // six nodes per pair, pair order
   std::vector<uint64_t> pair_keys_;  // (contactor, target) per pair, ascending

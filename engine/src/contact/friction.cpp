@@ -43,6 +43,13 @@ constexpr int kSweeps = 4;
 // colours: its threads share the pairs' islands instead (friction_islands.hpp).
 constexpr int64_t kMinPairsPerColour = 256;
 
+// The nodes' friction values the sweeps read and write: the mesh's arrays
+// (local null: node n at n) or an island's own (node n at local[n]).
+struct FrictionNodes {
+  double *wx, *wy, *imx, *imy;
+  const int32_t* local;
+};
+
 }  // namespace
 
 double ContactSolver::apply_friction(const ContactParams& p, const ContactInput& in, double* fx,
@@ -61,12 +68,6 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   const auto t0 = std::chrono::steady_clock::now();
   const double dt = in.dt;
   const size_t np = pairs_.size();
-  if (wx_.size() < static_cast<size_t>(in.n_nodes)) {
-    wx_.resize(in.n_nodes);
-    wy_.resize(in.n_nodes);
-    imx_.resize(in.n_nodes);
-    imy_.resize(in.n_nodes);
-  }
   if (lambda_.size() < np) lambda_.resize(np);
 
   // the pairs' nodes, keys and (where the threads share them) islands come
@@ -79,10 +80,6 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   islands_of_pairs_ = threaded;
   engine::friction_order(int32_t(np), pair_nodes_.data(), pair_keys_.data(), in.n_nodes, islands_,
                          threaded ? nthreads : 1, order_, order_used_);
-  double* wx = wx_.data();
-  double* wy = wy_.data();
-  double* imx = imx_.data();
-  double* imy = imy_.data();
   sweep_.resize(np);
   slip_work_.resize(np);
   const int32_t* colour_start = order_.colour_start.data();
@@ -94,54 +91,48 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
                          int64_t(islands_.largest()) * nthreads > int64_t(np);
 
   // Per-component inverse masses (0 for an immovable or prescribed
-  // component) and end-of-step velocities without friction, for the nodes
-  // of pair i (a node of several pairs: the same values again).
-  const auto predict = [&](int32_t i) {
-    const ContactPair& q = pairs_[i];
-    for (int j = 0; j < 6; ++j) {
-      const int32_t n = q.node[j];
-      friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n], fy[n],
-                            in.v_bc_x, in.v_bc_y, n, dt, imx[n], imy[n], wx[n], wy[n]);
-    }
+  // component) and end-of-step velocities without friction of global node n,
+  // in entry l of the arrays of V.
+  const auto predict = [&](int32_t n, int32_t l, const FrictionNodes& V) {
+    friction_predict_node(in.mass[n], in.constrained ? in.constrained[n] : 0, in.vx[n], in.vy[n], fx[n], fy[n],
+                          in.v_bc_x, in.v_bc_y, n, dt, V.imx[l], V.imy[l], V.wx[l], V.wy[l]);
   };
-  // Pair i copied into sweep_[s]: the pairs of a colour are scattered over
-  // pairs_, and the sweeps visit each pair five times (warm start, four
-  // sweeps); packed, each visit reads the pairs in memory order. What the
-  // colour order still costs on the CPU: consecutive pairs of a colour share
-  // no node, so the velocities they update are rarely in cache (docs/gpu.md,
-  // "Friction").
+  // Pair i copied into sweep_[s], its nodes as V numbers them: the pairs of
+  // a colour are scattered over pairs_, and the sweeps visit each pair five
+  // times (warm start, four sweeps); packed, each visit reads the pairs in
+  // memory order.
   // Warm start from the force the same triangle pair carried last step: a
   // resting block needs nearly the same friction every step, so the sweeps
   // only correct it, and the iteration keeps converging across steps
   // instead of leaving a residual slip (creep) at a fixed sweep count.
-  const auto warm_start = [&](int32_t s, int32_t i) {
+  const auto warm_start = [&](int32_t s, int32_t i, const FrictionNodes& V) {
     const ContactPair& cp = pairs_[i];
     SweepPair& q = sweep_[s];
-    std::copy(cp.node, cp.node + 6, q.node);
+    for (int j = 0; j < 6; ++j) q.node[j] = V.local ? V.local[cp.node[j]] : cp.node[j];
     std::copy(cp.nc, cp.nc + 3, q.nc);
     std::copy(cp.nt, cp.nt + 3, q.nt);
     q.nx = cp.nx;
     q.ny = cp.ny;
     q.limit = p.mu * cp.fn;
-    q.kinv = friction_inverse_mass(cp.node, cp.nc, cp.nt, cp.nx, cp.ny, imx, imy);
+    q.kinv = friction_inverse_mass(q.node, cp.nc, cp.nt, cp.nx, cp.ny, V.imx, V.imy);
     q.lambda = 0.0;
     q.fn_zero = cp.fn == 0.0;
     const int64_t at = find_key(prev_key_.data(), int64_t(prev_key_.size()), pair_keys_[i]);
     if (at < 0 || q.kinv == 0.0) return;
     q.lambda = clamp_to_cone(prev_lambda_[at], q.limit);
-    friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, imx, imy, wx, wy);
+    friction_push(q.node, q.nc, q.nt, q.nx, q.ny, q.lambda, dt, V.imx, V.imy, V.wx, V.wy);
   };
-  const auto update = [&](int32_t s) {
+  const auto update = [&](int32_t s, const FrictionNodes& V) {
     SweepPair& q = sweep_[s];
     if (q.kinv == 0.0 || q.fn_zero) return;
-    const double d = friction_update(q.node, q.nc, q.nt, q.nx, q.ny, q.limit, q.kinv, dt, wx, wy, q.lambda);
-    if (d != 0.0) friction_push(q.node, q.nc, q.nt, q.nx, q.ny, d, dt, imx, imy, wx, wy);
+    const double d = friction_update(q.node, q.nc, q.nt, q.nx, q.ny, q.limit, q.kinv, dt, V.wx, V.wy, q.lambda);
+    if (d != 0.0) friction_push(q.node, q.nc, q.nt, q.nx, q.ny, d, dt, V.imx, V.imy, V.wx, V.wy);
   };
-  // Pair i's force onto its nodes, and its part of the power of friction
-  // with the velocities the nodes will move with over this step (what the
-  // energy balance integrates). A node's forces come in pair order, as they
-  // do when the pairs are applied one after another.
-  const auto apply = [&](int32_t i) {
+  // Pair i (in sweep_[s]) as force onto its nodes, and its part of the power
+  // of friction with the velocities the nodes will move with over this step
+  // (what the energy balance integrates). A node's forces come in pair
+  // order, as they do when the pairs are applied one after another.
+  const auto apply = [&](int32_t i, int32_t s, const FrictionNodes& V) {
     const ContactPair& c = pairs_[i];
     const double lam = lambda_[i];
     slip_work_[i] = 0.0;
@@ -153,54 +144,94 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       fx[c.node[3 + j]] -= c.nt[j] * tx;
       fy[c.node[3 + j]] -= c.nt[j] * ty;
     }
-    slip_work_[i] = lam * friction_slip(c.node, c.nc, c.nt, c.nx, c.ny, wx, wy);
+    slip_work_[i] = lam * friction_slip(sweep_[s].node, c.nc, c.nt, c.nx, c.ny, V.wx, V.wy);
   };
 
   if (by_colour) {
     // Each phase visits the pairs colour by colour (no two pairs of a colour
     // share a node), a barrier between colours, so its threads write disjoint
     // nodes and the bits are those of one thread visiting them in that order.
+    // The nodes' arrays are the mesh's, each node at its own number.
+    if (wx_.size() < static_cast<size_t>(in.n_nodes)) {
+      wx_.resize(in.n_nodes);
+      wy_.resize(in.n_nodes);
+      imx_.resize(in.n_nodes);
+      imy_.resize(in.n_nodes);
+    }
+    const FrictionNodes V{wx_.data(), wy_.data(), imx_.data(), imy_.data(), nullptr};
     const int32_t* order = order_.pair.data();
+    slot_.resize(np);
     #pragma omp parallel num_threads(nthreads)
     {
       for (int32_t c = 0; c < colours; ++c) {
         #pragma omp for schedule(static)
-        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) predict(order[k]);
+        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k)
+          for (int j = 0; j < 6; ++j) predict(pairs_[order[k]].node[j], pairs_[order[k]].node[j], V);
       }
       for (int32_t c = 0; c < colours; ++c) {
         #pragma omp for schedule(static)
-        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) warm_start(k, order[k]);
+        for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) warm_start(k, order[k], V);
       }
       for (int sweep = 0; sweep < kSweeps; ++sweep) {
         for (int32_t c = 0; c < colours; ++c) {
           #pragma omp for schedule(static)
-          for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) update(k);
+          for (int32_t k = colour_start[c]; k < colour_start[c + 1]; ++k) update(k, V);
         }
       }
       #pragma omp for schedule(static)
-      for (int64_t k = 0; k < int64_t(np); ++k) lambda_[order[k]] = sweep_[k].lambda;
+      for (int64_t k = 0; k < int64_t(np); ++k) {
+        lambda_[order[k]] = sweep_[k].lambda;
+        slot_[order[k]] = int32_t(k);
+      }
     }
-    for (int32_t i = 0; i < int32_t(np); ++i) apply(i);
+    for (int32_t i = 0; i < int32_t(np); ++i) apply(i, slot_[i], V);
   } else {
     // Island by island, each island's pairs in sweep order: sweep_[s] holds
-    // pair slot_[s], the islands one after another.
+    // pair slot_[s], the islands one after another (slot_of_[i]: pair i's s).
+    // An island's nodes are numbered in the order its pairs meet them and
+    // kept in its thread's own short arrays: its sweeps read and write them
+    // there, in cache, where the mesh's arrays put each node's four values
+    // on four lines (shared with other threads' nodes).
     slot_.resize(np);
+    slot_of_.resize(np);
     std::vector<int32_t> fill(islands_.start.begin(), islands_.start.end() - 1);
     for (int32_t k = 0; k < int32_t(np); ++k) {
       const int32_t i = order_.pair[k];
-      slot_[fill[islands_.of_pair[i]]++] = i;
+      slot_of_[i] = fill[islands_.of_pair[i]]++;
+      slot_[slot_of_[i]] = i;
     }
+    if (local_of_.size() < size_t(in.n_nodes)) local_of_.resize(size_t(in.n_nodes), -1);
+    if (island_nodes_.size() < size_t(nthreads)) island_nodes_.resize(size_t(nthreads));
     const int32_t* slot = slot_.data();
     const int32_t* island_pair = islands_.pair.data();
+    int32_t* local = local_of_.data();
     #pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads) if (threaded)
     for (int32_t r = 0; r < islands_.count(); ++r) {
       const int32_t isl = islands_.by_size[r], b = islands_.start[isl], e = islands_.start[isl + 1];
-      for (int32_t s = b; s < e; ++s) predict(slot[s]);
-      for (int32_t s = b; s < e; ++s) warm_start(s, slot[s]);
+      IslandNodes& W = island_nodes_[size_t(threaded ? omp_get_thread_num() : 0)];
+      W.node.clear();
+      for (int32_t s = b; s < e; ++s)
+        for (int j = 0; j < 6; ++j) {
+          const int32_t n = pairs_[slot[s]].node[j];
+          if (local[n] >= 0) continue;
+          local[n] = int32_t(W.node.size());
+          W.node.push_back(n);
+        }
+      const size_t nl = W.node.size();
+      if (W.wx.size() < nl) {
+        W.wx.resize(nl);
+        W.wy.resize(nl);
+        W.imx.resize(nl);
+        W.imy.resize(nl);
+      }
+      const FrictionNodes V{W.wx.data(), W.wy.data(), W.imx.data(), W.imy.data(), local};
+      for (size_t l = 0; l < nl; ++l) predict(W.node[l], int32_t(l), V);
+      for (int32_t s = b; s < e; ++s) warm_start(s, slot[s], V);
       for (int sweep = 0; sweep < kSweeps; ++sweep)
-        for (int32_t s = b; s < e; ++s) update(s);
+        for (int32_t s = b; s < e; ++s) update(s, V);
       for (int32_t s = b; s < e; ++s) lambda_[slot[s]] = sweep_[s].lambda;
-      for (int32_t s = b; s < e; ++s) apply(island_pair[s]);  // pair order within the island
+      for (int32_t s = b; s < e; ++s) apply(island_pair[s], slot_of_[island_pair[s]], V);  // pair order
+      for (const int32_t n : W.node) local[n] = -1;
     }
   }
 
