@@ -3,7 +3,8 @@ GPU (not a test; docs/gpu.md). Writes bench/results/gpu_body_forces.json.
 
     python3 bench/gpu_body_forces.py [--mesh MESH.h5] [--scene paper] [--threads 1 2 4 8 16]
 
-For each thread count: the ms per step of the load phase (water, drag,
+For each thread count, timed in blocks with the counts in turn (--rounds):
+the ms per step of the load phase (water, drag,
 contact, held layer top, driven indenter; the `fast` preset's numerics) and
 its parts (elements with the water loads and the node gather; contact
 detection; contact forces and friction; bonds; integration). Then, where the
@@ -77,6 +78,36 @@ def per_step(m, steps):
     return dict(ms_per_step=1e3 * wall, **{p + "_ms": 1e3 * (t1[p] - t0[p]) / steps for p in PARTS})
 
 
+def by_threads(m, threads, steps, rounds):
+    """ms per step and per part for each thread count, the `steps` of each
+    taken in `rounds` blocks, the thread counts in turn in each round: every
+    count sees the same stretch of the run (a loaded state's touching pairs
+    grow from step to step) and the same spells of a shared machine's
+    slowness. Two untimed steps after each change of the count (its gather
+    plan is made again). Also the touching pairs after each block, averaged."""
+    block = max(1, steps // rounds)
+    sums = {k: dict(wall=0.0, steps=0, touching=0, **{p: 0.0 for p in PARTS}) for k in threads}
+    for _ in range(rounds):
+        for k in threads:
+            m.set(threads=k)
+            m.step(2)
+            t0, w0 = m.timings(), time.perf_counter()
+            m.step(block)
+            w, t1, acc = time.perf_counter() - w0, m.timings(), sums[k]
+            acc["wall"] += w
+            acc["steps"] += block
+            acc["touching"] += int(m.touching_pairs)
+            for p in PARTS:
+                acc[p] += t1[p] - t0[p]
+    rows = []
+    for k in threads:
+        acc = sums[k]
+        rows.append(dict(threads=k, ms_per_step=1e3 * acc["wall"] / acc["steps"], steps=acc["steps"], rounds=rounds,
+                         touching_pairs=round(acc["touching"] / rounds),
+                         **{p + "_ms": 1e3 * acc[p] / acc["steps"] for p in PARTS}))
+    return rows
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", default=None,
@@ -92,10 +123,15 @@ def main(argv=None):
                     help="steps timed per thread count on the loaded state (0: not measured)")
     ap.add_argument("--settle-steps", type=int, default=300,
                     help="steps after the nudge before the loaded state is timed (its splits over)")
+    ap.add_argument("--rounds", type=int, default=5,
+                    help="blocks each thread count's steps are timed in, the counts in turn (a shared machine's "
+                         "speed drifts, a loaded state's pairs grow)")
     ap.add_argument("--triad", help="a compiled bench/stream_triad.cpp: the memory bandwidth by thread count")
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--quick", action="store_true", help="100 steps and 200 GPU evaluations timed")
     a = ap.parse_args(argv)
+    if a.rounds < 1 or a.steps < a.rounds or (a.loaded_steps and a.loaded_steps < a.rounds):
+        ap.error("--rounds must be >= 1 and at most --steps (and --loaded-steps, unless 0)")
     if a.quick:
         a.steps, a.repeats = 100, 200
     if a.mesh is None:
@@ -103,14 +139,10 @@ def main(argv=None):
     mesh = read_mesh(a.mesh)
     m = load_phase_model(mesh, a.scene, a.preset, a.threads[0])
     m.step(a.warmup)
-    rows = []
-    for k in a.threads:
-        m.set(threads=k)
-        m.step(10)
-        r = dict(threads=k, **per_step(m, a.steps))
-        rows.append(r)
+    rows = by_threads(m, a.threads, a.steps, a.rounds)
+    for r in rows:
         parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
-        print(f"{k:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+        print(f"{r['threads']:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
     out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
                n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(), cpu_topology=cpu_topology(),
                code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None,
@@ -120,17 +152,14 @@ def main(argv=None):
         loaded.step(20)
         open_pairs_by_nudge(loaded)
         loaded.step(a.settle_steps)
-        out["cpu_loaded"] = []
-        for k in a.threads:
-            loaded.set(threads=k)
-            loaded.step(10)
-            split = loaded.bonds.counts["split"]
-            r = dict(threads=k, **per_step(loaded, a.loaded_steps), touching_pairs=int(loaded.touching_pairs),
-                     splits=int(loaded.bonds.counts["split"] - split))
-            out["cpu_loaded"].append(r)
+        split = loaded.bonds.counts["split"]
+        out["cpu_loaded"] = by_threads(loaded, a.threads, a.loaded_steps, a.rounds)
+        splits = int(loaded.bonds.counts["split"] - split)  # over all the timed blocks
+        for r in out["cpu_loaded"]:
+            r["splits"] = splits
             parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
-            print(f"{k:3d} threads, loaded ({r['touching_pairs']} touching pairs, {r['splits']} splits): "
-                  f"{r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+            print(f"{r['threads']:3d} threads, loaded (~{r['touching_pairs']} touching pairs, {splits} splits in "
+                  f"all the blocks): {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
         del loaded
     if a.triad:
         text = subprocess.run([a.triad] + [str(k) for k in a.threads], capture_output=True, text=True,
