@@ -8,7 +8,7 @@
 // The normal pass (contact.cpp) finds them and adds its pairs' forces onto the
 // nodes island by island (a node's in pair order, as on one thread).
 // A loaded paper pile's ~300-1,100 touching pairs fall into ~65-210 islands,
-// the largest of 17-42 pairs (docs/gpu.md, "The CPU engine on a
+// the largest of 17-63 pairs (docs/gpu.md, "The CPU engine on a
 // workstation"), where its ~15-30 colours hold too few pairs each to share
 // among threads with a barrier per colour.
 #pragma once
