@@ -494,12 +494,16 @@ def force_direction_friction(d):
 
 
 def touching_churn(d):
+    # islands recorded since 2026-12-01 (older records: "-")
     rows = [[f"{w['load_steps_before']:,}", f"{w['points_split']:,}", w["steps"],
              f"{w['touching_min']:,}-{w['touching_max']:,}", f"{w['steps_changed']:,}",
-             " / ".join(fmt(q) for q in w["steps_between_changes_p10_p50_p90"])] for w in d["windows"]]
+             " / ".join(fmt(q) for q in w["steps_between_changes_p10_p50_p90"]),
+             f"{w['islands_at_end']:,} ({w['largest_island_at_end']} of {w['touching_at_end']:,})"
+             if "islands_at_end" in w else "-"] for w in d["windows"]]
     return ([f"The paper scene (ridge {d['ridge']}, `{d['preset']}`) loaded from `{d['rest_state']}`:"
              ""] + [""] + table(["load steps before", "points split", "steps", "touching pairs",
-                                 "steps where they changed", "steps between changes (10th / 50th / 90th pct)"],
+                                 "steps where they changed", "steps between changes (10th / 50th / 90th pct)",
+                                 "islands at the end (the largest's pairs of all)"],
                                 rows))
 
 

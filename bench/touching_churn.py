@@ -1,14 +1,16 @@
 """How often a loaded pile's touching pairs change from one step to the next
 (the GPU's friction keeps a step's colouring while they do not, docs/gpu.md
-"Friction"): the paper scene loaded from bench/paper_peak.py's rest state
+"Friction"), and how many islands they form (pairs joined through shared
+nodes, which the CPU's threads share, docs/gpu.md "The CPU engine on a
+workstation"): the paper scene loaded from bench/paper_peak.py's rest state
 (ridge 1, `fast`), stepped one step at a time over windows of its load, the
 touching pairs (the friction's warm-start keys) compared after each step.
 Writes bench/results/touching_churn.json.
 
-    /usr/bin/python3 bench/touching_churn.py [--rest PATH] [--windows 0 200000] [--steps 3000]
+    /usr/bin/python3 bench/touching_churn.py [--rest PATH] [--windows 0 100000 200000 300000] [--steps 3000]
 
 The rest state is paper_peak.py's (its --settle-only makes it: ~30 min on 2
-cores); the steps before a window run as a load does (~20 min for 200,000 on
+cores); the steps before a window run as a load does (~30 min for 300,000 on
 2 cores)."""
 import argparse
 import os
@@ -21,6 +23,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path[:0] = [ROOT, os.path.join(ROOT, "bench")]
 import result_file  # noqa: E402
+from icerubble import _engine  # noqa: E402
 
 OUT = os.path.join(ROOT, "bench", "results", "touching_churn.json")
 REST = os.path.join(ROOT, "runs", "bench", "paper_peak", "ridge1_2mm", "rest_fast.checkpoint.h5")
@@ -28,6 +31,20 @@ REST = os.path.join(ROOT, "runs", "bench", "paper_peak", "ridge1_2mm", "rest_fas
 
 def touching_keys(model):
     return np.sort(np.asarray(model._m.contact_warm_start()[0]))
+
+
+def islands(model):
+    """The touching pairs' islands (pairs joined through shared nodes; the
+    CPU's threads share them, contact/friction_islands.hpp): their count and
+    the largest's size."""
+    keys = np.asarray(model._m.contact_warm_start()[0], dtype=np.uint64)
+    if len(keys) == 0:
+        return 0, 0
+    tri = np.asarray(model.triangles)
+    a, b = (keys >> np.uint64(32)).astype(np.int64), (keys & np.uint64(0xFFFFFFFF)).astype(np.int64)
+    nodes = np.concatenate([tri[a], tri[b]], axis=1)
+    of_pair = _engine.friction_islands(nodes.astype(np.int32), len(model.positions))["of_pair"]
+    return int(of_pair.max()) + 1, int(np.bincount(of_pair).max())
 
 
 def window(model, steps):
@@ -43,14 +60,16 @@ def window(model, steps):
             last = i
         prev = k
     q = np.percentile(gaps, [10, 50, 90]).tolist() if gaps else []
+    n_islands, largest = islands(model)
     return dict(steps=steps, touching_min=int(min(counts)), touching_max=int(max(counts)),
-                steps_changed=changed, steps_between_changes_p10_p50_p90=q)
+                steps_changed=changed, steps_between_changes_p10_p50_p90=q, touching_at_end=len(prev),
+                islands_at_end=n_islands, largest_island_at_end=largest)
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rest", default=REST, help="the rest state (bench/paper_peak.py --settle-only)")
-    ap.add_argument("--windows", type=int, nargs="+", default=[0, 200000],
+    ap.add_argument("--windows", type=int, nargs="+", default=[0, 100000, 200000, 300000],
                     help="load steps before each window (ascending)")
     ap.add_argument("--steps", type=int, default=3000, help="steps of each window")
     ap.add_argument("--out", default=OUT)

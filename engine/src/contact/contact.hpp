@@ -213,7 +213,7 @@ class ContactSolver {
   ContactTimings timings_;
   // Buffers reused from step to step (no allocation once they have grown).
   BroadPhase broad_;
-  std::vector<CandidatePair> candidates_;
+  std::vector<CandidatePair> candidates_;  // (contactor, target) order: the touching pairs come in it
   double skin_fraction_ = 0.1;
   int64_t rebuilds_ = 0;
   bool have_list_ = false;

@@ -7,10 +7,10 @@
 // choices look at a pair's island only, so islands are coloured at once too.
 // The normal pass (contact.cpp) finds them and adds its pairs' forces onto the
 // nodes island by island (a node's in pair order, as on one thread).
-// A loaded paper pile's ~300-1,100 touching pairs fall into ~65-210 islands,
-// the largest of 17-63 pairs (docs/gpu.md, "The CPU engine on a
-// workstation"), where its ~15-30 colours hold too few pairs each to share
-// among threads with a barrier per colour.
+// A loaded paper pile's hundreds of touching pairs fall into ~70-150 islands,
+// the largest of ~40-50 pairs (bench/touching_churn.py), where its ~15-30
+// colours hold too few pairs each to share among threads with a barrier per
+// colour.
 #pragma once
 #include <cstdint>
 #include <vector>
