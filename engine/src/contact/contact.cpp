@@ -182,7 +182,7 @@ int32_t ContactSolver::compute_normal(const ContactParams& p, const ContactInput
   }
   // A node's forces in pair order, the same at any thread count: where the
   // threads share the pairs, island by island (no two islands share a node).
-  islands_of_pairs_ = nthreads > 1 && nh >= kMinIslandPairs;
+  islands_of_pairs_ = share_by_islands(nthreads, nh);
   if (islands_of_pairs_)
     friction_islands(int32_t(nh), pair_nodes_.data(), in.n_nodes, islands_, island_owner_, nthreads);
   const auto add = [&](int32_t h) {

@@ -73,7 +73,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
   // the pairs' nodes, keys and (where the threads share them) islands come
   // from the normal pass (contact.cpp)
   const int nthreads = in.threads > 0 ? in.threads : omp_get_max_threads();
-  const bool threaded = nthreads > 1 && int64_t(np) >= kMinIslandPairs;
+  const bool threaded = share_by_islands(nthreads, int64_t(np));
   if (threaded && !islands_of_pairs_)
     friction_islands(int32_t(np), pair_nodes_.data(), in.n_nodes, islands_, island_owner_, nthreads);
   if (!threaded) one_island(int32_t(np), islands_);
@@ -160,7 +160,7 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
     }
     const FrictionNodes V{wx_.data(), wy_.data(), imx_.data(), imy_.data(), nullptr};
     const int32_t* order = order_.pair.data();
-    slot_.resize(np);
+    slot_of_.resize(np);
     #pragma omp parallel num_threads(nthreads)
     {
       for (int32_t c = 0; c < colours; ++c) {
@@ -181,10 +181,10 @@ double ContactSolver::apply_friction(const ContactParams& p, const ContactInput&
       #pragma omp for schedule(static)
       for (int64_t k = 0; k < int64_t(np); ++k) {
         lambda_[order[k]] = sweep_[k].lambda;
-        slot_[order[k]] = int32_t(k);
+        slot_of_[order[k]] = int32_t(k);
       }
     }
-    for (int32_t i = 0; i < int32_t(np); ++i) apply(i, slot_[i], V);
+    for (int32_t i = 0; i < int32_t(np); ++i) apply(i, slot_of_[i], V);
   } else {
     // Island by island, each island's pairs in sweep order: sweep_[s] holds
     // pair slot_[s], the islands one after another (slot_of_[i]: pair i's s).

@@ -55,48 +55,25 @@ void friction_islands(int32_t n_pairs, const int32_t* node, int32_t n_nodes, Fri
   std::vector<int32_t>& parent = out.of_pair;
   parent.resize(size_t(n_pairs));
   int32_t* up = parent.data();
-  if (threads > 1) {
-    #pragma omp parallel num_threads(threads)
-    {
-      #pragma omp for schedule(static)
-      for (int32_t p = 0; p < n_pairs; ++p) parent[p] = p;
-      #pragma omp for schedule(static)
-      for (int32_t p = 0; p < n_pairs; ++p) {
-        prefetch_owners(node, owner, p, n_pairs);
-        for (int k = 0; k < 6; ++k) {
-          int32_t& o = owner[node[6 * int64_t(p) + k]];
-          int32_t other = load(o);
-          if (other < 0 && swap_if(o, other, p)) continue;  // claimed; else other is the owner
-          join(up, p, other);
-        }
-      }
-      // every pair to its root (an ancestor: safe beside other walks)
-      #pragma omp for schedule(static)
-      for (int32_t p = 0; p < n_pairs; ++p) __atomic_store_n(&up[p], root_of(up, p), __ATOMIC_RELAXED);
-      #pragma omp for schedule(static)
-      for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) __atomic_store_n(&owner[node[e]], -1, __ATOMIC_RELAXED);
-    }
-  } else {
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto root = [&parent](int32_t p) {
-      while (parent[p] != p) p = parent[p] = parent[parent[p]];  // path halving
-      return p;
-    };
+  #pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    #pragma omp for schedule(static)
+    for (int32_t p = 0; p < n_pairs; ++p) parent[p] = p;
+    #pragma omp for schedule(static)
     for (int32_t p = 0; p < n_pairs; ++p) {
       prefetch_owners(node, owner, p, n_pairs);
       for (int k = 0; k < 6; ++k) {
         int32_t& o = owner[node[6 * int64_t(p) + k]];
-        if (o < 0) {
-          o = p;
-          continue;
-        }
-        const int32_t a = root(p), b = root(o);
-        if (a < b) parent[b] = a;
-        if (b < a) parent[a] = b;
+        int32_t other = load(o);
+        if (other < 0 && swap_if(o, other, p)) continue;  // claimed; else other is the owner
+        join(up, p, other);
       }
     }
-    for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) owner[node[e]] = -1;
-    for (int32_t p = 0; p < n_pairs; ++p) parent[p] = root(p);
+    // every pair to its root (an ancestor: safe beside other walks)
+    #pragma omp for schedule(static)
+    for (int32_t p = 0; p < n_pairs; ++p) __atomic_store_n(&up[p], root_of(up, p), __ATOMIC_RELAXED);
+    #pragma omp for schedule(static)
+    for (int64_t e = 0; e < 6 * int64_t(n_pairs); ++e) __atomic_store_n(&owner[node[e]], -1, __ATOMIC_RELAXED);
   }
   // the roots numbered in pair order (a root comes before the rest of its island)
   std::vector<int32_t> size, number(static_cast<size_t>(n_pairs));

@@ -18,12 +18,16 @@
 namespace engine {
 
 // Fewer touching pairs than this are summed and swept on one thread: finding
-// the islands (~50 us for 1,100 pairs on one thread here, 45 on two: its node
-// lookups miss the cache) and starting the threads costs more than it saves. Measured on two
-// threads (friction; the paper scene, ridge 1, fast): 153 pairs of its rest
-// state in 35 islands took 41 us on one thread, 45 by islands; 1,106 of a
-// nudged pile in 212 islands 304 and 283 us.
+// the islands (~50 us for 1,100 pairs on one thread here, 45 on two: its
+// node lookups miss the cache) and starting the threads costs more than it
+// saves. Measured on two threads (friction; the paper scene, ridge 1, fast):
+// 153 pairs of its rest state in 35 islands took 41 us on one thread, 45 by
+// islands; 1,106 of a nudged pile in 212 islands 304 and 283 us.
 constexpr int64_t kMinIslandPairs = 256;
+
+// Whether `threads` threads share `pairs` touching pairs island by island
+// (the normal pass's node sums and friction alike).
+inline bool share_by_islands(int threads, int64_t pairs) { return threads > 1 && pairs >= kMinIslandPairs; }
 
 struct FrictionIslands {
   std::vector<int32_t> of_pair;  // island of each pair (numbered by their first pair)
@@ -35,7 +39,8 @@ struct FrictionIslands {
 };
 
 // n_pairs pairs, node[6 p + k] their nodes (< n_nodes), on `threads` threads
-// (the same islands on any number). `owner` is a workspace (kept between
+// (the same islands on any number: the pairs claim nodes and join islands by
+// compare-and-swap). `owner` is a workspace (kept between
 // calls, all -1 between calls).
 void friction_islands(int32_t n_pairs, const int32_t* node, int32_t n_nodes, FrictionIslands& out,
                       std::vector<int32_t>& owner, int threads);
