@@ -56,28 +56,29 @@ ORDER = ("fast", "balanced", "paper", "reference")
 DEFAULT = ORDER[:3]
 
 
-def variant_options(name, device="cpu"):
+def variant_options(name, device="cpu", threads=0):
     if name == "reference":
         return RunOptions.from_numerics(dict(numerics("paper", "paper"), dt_fraction=0.4), name="reference",
-                                        progress_every_s=60.0, device=device)
-    return RunOptions.from_numerics(numerics("paper", name), name=name, progress_every_s=60.0, device=device)
+                                        progress_every_s=60.0, device=device, threads=threads)
+    return RunOptions.from_numerics(numerics("paper", name), name=name, progress_every_s=60.0, device=device,
+                                    threads=threads)
 
 
-def rest_state(mesh_path, params, out_dir, settle_numerics, device="cpu"):
+def rest_state(mesh_path, params, out_dir, settle_numerics, device="cpu", threads=0):
     """The checkpoint of a run of this scene at the start of its loading
     (settled with the preset `settle_numerics`); made once, resumable."""
     path = os.path.join(out_dir, f"rest_{settle_numerics}.checkpoint.h5")
     if not os.path.exists(path):
         run = PunchThrough(mesh_path, os.path.join(out_dir, f"settle_{settle_numerics}.h5"), params,
-                           variant_options(settle_numerics, device))
+                           variant_options(settle_numerics, device, threads))
         run.settle_only(path)
     return path
 
 
-def load_from_rest(name, mesh_path, params, rest, out_dir, ridge, device="cpu"):
+def load_from_rest(name, mesh_path, params, rest, out_dir, ridge, device="cpu", threads=0):
     out = os.path.join(out_dir, f"{name}.h5")
     if not os.path.exists(out):
-        PunchThrough(mesh_path, out, params, variant_options(name, device),
+        PunchThrough(mesh_path, out, params, variant_options(name, device, threads),
                      meta=dict(ridge=ridge)).run_from_rest(rest)
     with h5py.File(out, "r") as f:   # a stored run is reused only if it loaded from this rest state
         came_from = f.attrs.get("rest_state_from", "")
@@ -148,7 +149,12 @@ def main(argv=None):
     ap.add_argument("--against", metavar="RUN_H5",
                     help="the same load of the same preset from the same rest state on the other device (e.g. the "
                          "CPU's run beside a GPU's): its F^m and its force record's largest difference are added")
+    ap.add_argument("--threads", type=int, default=0,
+                    help="CPU threads of each run (0: all cores; 1 for study lines run side by side; another count "
+                         "changes a run's sums in round-off, docs/reproducibility.md)")
     a = ap.parse_args(argv)
+    if a.threads < 0:
+        raise SystemExit(f"paper_peak: --threads {a.threads} must be >= 0 (0: all cores)")
     if a.against and not os.path.exists(a.against):
         raise SystemExit(f"paper_peak: --against {a.against}: no such file")
     if a.rest and not os.path.exists(a.rest):
@@ -165,7 +171,7 @@ def main(argv=None):
     out_dir = os.path.join(a.out_dir, f"ridge{a.ridge}_{a.travel_mm:g}mm" + ("" if a.device == "cpu" else "_" + a.device))
     os.makedirs(out_dir, exist_ok=True)
     _, mesh_path = scene_files("paper", a.ridge)   # the scene cache of every run (runs/scenes)
-    rest = a.rest or rest_state(mesh_path, params, out_dir, a.settle_numerics, a.device)
+    rest = a.rest or rest_state(mesh_path, params, out_dir, a.settle_numerics, a.device, a.threads)
     if a.settle_only:
         print(f"wrote the rest state {rest}")
         return
@@ -174,7 +180,7 @@ def main(argv=None):
         out = os.path.join(out_dir, f"{name}.h5")
         if name not in (a.only or DEFAULT) and not os.path.exists(out):
             continue
-        load_from_rest(name, mesh_path, params, rest, out_dir, a.ridge, a.device)
+        load_from_rest(name, mesh_path, params, rest, out_dir, a.ridge, a.device, a.threads)
         m = measures(out, a.travel_mm)
         rows.append(dict(name=name, file=out, **m))
         print(f"{name:10s} dt {m['dt'] * 1e6:5.3f} us  F^m {m['F_m_kN_per_m']:8.3f} kN/m @ "
