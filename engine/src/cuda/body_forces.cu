@@ -36,7 +36,7 @@ __global__ void drag_terms_kernel(const int32_t* halt, BodyDragArrays a, int32_t
                                   double* term_y) {
   if (halted(halt)) return;
   const int32_t k = blockIdx.x * blockDim.x + threadIdx.x;
-  if (k < n_tri) drag_velocity_term(a, a.tri[k], term_x[k], term_y[k]);
+  if (k < n_tri) drag_velocity_term(a, k, term_x[k], term_y[k]);
 }
 
 // ... then one block per body: lane l sums the body's terms l, l + kBodyBlock,
@@ -63,13 +63,10 @@ __global__ void __launch_bounds__(kBodyBlock) drag_kernel(const int32_t* halt, B
   }
   double lo = INFINITY, hi = -INFINITY;
   for (int32_t k = a.surface_start[b] + threadIdx.x; k < a.surface_start[b + 1]; k += kBodyBlock) {
-    const int32_t t = a.surface_tri[k];
-    for (int c = 0; c < 3; ++c) {
-      const int32_t i = a.node[3 * t + c];
-      const double s = a.x[i] * nx + a.y[i] * ny;
-      lo = s < lo ? s : lo;
-      hi = s > hi ? s : hi;
-    }
+    const int32_t i = a.surface_node[k];
+    const double s = a.x[i] * nx + a.y[i] * ny;
+    lo = s < lo ? s : lo;
+    hi = s > hi ? s : hi;
   }
   lo = block_extreme<kBodyBlock, false>(lo, shared);
   hi = block_extreme<kBodyBlock, true>(hi, shared);
@@ -149,9 +146,9 @@ void DeviceBodyForces::Impl::launch() {
                        f_coh_x.data(), f_coh_y.data(), damping, water, ext.buoyancy, ext.drag_on(),
                        ext.gravity ? ext.g : 0.0};
   if (quadratic) {
-    const BodyDragArrays d{x.data(), y.data(), vx.data(), vy.data(), node.data(), area0.data(),
-                           body_area0.data(), body_start.data(), body_tri.data(), surf_start.data(),
-                           surf_tri.data(), 0.5 * ext.rho_w * ext.C_d};
+    const BodyDragArrays d{x.data(),          y.data(),          vx.data(),         vy.data(),
+                           body_area0.data(), body_start.data(), body_corner.data(), body_weight.data(),
+                           surf_start.data(), surf_node.data(),  0.5 * ext.rho_w * ext.C_d};
     launch_kernel(drag_terms_kernel, blocks(n_tri), kBlock, stream, halt, d, n_tri, term_x.data(), term_y.data());
     if (n_bodies) launch_kernel(drag_kernel, n_bodies, kBodyBlock, stream, halt, d, term_x.data(), term_y.data(),
                                 c_b.data());
@@ -195,9 +192,10 @@ DeviceBodyForces::DeviceBodyForces(const Model& m) : impl_(new Impl) {
   d.body_area0.upload(m.body_area0());
   const BodyTriangleLists& L = m.body_triangles();
   d.body_start.upload(L.start);
-  d.body_tri.upload(L.tri);
+  d.body_corner.upload(L.corner);
+  d.body_weight.upload(L.weight);
   d.surf_start.upload(L.surface_start);
-  d.surf_tri.upload(L.surface_tri);
+  d.surf_node.upload(L.surface_node);
   // linear drag: every body's constant is c_w; none: zero
   d.c_b.upload(std::vector<double>(size_t(d.n_bodies), d.ext.drag_on() && !d.quadratic ? d.ext.c_w : 0.0));
   if (d.quadratic) {

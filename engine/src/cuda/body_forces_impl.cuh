@@ -14,8 +14,8 @@ struct DeviceBodyForces::Impl {
   bool damping = false, water = false, quadratic = false;
   ExternalParams ext;
   // mesh
-  DeviceArray<int32_t> node, body, start, slot, body_start, body_tri, surf_start, surf_tri;
-  DeviceArray<double> binv00, binv01, binv10, binv11, area0, body_area0, mass_phys;
+  DeviceArray<int32_t> node, body, start, slot, body_start, body_corner, surf_start, surf_node;
+  DeviceArray<double> binv00, binv01, binv10, binv11, area0, body_area0, body_weight, mass_phys;
   DeviceArray<ElementMaterial> material;
   // state and outputs
   DeviceArray<double> x, y, vx, vy, c_b, term_x, term_y, stress, corner_load, energy;

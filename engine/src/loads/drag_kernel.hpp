@@ -15,21 +15,20 @@ struct BodyDragArrays {
   const double* y;
   const double* vx;
   const double* vy;
-  const int32_t* node;   // 3 per triangle
-  const double* area0;   // per triangle
   const double* body_area0;
-  const int32_t* start;  // BodyTriangleLists: each body's triangles
-  const int32_t* tri;
-  const int32_t* surface_start;  // and those on its boundary
-  const int32_t* surface_tri;
+  const int32_t* start;   // BodyTriangleLists: each body's places k (its triangles)
+  const int32_t* corner;  // 3 per place: the triangle's nodes
+  const double* weight;   // per place: the triangle's area0 / 3
+  const int32_t* surface_start;  // and each body's surface points
+  const int32_t* surface_node;
   double half_rho_cd;    // 1/2 rho_w C_d [kg/m³]
 };
 
-// One triangle's term of its body's area-weighted velocity sum (centroid
-// velocity times area).
-ICERUBBLE_HD void drag_velocity_term(const BodyDragArrays& a, int32_t t, double& wx, double& wy) {
-  const int32_t i0 = a.node[3 * t], i1 = a.node[3 * t + 1], i2 = a.node[3 * t + 2];
-  const double w = a.area0[t] / 3.0;
+// The term of place k (a triangle) in its body's area-weighted velocity sum
+// (centroid velocity times area).
+ICERUBBLE_HD void drag_velocity_term(const BodyDragArrays& a, int32_t k, double& wx, double& wy) {
+  const int32_t i0 = a.corner[3 * k], i1 = a.corner[3 * k + 1], i2 = a.corner[3 * k + 2];
+  const double w = a.weight[k];
   wx = w * (a.vx[i0] + a.vx[i1] + a.vx[i2]);
   wy = w * (a.vy[i0] + a.vy[i1] + a.vy[i2]);
 }
@@ -60,38 +59,30 @@ ICERUBBLE_HD double drag_direction(const BodyDragArrays& a, int32_t b, double& V
 
 // Body b's c_b [N s/m per m width]: its mean velocity V (triangle centroids,
 // area weighted, so shared bond nodes count for both bodies) and its width L
-// across V (from its surface triangles' corners: a body's extremes lie on its
-// boundary); 0 for a body at rest. Sums in ascending triangle order.
+// across V (from its surface points: a body's extremes lie on its boundary);
+// 0 for a body at rest. Sums in ascending triangle order.
 ICERUBBLE_HD double quadratic_drag_constant(const BodyDragArrays& a, int32_t b) {
   double Vx = 0.0, Vy = 0.0;
   for (int32_t k = a.start[b]; k < a.start[b + 1]; ++k) {
     double wx, wy;
-    drag_velocity_term(a, a.tri[k], wx, wy);
+    drag_velocity_term(a, k, wx, wy);
     Vx += wx;
     Vy += wy;
   }
   double nx, ny;
   const double speed = drag_direction(a, b, Vx, Vy, nx, ny);
-  if (!(speed > 0.0)) return 0.0;
-  // Width across the velocity: extent of the corners along n.
-  bool seen = false;
-  double lo = 0.0, hi = 0.0;
-  for (int32_t k = a.surface_start[b]; k < a.surface_start[b + 1]; ++k) {
-    const int32_t t = a.surface_tri[k];
-    for (int c = 0; c < 3; ++c) {
-      const int32_t i = a.node[3 * t + c];
-      const double s = a.x[i] * nx + a.y[i] * ny;
-      if (!seen) {
-        lo = hi = s;
-        seen = true;
-      } else {
-        // plain compares: fmin/fmax are library calls (NaN rules)
-        if (s < lo) lo = s;
-        if (s > hi) hi = s;
-      }
-    }
+  if (!(speed > 0.0) || a.surface_start[b + 1] == a.surface_start[b]) return 0.0;
+  // Width across the velocity: extent of the surface points along n.
+  const int32_t first = a.surface_node[a.surface_start[b]];
+  double lo = a.x[first] * nx + a.y[first] * ny, hi = lo;
+  for (int32_t k = a.surface_start[b] + 1; k < a.surface_start[b + 1]; ++k) {
+    const int32_t i = a.surface_node[k];
+    const double s = a.x[i] * nx + a.y[i] * ny;
+    // plain compares: fmin/fmax are library calls (NaN rules)
+    if (s < lo) lo = s;
+    if (s > hi) hi = s;
   }
-  return seen ? drag_constant(a.half_rho_cd, speed, lo, hi) : 0.0;
+  return drag_constant(a.half_rho_cd, speed, lo, hi);
 }
 
 }  // namespace engine

@@ -67,8 +67,9 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
   return submerged;
 }
 
-void BodyTriangleLists::build(const Triangles& tris, const std::vector<int32_t>& surface,
-                              int32_t n_bodies) {
+void BodyTriangleLists::build(const Triangles& tris, const std::vector<int32_t>& surface, int32_t n_bodies,
+                              int32_t n_nodes) {
+  // rows by body of the triangles ids[0, n) (all triangles where ids is null)
   const auto rows = [&](const int32_t* ids, int32_t n, std::vector<int32_t>& first, std::vector<int32_t>& out) {
     first.assign(size_t(n_bodies) + 1, 0);
     for (int32_t k = 0; k < n; ++k) ++first[tris.body[ids ? ids[k] : k] + 1];
@@ -80,15 +81,42 @@ void BodyTriangleLists::build(const Triangles& tris, const std::vector<int32_t>&
       out[fill[tris.body[t]]++] = t;
     }
   };
+  std::vector<int32_t> tri, surface_start_tri, surface_tri;
   rows(nullptr, tris.size(), start, tri);
-  rows(surface.data(), int32_t(surface.size()), surface_start, surface_tri);
+  corner.resize(size_t(3) * tri.size());
+  weight.resize(tri.size());
+  for (size_t k = 0; k < tri.size(); ++k) {
+    const int32_t t = tri[k];
+    for (int c = 0; c < 3; ++c) corner[3 * k + c] = tris.node[3 * size_t(t) + c];
+    weight[k] = tris.area0[t] / 3.0;  // the division the sums did per triangle: the same bits
+  }
+  rows(surface.data(), int32_t(surface.size()), surface_start_tri, surface_tri);
+  // each body's surface points once (a node of two bodies, a bond point, in both)
+  std::vector<int32_t> seen(size_t(n_nodes), -1);
+  surface_start.assign(size_t(n_bodies) + 1, 0);
+  surface_node.clear();
+  for (int32_t b = 0; b < n_bodies; ++b) {
+    for (int32_t k = surface_start_tri[b]; k < surface_start_tri[b + 1]; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const int32_t i = tris.node[3 * size_t(surface_tri[k]) + c];
+        if (seen[i] == b) continue;
+        seen[i] = b;
+        surface_node.push_back(i);
+      }
+    surface_start[b + 1] = int32_t(surface_node.size());
+  }
   largest_first.resize(size_t(n_bodies));
   for (int32_t b = 0; b < n_bodies; ++b) largest_first[b] = b;
   std::stable_sort(largest_first.begin(), largest_first.end(),
                    [&](int32_t a, int32_t b) { return start[a + 1] - start[a] > start[b + 1] - start[b]; });
 }
 
-void body_drag_constants(const Nodes& nodes, const Triangles& tris, const ExternalParams& p,
+size_t BodyTriangleLists::bytes() const {
+  return (start.capacity() + corner.capacity() + surface_start.capacity() + surface_node.capacity() +
+          largest_first.capacity()) * sizeof(int32_t) + weight.capacity() * sizeof(double);
+}
+
+void body_drag_constants(const Nodes& nodes, const ExternalParams& p,
                          const std::vector<double>& body_area0, std::vector<double>& body_drag,
                          const BodyTriangleLists& lists, int threads) {
   const int32_t nb = int32_t(body_area0.size());
@@ -98,10 +126,10 @@ void body_drag_constants(const Nodes& nodes, const Triangles& tris, const Extern
     std::fill(body_drag.begin(), body_drag.end(), p.c_w);
     return;
   }
-  const BodyDragArrays a{nodes.x.data(), nodes.y.data(), nodes.vx.data(), nodes.vy.data(),
-                         tris.node.data(), tris.area0.data(), body_area0.data(),
-                         lists.start.data(), lists.tri.data(), lists.surface_start.data(),
-                         lists.surface_tri.data(), 0.5 * p.rho_w * p.C_d};
+  const BodyDragArrays a{nodes.x.data(),        nodes.y.data(),          nodes.vx.data(),
+                         nodes.vy.data(),       body_area0.data(),       lists.start.data(),
+                         lists.corner.data(),   lists.weight.data(),     lists.surface_start.data(),
+                         lists.surface_node.data(), 0.5 * p.rho_w * p.C_d};
   double* c_b = body_drag.data();
   const int32_t* order = lists.largest_first.data();
   // dynamic, largest bodies first: the layer's bodies are far larger than a block

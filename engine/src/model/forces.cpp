@@ -42,7 +42,7 @@ void Model::compute_body_forces() {
   const double g = params_.external.gravity ? params_.external.g : 0.0;
   if (drag) {
     Stopwatch drag_sw(timings_.drag);
-    body_drag_constants(nodes_, tris_, params_.external, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
+    body_drag_constants(nodes_, params_.external, body_area0_, body_drag_, body_tris_, use_threads() ? nt : 1);
   }
   // Sleeping far field: only the listed triangles are computed; the others
   // keep their stored (exact, frozen) forces and energies.

@@ -114,7 +114,7 @@ void Model::rebuild_topology() {
     const int32_t* c = &tris_.node[3 * t];
     if (on_surface_[c[0]] || on_surface_[c[1]] || on_surface_[c[2]]) surface_tris_.push_back(t);
   }
-  body_tris_.build(tris_, surface_tris_, int32_t(materials_.size()));
+  body_tris_.build(tris_, surface_tris_, int32_t(materials_.size()), n);
   contact_possible_ = std::count(body_used.begin(), body_used.end(), 1) >= 2;
   prepared_ = false;
   stable_current_ = false;

@@ -54,8 +54,7 @@ void Model::restore_step_fields(const std::vector<double>& r_x, const std::vecto
 size_t Model::memory_bytes() const {
   size_t b = nodes_.bytes() + tris_.bytes() + gather_.bytes() + on_surface_.capacity() +
              surface_tris_.capacity() * sizeof(int32_t) +
-             (body_tris_.start.capacity() + body_tris_.tri.capacity() + body_tris_.surface_start.capacity() +
-              body_tris_.surface_tri.capacity()) * sizeof(int32_t) + partial_.capacity() * sizeof(ThreadSums) +
+             body_tris_.bytes() + partial_.capacity() * sizeof(ThreadSums) +
              bonds_.memory_bytes();
   for (const BoundaryCondition& bc : bcs_) b += bc.nodes.capacity() * sizeof(int32_t);
   return b;
