@@ -1,5 +1,5 @@
 // One split pair's crack-closure force (why it exists:
-// FreezeBonds::apply_crack_closure), written once for both backends: the CPU
+// FreezeBonds::apply), written once for both backends: the CPU
 // loops over the split pairs, the GPU's whole step takes a node per lane and
 // its pairs in the CPU's order (cuda/cohesive_forces.cu).
 #pragma once

@@ -10,6 +10,7 @@
 
 #include "bonds/crack_closure_kernel.hpp"
 #include "cohesive_law/criterion.hpp"
+#include "model/threading.hpp"
 
 namespace engine {
 
@@ -20,6 +21,9 @@ namespace {
 // Below this many points (pairs) a pass is a few microseconds and a thread
 // team costs more than it saves.
 constexpr int32_t kMinParallelItems = 1024;
+
+// A closing pair's f_closure_ where its faces are apart (a force is >= 0).
+constexpr double kNoClosure = -1.0;
 
 // kRigidOpening, the rigid phase of an opened pair: bonds/cohesive_pair_kernel.hpp.
 
@@ -164,8 +168,11 @@ void FreezeBonds::refresh_lists() {
   for (int32_t p = 0; p < n_points(); ++p)
     if (st_.point_state[p] == PointState::intact) intact_points_.push_back(p);
   open_pairs_.clear();
-  for (int32_t k = 0; k < n_pairs(); ++k)
+  closing_pairs_.clear();
+  for (int32_t k = 0; k < n_pairs(); ++k) {
     if (st_.pair_state[k] == PairState::cohesive) open_pairs_.push_back(k);
+    if (st_.pair_state[k] != PairState::intact) closing_pairs_.push_back(k);
+  }
 }
 
 int32_t FreezeBonds::n_split() const {
@@ -184,8 +191,9 @@ size_t FreezeBonds::memory_bytes() const {
   };
   BondInput::each(in_, add_field);
   BondState::each(st_, add_field);
-  for (auto* v : {&first_pair_, &n_pairs_, &intact_points_, &open_pairs_}) add(*v);
-  for (auto* v : {&beta_, &n0x_, &n0y_, &d0x_, &d0y_, &fx_pair_, &fy_pair_, &w_pair_, &s_pair_, &e_pair_})
+  for (auto* v : {&first_pair_, &n_pairs_, &intact_points_, &open_pairs_, &closing_pairs_}) add(*v);
+  for (auto* v : {&beta_, &n0x_, &n0y_, &d0x_, &d0y_, &fx_pair_, &fy_pair_, &w_pair_, &s_pair_, &e_pair_,
+                  &f_closure_})
     add(*v);
   add(tn_);
   add(tt_);
@@ -256,13 +264,27 @@ CohesivePairArrays FreezeBonds::pair_arrays(const BondHost& M) const {
           st_.d_t_prev.data(), beta_.data()};
 }
 
+// Eqs 9-11 on the opened pairs, then crack closure on the opened and failed
+// ones. Crack closure: the crack faces of a bond point take part in contact
+// (eqs 1-4) only once no node is shared between them any more: triangles
+// that share a node never contact. Until the neighbouring bond points have
+// split too, a closing crack would therefore interpenetrate freely, and when
+// the last shared node splits the contact would meet a deep overlap at once
+// and throw the faces apart (energy out of nothing). A node-to-node penalty
+// on the split pair, as stiff as the contact penalty s (N/m per m, below the
+// 6 s node stiffness of the potential contact the stable step allows for),
+// keeps x+ and x- from crossing along the bond normal. It is conservative:
+// its forces go with the contact forces, whose work the ledger books as
+// stored contact energy.
 void FreezeBonds::apply(BondHost& M, bool commit) {
-  const int32_t n = int32_t(open_pairs_.size());
-  fx_pair_.assign(n, 0.0);
-  fy_pair_.assign(n, 0.0);
-  w_pair_.assign(n, 0.0);
-  s_pair_.assign(n, 0.0);
-  e_pair_.assign(n, 0.0);
+  const int32_t n = int32_t(open_pairs_.size()), nc = int32_t(closing_pairs_.size());
+  // every entry is written below
+  fx_pair_.resize(n);
+  fy_pair_.resize(n);
+  w_pair_.resize(n);
+  s_pair_.resize(n);
+  e_pair_.resize(n);
+  f_closure_.resize(nc);
   const CohesivePairArrays a = pair_arrays(M);
   const CohesiveHistory h{st_.delta_m.data(), st_.f_n_prev.data(), st_.f_t_prev.data(), st_.d_n_prev.data(),
                           st_.d_t_prev.data(), st_.pair_state.data(), st_.mode.data(), st_.t_fail.data(),
@@ -270,66 +292,76 @@ void FreezeBonds::apply(BondHost& M, bool commit) {
   const cl::ForceDirection dir = params_.direction;
   const double time = M.time();
   const double dt = M.dt();
-  bool any_failed = false;
-  #pragma omp parallel for schedule(static) num_threads(team_size(M, n)) reduction(|| : any_failed)
-  for (int32_t j = 0; j < n; ++j) {
-    const int32_t k = open_pairs_[j];
-    const CohesivePairStep r = cohesive_pair_step(a, k, dir, dt);
-    fx_pair_[j] = r.fpx;
-    fy_pair_[j] = r.fpy;
-    w_pair_[j] = r.work;
-    s_pair_[j] = r.stored;
-    e_pair_[j] = r.dissipation;
-    if (commit && commit_pair_step(h, a, k, r, time)) any_failed = true;
-  }
-  // Scatter in pair order: deterministic, whatever the thread count.
+  const double k_closure = M.contact_params().penalty;
   Nodes& W = M.bond_nodes();
+  const int32_t n_nodes = W.size();
+  bool any_failed = false;
+  #pragma omp parallel num_threads(team_size(M, std::max(n, nc)))
+  {
+    #pragma omp for schedule(static) reduction(|| : any_failed) nowait
+    for (int32_t j = 0; j < n; ++j) {
+      const int32_t k = open_pairs_[j];
+      const CohesivePairStep r = cohesive_pair_step(a, k, dir, dt);
+      fx_pair_[j] = r.fpx;
+      fy_pair_[j] = r.fpy;
+      w_pair_[j] = r.work;
+      s_pair_[j] = r.stored;
+      e_pair_[j] = r.dissipation;
+      if (commit && commit_pair_step(h, a, k, r, time)) any_failed = true;
+    }
+    // crack closure's forces (above): positions only
+    #pragma omp for schedule(static)
+    for (int32_t c = 0; c < nc; ++c) {
+      const int32_t k = closing_pairs_[c];
+      double f;
+      f_closure_[c] = crack_closure_force(W.x.data(), W.y.data(), st_.node_plus[k], st_.node_minus[k], st_.fnx[k],
+                                          st_.fny[k], k_closure, f) ? f : kNoClosure;
+    }
+    // Scatter: each thread adds onto its own block of nodes, visiting every
+    // pair in order, so each node takes its terms in pair order: one
+    // thread's bits, whatever the count (the serial scatter was most of the
+    // bonds part on two threads).
+    const int tid = omp_get_thread_num(), team = omp_get_num_threads();
+    int32_t lo, hi;
+    block(n_nodes, tid, team, lo, hi);
+    const auto mine = [lo, hi](int32_t i) { return i >= lo && i < hi; };
+    for (int32_t j = 0; j < n; ++j) {
+      const int32_t k = open_pairs_[j], ip = st_.node_plus[k], im = st_.node_minus[k];
+      if (mine(ip)) {
+        W.f_coh_x[ip] += fx_pair_[j];
+        W.f_coh_y[ip] += fy_pair_[j];
+      }
+      if (mine(im)) {
+        W.f_coh_x[im] -= fx_pair_[j];
+        W.f_coh_y[im] -= fy_pair_[j];
+      }
+    }
+    for (int32_t c = 0; c < nc; ++c) {
+      const double f = f_closure_[c];
+      if (f == kNoClosure) continue;
+      const int32_t k = closing_pairs_[c], ip = st_.node_plus[k], im = st_.node_minus[k];
+      const double nx = st_.fnx[k], ny = st_.fny[k];  // pushes x+ along +n and x- along -n
+      if (mine(ip)) {
+        W.f_con_x[ip] += f * nx;
+        W.f_con_y[ip] += f * ny;
+      }
+      if (mine(im)) {
+        W.f_con_x[im] -= f * nx;
+        W.f_con_y[im] -= f * ny;
+      }
+    }
+  }
+  if (!commit) return;
   double work = 0.0, stored = 0.0, eff = 0.0;
   for (int32_t j = 0; j < n; ++j) {
-    const int32_t k = open_pairs_[j];
-    W.f_coh_x[st_.node_plus[k]] += fx_pair_[j];
-    W.f_coh_y[st_.node_plus[k]] += fy_pair_[j];
-    W.f_coh_x[st_.node_minus[k]] -= fx_pair_[j];
-    W.f_coh_y[st_.node_minus[k]] -= fy_pair_[j];
     work += w_pair_[j];
     stored += s_pair_[j];
     eff += e_pair_[j];
   }
-  apply_crack_closure(M);
-  if (!commit) return;
   st_.work += work;
   st_.stored = stored;
   st_.dissipation_effective += eff;
   if (any_failed) refresh_lists();
-}
-
-// ---------------------------------------------------------------- crack closure
-
-// The crack faces of a bond point take part in contact (eqs 1-4) only once no
-// node is shared between them any more: triangles that share a node never
-// contact. Until the neighbouring bond points have split too, a closing crack
-// would therefore interpenetrate freely, and when the last shared node splits
-// the contact would meet a deep overlap at once and throw the faces apart
-// (energy out of nothing). A node-to-node penalty on the split pair, as stiff
-// as the contact penalty s (N/m per m, below the 6 s node stiffness of the
-// potential contact the stable step allows for), keeps x+ and x- from
-// crossing along the bond normal. It is conservative: its forces go with the
-// contact forces, whose work the ledger books as stored contact energy.
-void FreezeBonds::apply_crack_closure(BondHost& M) {
-  const double k = M.contact_params().penalty;
-  Nodes& W = M.bond_nodes();
-  const int32_t n = int32_t(st_.pair_state.size());
-  for (int32_t j = 0; j < n; ++j) {
-    if (st_.pair_state[j] == PairState::intact) continue;
-    const int32_t ip = st_.node_plus[j], im = st_.node_minus[j];
-    const double nx = st_.fnx[j], ny = st_.fny[j];
-    double f;  // pushes x+ along +n and x- along -n
-    if (!crack_closure_force(W.x.data(), W.y.data(), ip, im, nx, ny, k, f)) continue;
-    W.f_con_x[ip] += f * nx;
-    W.f_con_y[ip] += f * ny;
-    W.f_con_x[im] -= f * nx;
-    W.f_con_y[im] -= f * ny;
-  }
 }
 
 // ---------------------------------------------------------------- checkpoints

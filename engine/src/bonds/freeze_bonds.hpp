@@ -110,7 +110,6 @@ class FreezeBonds {
   size_t memory_bytes() const;
 
  private:
-  void apply_crack_closure(BondHost& M);
   static int team_size(const BondHost& M, int64_t items);
   void refresh_lists();
   // bond_split.cpp
@@ -131,7 +130,9 @@ class FreezeBonds {
   std::vector<int8_t> fail_;                   // per point: 0, 1 failing, 2 failing found late
   mutable std::vector<double> tn_, tt_;        // per pair: traction of the last check
   std::vector<int32_t> intact_points_, open_pairs_;
+  std::vector<int32_t> closing_pairs_;  // opened or failed, ascending: crack closure's
   std::vector<double> fx_pair_, fy_pair_, w_pair_, s_pair_, e_pair_;  // per open pair
+  std::vector<double> f_closure_;       // per closing pair: its force, or kNoClosure
 };
 
 }  // namespace engine

@@ -11,7 +11,7 @@ namespace engine {
 // A node's part of the stage after the pairs' kernel: its opened pairs'
 // forces summed in ascending pair order (entry 2 j: pair j's + node, 2 j + 1:
 // its - node), and its split pairs' crack-closure forces added to its contact
-// force in ascending order, as FreezeBonds::apply and apply_crack_closure add
+// force in ascending order, as FreezeBonds::apply adds
 // them. The stage's node and closure kernels run it; the whole step runs it
 // in its one per-node pass (cuda/device_step.cu).
 struct CohesiveNodeArrays {
@@ -79,7 +79,7 @@ struct DeviceCohesiveForces::Impl {
   DeviceArray<PairState> pair_state;
   DeviceArray<FailureMode> pair_mode;
   DeviceArray<double> t_fail, x_fail, y_fail, dn_fail, dt_fail;
-  // crack closure (FreezeBonds::apply_crack_closure): the split pairs (opened
+  // crack closure (FreezeBonds::apply): the split pairs (opened
   // or failed), ascending, and each node's of them in that order (entry 2 j:
   // closure_pair[j]'s + node, 2 j + 1: its - node)
   double penalty = 0.0;
