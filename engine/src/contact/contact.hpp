@@ -221,7 +221,7 @@ class ContactSolver {
   uint64_t list_topology_ = 0;      // the host's topology_version of the list (0: unknown)
   std::vector<double> xref_, yref_; // node positions when the list was built
   std::vector<PairContact> results_;
-  std::vector<std::vector<int64_t>> thread_hits_;  // each thread's touching candidates, ascending
+  std::vector<std::vector<int64_t>> chunk_hits_;  // each candidate chunk's touching candidates, ascending
   std::vector<ContactPair> pairs_;
   std::vector<double> wx_, wy_, imx_, imy_, lambda_;  // friction workspace
   double friction_power_ = 0.0;
