@@ -38,8 +38,7 @@ EARLIER_PAPER_RIDGE = (
 PRINTED_EQ_11 = ("Its runs took eq 11 as printed, the default force direction until 2026-11-29; the default "
                  "is now the work-conjugate form (docs/model.md §3.3), so a run of the script today makes "
                  "other figures.")
-NOTES = {"paper_cost.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
-         "paper_peak.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
+NOTES = {"paper_peak.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
          "rigid_cost.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
          "runtime_vs_error.json": PRINTED_EQ_11, "time_vs_error.json": PRINTED_EQ_11,
          "sleeping_wide.json": PRINTED_EQ_11}
@@ -92,7 +91,9 @@ def paper_cost(d):
                      f"{r['hours_300mm']:.1f} h"])
     return ([f"Ridge {d['ridge']}, {d['threads']} threads; 300 steps from the mesh at rest, no bond events; "
              f"the settle counted as {d['settle_time_s']} s simulated at the settle step. Wall times are "
-             "projections (steps x time per step), not timed runs."]
+             "projections (steps x time per step), not timed runs; a loaded pile's step costs more than "
+             "this window's (a few dozen touching pairs, against ~1,000 once loaded): see the real "
+             "loadings below."]
             + [""] + table(["preset", "step", "added mass", "settle step (added mass)", "time per step",
                             "element pass share", "first 20 mm", "300 mm"], rows))
 
@@ -146,8 +147,9 @@ def paper_run_cost(cost, peak):
                      f"{r['hours_300mm']:.1f} h",
                      f"{r['steps_20mm'] * loading / 3600:.1f} h" if loading else "not measured",
                      f"{r['steps_300mm'] * loading / 3600:.1f} h" if loading else "not measured"])
+    stale = " ".join(f"{name}: {NOTES[name]}" for name in ("paper_cost.json", "paper_peak.json") if name in NOTES)
     return (["Steps from paper_cost.json (settle included); time per step from its 300-step window, "
-             "and from paper_peak.json's 2 mm loadings where one was run. " + EARLIER_PAPER_RIDGE]
+             "and from paper_peak.json's 2 mm loadings where one was run." + (" " + stale if stale else "")]
             + [""] + table(["preset", "steps to 20 mm", "steps to 300 mm", "300 mm (window)",
                             "20 mm (real loading)", "300 mm (real loading)"], rows))
 

@@ -25,14 +25,14 @@ from icerubble.run.scene_cache import scene_files
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "bench", "results", "paper_cost.json")
-# s simulated to bring the scene to rest: measured on ridge 1 with `fast`
-# (settling at 2.3 µs, 46 % more inertial mass on the boundary nodes): at
-# rest after 1.006 s, 441,000 steps (every node slower than 1e-4 m/s, every
-# block in balance to 1e-4 of its weight over 2 ms). The other presets are
-# assumed to need as long: small ridge 1 took 0.55 s at 4x its step (12 %
-# more inertia) against 0.49 s, within the ridges' spread (measured with
-# physics version 2's per-node settle check).
-SETTLE_TIME = 1.006
+# s simulated to bring the scene to rest: measured on the paper scene's
+# ridge 1 as remade at the paper's porosity (410-413 blocks) with `fast`
+# (settling at 2.28 us, 46 % more inertial mass on the boundary nodes): at
+# rest after 1.646 s (runs/bench/paper_peak's rest state of 2026-11-30, its
+# driver's settle_time: every node slower than 1e-4 m/s, every block in
+# balance to 1e-4 of its weight). The other presets are assumed to need as
+# long. (The earlier dense ridge 1 took 1.006 s.)
+SETTLE_TIME = 1.646
 
 
 def time_to_travel(travel, v_final, ramp_time):
