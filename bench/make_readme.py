@@ -38,10 +38,13 @@ EARLIER_PAPER_RIDGE = (
 PRINTED_EQ_11 = ("Its runs took eq 11 as printed, the default force direction until 2026-11-29; the default "
                  "is now the work-conjugate form (docs/model.md §3.3), so a run of the script today makes "
                  "other figures.")
-NOTES = {"paper_peak.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
-         "rigid_cost.json": EARLIER_PAPER_RIDGE + " " + PRINTED_EQ_11,
-         "runtime_vs_error.json": PRINTED_EQ_11, "time_vs_error.json": PRINTED_EQ_11,
-         "sleeping_wide.json": PRINTED_EQ_11}
+# The days those changed, and the results each concerns: a result measured
+# before the day carries its note.
+PAPER_RIDGES_REMADE = "2026-11-27"
+FORCE_DIRECTION_CHANGED = "2026-11-29"
+ON_THE_PAPER_SCENE = ("paper_cost.json", "paper_peak.json", "rigid_cost.json")
+WITH_BOND_RUNS = ("paper_cost.json", "paper_peak.json", "rigid_cost.json", "runtime_vs_error.json",
+                  "time_vs_error.json", "sleeping_wide.json")
 # the benchmark that writes each result, where its name is not the result's
 SCRIPT = {"sleeping_wide.json": "sleeping.py", "paper_peak_cuda.json": "paper_peak.py"}
 
@@ -60,6 +63,27 @@ def table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return lines
+
+
+def measured_on(name, data):
+    """The day result `name` was measured (YYYY-MM-DD): its stamp's, its own
+    field's, or else the day its file was last committed."""
+    s = stamps.read().get(name)
+    if s:
+        return s["measured"]
+    if isinstance(data, dict) and data.get("measured"):
+        return str(data["measured"])[:10]
+    return subprocess.run(["git", "-C", HERE, "log", "-1", "--format=%ad", "--date=short", "--",
+                           os.path.join(RESULTS, name)], capture_output=True, text=True).stdout.strip()
+
+
+def note(name, data):
+    """What result `name` does not say of itself (above), or ''."""
+    day = measured_on(name, data)
+    parts = [text for names, changed, text in ((ON_THE_PAPER_SCENE, PAPER_RIDGES_REMADE, EARLIER_PAPER_RIDGE),
+                                               (WITH_BOND_RUNS, FORCE_DIRECTION_CHANGED, PRINTED_EQ_11))
+             if name in names and day < changed]
+    return " ".join(parts)
 
 
 def stamp_line(name, data):
@@ -147,7 +171,8 @@ def paper_run_cost(cost, peak):
                      f"{r['hours_300mm']:.1f} h",
                      f"{r['steps_20mm'] * loading / 3600:.1f} h" if loading else "not measured",
                      f"{r['steps_300mm'] * loading / 3600:.1f} h" if loading else "not measured"])
-    stale = " ".join(f"{name}: {NOTES[name]}" for name in ("paper_cost.json", "paper_peak.json") if name in NOTES)
+    stale = " ".join(f"{name}: {note(name, d)}" for name, d in (("paper_cost.json", cost), ("paper_peak.json", peak))
+                     if note(name, d))
     return (["Steps from paper_cost.json (settle included); time per step from its 300-step window, "
              "and from paper_peak.json's 2 mm loadings where one was run." + (" " + stale if stale else "")]
             + [""] + table(["preset", "steps to 20 mm", "steps to 300 mm", "300 mm (window)",
@@ -534,8 +559,8 @@ def section(name, data):
     script = SCRIPT.get(name, name.replace(".json", ".py"))
     lines = [f"## {name}", "", f"`bench/{script}`: {title(script)}", "",
              f"Measured with: {stamp_line(name, data)}.", ""]
-    if name in NOTES:
-        lines += [f"**Note.** {NOTES[name]}", ""]
+    if note(name, data):
+        lines += [f"**Note.** {note(name, data)}", ""]
     fmt_ = FORMATS.get(name)
     body = fmt_(data) if fmt_ else ["```", json.dumps(data, indent=1)[:2000], "```"]
     figure = name.replace(".json", ".png")
