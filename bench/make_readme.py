@@ -134,8 +134,9 @@ def paper_peak(d):
                      r["n_failed"], f"{r['load_steps']:,}", f"{r['wall_load_s'] / 3600:.2f} h",
                      f"{r['wall_load_s'] / r['load_steps'] * 1e3:.2f} ms", f"{r['energy_residual_rel']:.1e}",
                      pct(r["F_m_rel_err"])])
-    return ([f"Ridge {d['ridge']}, {d['travel_mm']} mm of travel, on the {d.get('device', 'cpu').upper()}, every run "
-             f"from one rest state settled "
+    threads = f" ({d['threads']} CPU thread{'s' if d['threads'] > 1 else ''} a run)" if "threads" in d else ""
+    return ([f"Ridge {d['ridge']}, {d['travel_mm']} mm of travel, on the {d.get('device', 'cpu').upper()}{threads}, "
+             f"every run from one rest state settled "
              f"with `{rest['numerics']}` ({rest['settle_time_s']:.3f} s simulated, indenter force at rest "
              f"{rest['F_at_rest_N_per_m']:.1f} N/m); errors against `{d['reference']}`."]
             + [""] + table(["preset", "step", "F^m", "y_I at F^m", "mean F " + " / ".join(
@@ -173,8 +174,10 @@ def paper_run_cost(cost, peak):
                      f"{r['steps_300mm'] * loading / 3600:.1f} h" if loading else "not measured"])
     stale = " ".join(f"{name}: {note(name, d)}" for name, d in (("paper_cost.json", cost), ("paper_peak.json", peak))
                      if note(name, d))
-    return (["Steps from paper_cost.json (settle included); time per step from its 300-step window, "
-             "and from paper_peak.json's 2 mm loadings where one was run." + (" " + stale if stale else "")]
+    threads = f" ({peak['threads']} thread{'s' if peak['threads'] > 1 else ''} a run)" if "threads" in peak else ""
+    return ([f"Steps from paper_cost.json (settle included); time per step from its 300-step window "
+             f"({cost['threads']} threads), and from paper_peak.json's {peak['travel_mm']:g} mm loadings{threads} "
+             "where one was run." + (" " + stale if stale else "")]
             + [""] + table(["preset", "steps to 20 mm", "steps to 300 mm", "300 mm (window)",
                             "20 mm (real loading)", "300 mm (real loading)"], rows))
 

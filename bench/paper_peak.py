@@ -199,7 +199,8 @@ def main(argv=None):
     out_json = OUT_JSON if a.device == "cpu" else OUT_JSON.replace(".json", f"_{a.device}.json")
     os.makedirs(os.path.dirname(out_json), exist_ok=True)
     result = dict(ridge=a.ridge, travel_mm=a.travel_mm, rest_state=rest_attrs, reference=ref["name"],
-                  device=a.device, measured=time.strftime("%Y-%m-%d"), runs=rows)
+                  device=a.device, threads=a.threads or os.cpu_count(), measured=time.strftime("%Y-%m-%d"),
+                  runs=rows)
     if a.against:
         result["against"] = against(a.against, rows, rest, a.travel_mm)
     with open(out_json, "w") as f:

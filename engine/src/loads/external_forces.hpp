@@ -73,8 +73,7 @@ double water_forces_on_triangles(const Nodes& nodes, Triangles& tris, const Exte
 // body, ascending triangle ids), held as what the sums read: a triangle's
 // three corners and its weight area0 / 3 at its place k (the sums stream
 // through them instead of looking up the triangle, then its nodes, then
-// dividing its area: 0.42-0.44 -> 0.24-0.27 ms a step of the paper mesh, all
-// its bodies moving, on one thread; 0.27-0.29 -> 0.19-0.20 on two). And
+// dividing its area; docs/gpu.md has the time it saved). And
 // each body's surface points: the corners of its triangles that have a corner
 // on a boundary, each once (the width's extremes lie on the boundary, and a
 // set's extremes are the same in any order).
