@@ -16,7 +16,8 @@
 # run is kept where its summary fails. At most 8 files come back from $OUT:
 # this writes 8 (the build's log stays on the machine, its tail printed if it fails).
 #   BUDGET=540 PY=python3 tools/gpu_lease.sh   (carry runs/scenes: the demo's and paper ridge 1's pile and mesh;
-#                                               and runs/bench/paper_peak/ridge1_2mm where its rest state is)
+#                                               and the rest state's file, $REST below: not its folder, where
+#                                               the CPU's study runs go, beyond a carry's 64 MiB)
 PY=${PY:-python3}
 BUILD=${BUILD:-build-gpu}
 BUDGET=${BUDGET:-540}        # seconds for the whole script
