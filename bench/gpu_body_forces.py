@@ -86,7 +86,8 @@ def by_threads(m, threads, steps, rounds):
     slowness. Two untimed steps after each change of the count (its gather
     plan is made again). Also the touching pairs after each block, averaged."""
     block = max(1, steps // rounds)
-    sums = {k: dict(wall=0.0, steps=0, touching=0, **{p: 0.0 for p in PARTS}) for k in threads}
+    sums = {k: dict(wall=0.0, steps=0, touching=0, busy=np.zeros(k), wait=np.zeros(k), **{p: 0.0 for p in PARTS})
+            for k in threads}
     for _ in range(rounds):
         for k in threads:
             m.set(threads=k)
@@ -99,13 +100,30 @@ def by_threads(m, threads, steps, rounds):
             acc["touching"] += int(m.touching_pairs)
             for p in PARTS:
                 acc[p] += t1[p] - t0[p]
+            for w in ("busy", "wait"):   # the element pass by thread (a team of one below 2,048 triangles)
+                now, before = np.asarray(t1["element_" + w]), np.asarray(t0["element_" + w])
+                n = min(k, len(now))
+                acc[w][:n] += now[:n] - np.pad(before, (0, max(0, len(now) - len(before))))[:n]
     rows = []
     for k in threads:
         acc = sums[k]
         rows.append(dict(threads=k, ms_per_step=1e3 * acc["wall"] / acc["steps"], steps=acc["steps"], rounds=rounds,
                          touching_pairs=round(acc["touching"] / rounds),
+                         # each thread's time in the element pass: its own triangles, and waiting for the others
+                         element_busy_ms=[1e3 * x / acc["steps"] for x in acc["busy"]],
+                         element_wait_ms=[1e3 * x / acc["steps"] for x in acc["wait"]],
                          **{p + "_ms": 1e3 * acc[p] / acc["steps"] for p in PARTS}))
     return rows
+
+
+def element_pass(r):
+    """A row's element pass by thread, in words: the busiest thread's time
+    against the mean (1 = balanced), and the mean wait at its barrier."""
+    busy, wait = np.asarray(r["element_busy_ms"]), np.asarray(r["element_wait_ms"])
+    if not busy.size or not busy.mean() > 0.0:
+        return "element pass by thread: not timed"
+    return (f"element pass by thread: busy mean {busy.mean():.3f} max {busy.max():.3f} ms, "
+            f"wait mean {wait.mean():.3f} ms")
 
 
 def main(argv=None):
@@ -142,7 +160,7 @@ def main(argv=None):
     rows = by_threads(m, a.threads, a.steps, a.rounds)
     for r in rows:
         parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
-        print(f"{r['threads']:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+        print(f"{r['threads']:3d} threads: {r['ms_per_step']:.3f} ms/step ({parts}; {element_pass(r)})", flush=True)
     out = dict(mesh=os.path.basename(a.mesh), scene=a.scene, preset=a.preset, n_triangles=m.n_triangles,
                n_nodes=m.n_nodes, processor=processor(), cpu_count=os.cpu_count(), cpu_topology=cpu_topology(),
                code_version=code_version(), source_hash=source_hash(), measured=time.strftime("%Y-%m-%d"), cpu=rows, gpu=None,
@@ -159,7 +177,7 @@ def main(argv=None):
             r["splits"] = splits
             parts = "  ".join(f"{p} {r[p + '_ms']:.3f}" for p in PARTS)
             print(f"{r['threads']:3d} threads, loaded (~{r['touching_pairs']} touching pairs, {splits} splits in "
-                  f"all the blocks): {r['ms_per_step']:.3f} ms/step ({parts})", flush=True)
+                  f"all the blocks): {r['ms_per_step']:.3f} ms/step ({parts}; {element_pass(r)})", flush=True)
         del loaded
     if a.triad:
         text = subprocess.run([a.triad] + [str(k) for k in a.threads], capture_output=True, text=True,

@@ -258,18 +258,28 @@ def cores_said(d):
             f"({t['threads_per_core']:g} a core{place})")
 
 
+def element_pass_by_thread(r):
+    """The element pass's busiest thread against the mean, and the mean wait
+    at its barrier (recorded since 2026-12-01; older records: "-")."""
+    busy, wait = r.get("element_busy_ms"), r.get("element_wait_ms")
+    if not busy or not sum(busy) > 0.0:
+        return ["-", "-"]
+    return [f"{max(busy) / (sum(busy) / len(busy)):.2f}", f"{sum(wait) / len(wait):.3f} ms"]
+
+
 def gpu_body_forces(d):
     base = d["cpu"][0]
     rows = [[r["threads"], fmt(r["ms_per_step"]), f"{base['ms_per_step'] / r['ms_per_step']:.2f}",
              f"{100 * base['ms_per_step'] / r['ms_per_step'] / (r['threads'] / base['threads']):.0f} %",
              fmt(r["elements_ms"]), fmt(r["drag_ms"]), fmt(r["contact_detection_ms"] + r["contact_forces_ms"]),
-             fmt(r["integration_ms"])] for r in d["cpu"]]
+             fmt(r["integration_ms"])] + element_pass_by_thread(r) for r in d["cpu"]]
     lines = [f"The {d['scene']} scene's mesh `{d['mesh']}` ({d['n_triangles']:,} triangles, {d['n_nodes']:,} nodes), "
              f"load phase, `{d['preset']}` numerics, on {cores_said(d)}"
              + (" (the run was stopped before its end: what it measured up to then)" if d.get("complete") is False
                 else "") + ":", ""]
+    by_thread = ["element pass: busiest thread / mean", "element pass: mean wait at its barrier"]
     lines += table(["threads", "ms per step", "speed-up", "efficiency", "elements (ms)", "of which drag",
-                    "contact", "integration"], rows)
+                    "contact", "integration"] + by_thread, rows)
     if d.get("cpu_loaded"):
         lo = d["cpu_loaded"]
         b = lo[0]
@@ -278,12 +288,12 @@ def gpu_body_forces(d):
                   f"above):", ""]
         # friction is timed apart since 2026-12-01 (older records: "-")
         lines += table(["threads", "ms per step", "speed-up", "efficiency", "elements (ms)", "contact forces",
-                        "of which friction", "integration", "splits"],
+                        "of which friction", "integration", "splits"] + by_thread,
                        [[r["threads"], fmt(r["ms_per_step"]), f"{b['ms_per_step'] / r['ms_per_step']:.2f}",
                          f"{100 * b['ms_per_step'] / r['ms_per_step'] / (r['threads'] / b['threads']):.0f} %",
                          fmt(r["elements_ms"]), fmt(r["contact_forces_ms"]),
                          fmt(r["friction_ms"]) if "friction_ms" in r else "-", fmt(r["integration_ms"]), r["splits"]]
-                        for r in lo])
+                        + element_pass_by_thread(r) for r in lo])
     if d.get("triad_GBps"):
         lines += ["", "Memory bandwidth (STREAM triad, bench/stream_triad.cpp), GB/s: "
                   + "; ".join(f"{t['threads']} threads {t['GBps']:.0f} ({t['mb_per_array']:.0f} MB arrays)"

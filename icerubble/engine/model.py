@@ -510,7 +510,11 @@ class Model:
 
     def timings(self):
         """Cumulative wall time [s] of the parts of the step, the step count and
-        the element-steps (triangles computed, summed over the steps). On
+        the element-steps (triangles computed, summed over the steps);
+        'element_busy' and 'element_wait' [s], one per thread of the element
+        pass's team: each thread's time in its own triangles, and waiting at
+        the pass's barrier for the others (their spread shows a pass held back
+        by one thread). On
         device 'cuda': 'gpu_steps' and 'gpu_total' [s, wall, copies included]
         are the GPU's, added to 'steps', 'element_steps' and 'total'; the
         parts are the CPU's own steps; 'gpu_makes' counts the copies of the

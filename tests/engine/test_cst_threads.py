@@ -87,3 +87,20 @@ def test_gather_in_the_element_pass_sums_as_a_separate_sweep():
         assert np.array_equal(a.forces("total"), b.forces("total"))
         assert np.array_equal(a.positions, b.positions)
         assert np.array_equal(a.velocities, b.velocities)
+
+
+def test_the_element_pass_is_timed_thread_by_thread_within_its_part():
+    """Model.timings()['element_busy'] / ['element_wait']: one entry per thread
+    of the pass's team, each thread's time in its own triangles and at the
+    barrier, both inside the elements part's wall time (they are clocked
+    within it), and every thread of the team has worked."""
+    for threads in (1, 2):
+        m = two_block_model(threads, False)
+        m.step(50)
+        t = m.timings()
+        busy, wait = np.asarray(t["element_busy"]), np.asarray(t["element_wait"])
+        assert len(busy) == len(wait) == threads
+        assert np.all(busy > 0.0) and np.all(wait >= 0.0)
+        assert np.all(busy + wait <= t["elements"])
+        m.step(50)
+        assert np.all(np.asarray(m.timings()["element_busy"]) > busy)   # cumulative, as the parts

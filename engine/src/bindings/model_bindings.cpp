@@ -415,6 +415,8 @@ void bind_model(py::module_& m) {
         d["total"] = t.total;
         d["steps"] = t.steps;
         d["element_steps"] = t.element_steps;
+        d["element_busy"] = t.element_busy;
+        d["element_wait"] = t.element_wait;
         return d;
       })
       .def("node_array", &node_view)

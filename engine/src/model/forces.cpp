@@ -64,8 +64,15 @@ void Model::compute_body_forces() {
     gather_node_loads(gathered, corners, i);
     N.f_con_x[i] = N.f_con_y[i] = 0.0;
   };
+  if (timings_.element_busy.size() < size_t(team_size)) {
+    timings_.element_busy.resize(size_t(team_size), 0.0);
+    timings_.element_wait.resize(size_t(team_size), 0.0);
+  }
+  double* busy = timings_.element_busy.data();
+  double* wait = timings_.element_wait.data();
   #pragma omp parallel num_threads(nt) if (threaded)
   {
+    const double t_start = omp_get_wtime();
     const int tid = omp_get_thread_num(), team = omp_get_num_threads();
     // With every triangle computed, each node is gathered in the element pass
     // once its last corner is computed (gather_plan.hpp).
@@ -87,7 +94,10 @@ void Model::compute_body_forces() {
     }
     partial_[tid].s.elastic = sweep.elastic_energy;
     inverted[tid] = sweep.inverted;
+    const double t_done = omp_get_wtime();
     #pragma omp barrier
+    busy[tid] += t_done - t_start;
+    wait[tid] += omp_get_wtime() - t_done;
     if (sleeping) {
       // the strain energy of every triangle, the sleeping ones' as stored
       block(m, tid, team, b, e);

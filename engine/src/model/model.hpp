@@ -44,6 +44,11 @@ struct StepTimings {
   double total = 0.0;
   int64_t steps = 0;
   int64_t element_steps = 0;       // triangles computed, summed over steps
+  // The element pass by thread (index: the thread's number in its team):
+  // time in its own triangles and their gathers, and time waiting at the
+  // pass's barrier for the others. Their spread says whether a team's pass
+  // is held back by one thread (imbalance) or slowed in every thread alike.
+  std::vector<double> element_busy, element_wait;
 };
 
 // The stability guard's two energy checks on a ledger (Model::guard_stability).
