@@ -89,6 +89,8 @@ class FreezeBonds {
   CohesivePairArrays pair_arrays(const BondHost& M) const;
   // Pairs opened and not yet fully failed, ascending: what apply() steps.
   const std::vector<int32_t>& open_pairs() const { return open_pairs_; }
+  // Pairs opened or failed, ascending: those crack closure acts on.
+  const std::vector<int32_t>& closing_pairs() const { return closing_pairs_; }
   // The friction coefficient of eq 6's compressive branch: params().mu, or the
   // contact mu where that is NaN.
   double mu(const BondHost& M) const;

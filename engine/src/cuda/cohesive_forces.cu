@@ -211,9 +211,8 @@ DeviceCohesiveForces::DeviceCohesiveForces(const Model& m) : impl_(new Impl) {
   d.dt_fail.upload(st.dt_fail);
   // the crack closure's pairs: the split ones (opened or failed), ascending, by node
   d.penalty = m.contact_params().penalty;
-  std::vector<int32_t> closed, start, entry;
-  for (size_t k = 0; k < nk; ++k)
-    if (st.pair_state[k] != PairState::intact) closed.push_back(int32_t(k));
+  const std::vector<int32_t>& closed = B.closing_pairs();
+  std::vector<int32_t> start, entry;
   pairs_by_node(closed, h.node_plus, h.node_minus, nn, start, entry);
   d.closure_pair.upload(closed);
   d.closure_start.upload(start);
