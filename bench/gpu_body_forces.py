@@ -100,10 +100,12 @@ def by_threads(m, threads, steps, rounds):
             acc["touching"] += int(m.touching_pairs)
             for p in PARTS:
                 acc[p] += t1[p] - t0[p]
-            for w in ("busy", "wait"):   # the element pass by thread (a team of one below 2,048 triangles)
-                now, before = np.asarray(t1["element_" + w]), np.asarray(t0["element_" + w])
-                n = min(k, len(now))
-                acc[w][:n] += now[:n] - np.pad(before, (0, max(0, len(now) - len(before))))[:n]
+            # the element pass by thread (a team of one below 2,048 triangles); the lists grow with
+            # the team, i.e. in the untimed steps above, so t0's and t1's are as long
+            for w in ("busy", "wait"):
+                spent = np.asarray(t1["element_" + w]) - np.asarray(t0["element_" + w])
+                n = min(k, len(spent))
+                acc[w][:n] += spent[:n]
     rows = []
     for k in threads:
         acc = sums[k]

@@ -172,8 +172,8 @@ def paper_run_cost(cost, peak):
                      f"{r['hours_300mm']:.1f} h",
                      f"{r['steps_20mm'] * loading / 3600:.1f} h" if loading else "not measured",
                      f"{r['steps_300mm'] * loading / 3600:.1f} h" if loading else "not measured"])
-    stale = " ".join(f"{name}: {note(name, d)}" for name, d in (("paper_cost.json", cost), ("paper_peak.json", peak))
-                     if note(name, d))
+    notes = {name: note(name, d) for name, d in (("paper_cost.json", cost), ("paper_peak.json", peak))}
+    stale = " ".join(f"{name}: {said}" for name, said in notes.items() if said)
     threads = f" ({peak['threads']} thread{'s' if peak['threads'] > 1 else ''} a run)" if "threads" in peak else ""
     return ([f"Steps from paper_cost.json (settle included); time per step from its 300-step window "
              f"({cost['threads']} threads), and from paper_peak.json's {peak['travel_mm']:g} mm loadings{threads} "
@@ -572,8 +572,9 @@ def section(name, data):
     script = SCRIPT.get(name, name.replace(".json", ".py"))
     lines = [f"## {name}", "", f"`bench/{script}`: {title(script)}", "",
              f"Measured with: {stamp_line(name, data)}.", ""]
-    if note(name, data):
-        lines += [f"**Note.** {note(name, data)}", ""]
+    said = note(name, data)
+    if said:
+        lines += [f"**Note.** {said}", ""]
     fmt_ = FORMATS.get(name)
     body = fmt_(data) if fmt_ else ["```", json.dumps(data, indent=1)[:2000], "```"]
     figure = name.replace(".json", ".png")
